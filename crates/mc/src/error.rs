@@ -1,0 +1,36 @@
+//! Typed errors of the `mc` crate. Every variant names the offending field and value so the
+//! CLI can print a one-line message without guessing.
+
+use std::path::PathBuf;
+
+/// Everything that can go wrong while building inputs or reading/writing MCML files.
+#[derive(Debug, thiserror::Error)]
+pub enum McError {
+    /// A numeric input is outside its physical range (negative coefficient, η ≤ 0, …).
+    #[error("invalid {field} = {value}: {reason}")]
+    InvalidValue { field: String, value: String, reason: &'static str },
+
+    /// A text input (`.mci`, material TOML, config TOML, shard file) could not be parsed.
+    #[error("{source_name}:{line}: {message}")]
+    Parse { source_name: String, line: usize, message: String },
+
+    /// A file could not be read or written.
+    #[error("{path}: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+
+    /// Shards to merge do not belong to the same run.
+    #[error("cannot merge shards: {0}")]
+    ShardMismatch(String),
+}
+
+impl McError {
+    pub(crate) fn invalid(field: impl Into<String>, value: impl ToString, reason: &'static str) -> Self {
+        McError::InvalidValue { field: field.into(), value: value.to_string(), reason }
+    }
+
+    pub(crate) fn parse(source_name: impl Into<String>, line: usize, message: impl Into<String>) -> Self {
+        McError::Parse { source_name: source_name.into(), line, message: message.into() }
+    }
+}
+
+pub type Result<T> = std::result::Result<T, McError>;

@@ -1,0 +1,49 @@
+//! `mc`: Monte Carlo photon transport in multi-layered turbid media, following MCML
+//! (Wang, Jacques & Zheng, "MCML — Monte Carlo modeling of light transport in multi-layered
+//! tissues", Comput. Methods Programs Biomed. 47, 1995).
+//!
+//! Conventions: lengths in cm, coefficients in cm⁻¹; +z points into the sample; a pencil beam
+//! enters at the origin at normal incidence. `Rd(r)` is the diffuse reflectance per unit area
+//! [cm⁻²], excluding the specular reflection, exactly as MCML's `Rd_r`. Every tallied number
+//! comes with its standard error.
+//!
+//! Main types: [`Sample`] and [`Layer`] (the medium), [`Grid`] (MCML's tally grid), [`RunSpec`]
+//! (one run), [`Output`] (normalized results), [`Material`] (RGB coefficients of a named
+//! material); [`mci`] and [`mco`] read and write MCML's files.
+//!
+//! ```
+//! use mc::{Grid, Layer, RunSpec, Sample, TallySet};
+//! let layer = Layer { n: 1.0, mu_a: 10.0, mu_s: 90.0, g: 0.75, thickness: 0.02 };
+//! let spec = RunSpec {
+//!     sample: Sample::single(layer),
+//!     grid: Grid { dr: 0.01, dz: 0.01, nr: 50, nz: 2, na: 10 },
+//!     photons: 20_000,
+//!     seed: 1,
+//!     tallies: TallySet::default(),
+//! };
+//! let out = mc::run(&spec, &|_| {}).unwrap();
+//! // van de Hulst's slab: Rd = 0.09739, Tt = 0.66096.
+//! assert!((out.rd.value - 0.09739).abs() < 5.0 * out.rd.se);
+//! ```
+
+mod error;
+mod fresnel;
+mod grid;
+mod layer;
+mod output;
+mod phase;
+mod photon;
+mod rng;
+mod simulate;
+mod tally;
+
+pub use error::{McError, Result};
+pub use fresnel::{cos_critical, fresnel, specular};
+pub use grid::Grid;
+pub use layer::{Layer, Sample};
+pub use output::{Estimate, Output};
+pub use phase::{pdf_cos_theta, sample_cos_theta};
+pub use photon::{PATH_ROULETTE_INTERVAL, ROULETTE_SURVIVAL, ROULETTE_THRESHOLD};
+pub use rng::CHUNK_PHOTONS;
+pub use simulate::{accumulate, run, RunSpec};
+pub use tally::{Accumulator, Layout, TallySet};

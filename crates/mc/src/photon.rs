@@ -1,0 +1,298 @@
+//! One photon packet's random walk through the layered sample, step by step as in MCML
+//! (Wang, Jacques & Zheng 1995, §3–4): `launch`, `step_size`, `hit_boundary`, `hop`, `drop`,
+//! `spin`, `cross_or_not`, `roulette`.
+//!
+//! Units: cm and cm⁻¹. Axis: +z into the sample. The walk knows nothing about tallies: it reports
+//! every deposit, escape and roulette decision to a [`Scorer`], so one walk serves both the
+//! MCML tallies and the batch tallies of many channels at once.
+
+use rand::RngExt;
+use rand_pcg::Pcg64;
+
+use crate::fresnel::{cos_critical, fresnel, specular, COS_ZERO};
+use crate::layer::Sample;
+use crate::phase::sample_cos_theta;
+
+/// Weight below which Russian roulette is played (MCML's `WEIGHT`).
+pub const ROULETTE_THRESHOLD: f64 = 1.0e-4;
+/// Survival probability in Russian roulette (MCML's `CHANCE`).
+pub const ROULETTE_SURVIVAL: f64 = 0.1;
+/// Interactions after which (and after every further as many) a photon plays a path-length
+/// roulette with survival ½. Unbiased, and it bounds the walk when the albedo is 1 exactly, where
+/// a photon in a half-space can otherwise wander for an unbounded number of steps. MCML has no
+/// such rule; it touches only photons with more than 10⁵ interactions.
+pub const PATH_ROULETTE_INTERVAL: u64 = 100_000;
+
+/// A layer prepared for transport: bounds and derived coefficients.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Slab {
+    pub z0: f64,
+    pub z1: f64,
+    pub n: f64,
+    pub mu_t: f64,
+    /// μa/μt: the fraction of the weight deposited at each interaction.
+    pub absorb: f64,
+    pub g: f64,
+    /// Cosine of the critical angle going up / down out of this slab.
+    pub cos_crit_up: f64,
+    pub cos_crit_down: f64,
+    /// Index of the medium above / below this slab.
+    pub n_up: f64,
+    pub n_down: f64,
+}
+
+/// The sample prepared for transport.
+#[derive(Clone, Debug)]
+pub(crate) struct Medium {
+    pub slabs: Vec<Slab>,
+    /// Specular reflectance at entry; the launched weight is 1 − rsp.
+    pub rsp: f64,
+    /// Index of the first layer a photon is launched into (1 when layer 0 is glass, as MCML does).
+    pub first: usize,
+}
+
+impl Medium {
+    pub fn new(sample: &Sample) -> Self {
+        let ls = &sample.layers;
+        let mut z = 0.0;
+        let slabs = ls
+            .iter()
+            .enumerate()
+            .map(|(i, l)| {
+                let n_up = if i == 0 { sample.n_above } else { ls[i - 1].n };
+                let n_down = if i + 1 == ls.len() { sample.n_below } else { ls[i + 1].n };
+                let s = Slab {
+                    z0: z,
+                    z1: z + l.thickness,
+                    n: l.n,
+                    mu_t: l.mu_t(),
+                    absorb: if l.mu_t() > 0.0 { l.mu_a / l.mu_t() } else { 0.0 },
+                    g: l.g,
+                    cos_crit_up: cos_critical(l.n, n_up),
+                    cos_crit_down: cos_critical(l.n, n_down),
+                    n_up,
+                    n_down,
+                };
+                z += l.thickness;
+                s
+            })
+            .collect();
+        let glass_first = ls[0].is_glass() && ls.len() > 1;
+        let rsp = specular(sample.n_above, ls[0].n, glass_first.then(|| ls[1].n));
+        Medium { slabs, rsp, first: usize::from(glass_first) }
+    }
+}
+
+/// Photon packet state (MCML's `PhotonStruct`).
+#[derive(Clone, Copy, Debug)]
+pub struct Photon {
+    /// Position [cm].
+    pub x: f64,
+    pub y: f64,
+    pub z: f64,
+    /// Direction cosines.
+    pub ux: f64,
+    pub uy: f64,
+    pub uz: f64,
+    /// Packet weight [-].
+    pub w: f64,
+    /// Index of the current layer.
+    pub layer: usize,
+    /// Dimensionless optical depth left over from a step cut at a boundary.
+    pub s_left: f64,
+    /// Interactions (drops) so far.
+    pub interactions: u64,
+    pub alive: bool,
+}
+
+impl Photon {
+    /// Distance from the beam axis [cm].
+    #[inline]
+    pub fn r(&self) -> f64 {
+        (self.x * self.x + self.y * self.y).sqrt()
+    }
+}
+
+/// What the walk reports. All methods are called with the photon's state at that moment.
+pub(crate) trait Scorer {
+    /// Weight `dw` deposited at the photon's position (an interaction in an absorbing layer).
+    fn absorb(&mut self, p: &Photon, dw: f64);
+    /// A roulette was played; the weight is about to be multiplied by `factor` (0 = killed).
+    fn roulette(&mut self, p: &Photon, factor: f64);
+    /// The photon leaves through the top (`top`) or bottom surface with its weight `p.w`;
+    /// `cos_exit` is |cos| of its direction in the ambient medium.
+    fn escape(&mut self, p: &Photon, top: bool, cos_exit: f64);
+    /// The photon's history is over (escaped or killed).
+    fn finish(&mut self, p: &Photon);
+}
+
+/// Traces one photon from launch to death.
+pub(crate) fn trace<S: Scorer>(m: &Medium, rng: &mut Pcg64, scorer: &mut S) {
+    let mut p = launch(m);
+    while p.alive {
+        if m.slabs[p.layer].mu_t == 0.0 {
+            hop_in_glass(m, &mut p, rng, scorer);
+        } else {
+            hop_drop_spin(m, &mut p, rng, scorer);
+        }
+        if p.alive && p.w < ROULETTE_THRESHOLD {
+            roulette(&mut p, rng, scorer, ROULETTE_SURVIVAL);
+        }
+    }
+    scorer.finish(&p);
+}
+
+/// Pencil beam at the origin, normal incidence, weight 1 − Rsp (MCML's `LaunchPhoton`).
+fn launch(m: &Medium) -> Photon {
+    Photon {
+        x: 0.0,
+        y: 0.0,
+        z: m.slabs[m.first].z0,
+        ux: 0.0,
+        uy: 0.0,
+        uz: 1.0,
+        w: 1.0 - m.rsp,
+        layer: m.first,
+        s_left: 0.0,
+        interactions: 0,
+        alive: true,
+    }
+}
+
+/// One step in a scattering/absorbing layer (MCML's `HopDropSpinInTissue`).
+#[inline]
+fn hop_drop_spin<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Pcg64, scorer: &mut S) {
+    let slab = m.slabs[p.layer];
+    let s = step_size(p, slab.mu_t, rng);
+    match hit_boundary(p, &slab, s) {
+        Some(d) => {
+            p.s_left = (s - d) * slab.mu_t;
+            hop(p, d);
+            cross_or_not(m, p, rng, scorer);
+        }
+        None => {
+            hop(p, s);
+            drop(p, slab.absorb, scorer);
+            spin(p, slab.g, rng);
+            if p.interactions % PATH_ROULETTE_INTERVAL == 0 {
+                roulette(p, rng, scorer, 0.5);
+            }
+        }
+    }
+}
+
+/// A straight flight through a non-interacting layer to its boundary (MCML's `HopInGlass`).
+fn hop_in_glass<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Pcg64, scorer: &mut S) {
+    if p.uz == 0.0 {
+        // Travelling parallel to the boundaries it would never leave: MCML kills it.
+        p.alive = false;
+        return;
+    }
+    let slab = m.slabs[p.layer];
+    let d = if p.uz > 0.0 { (slab.z1 - p.z) / p.uz } else { (slab.z0 - p.z) / p.uz };
+    hop(p, d);
+    cross_or_not(m, p, rng, scorer);
+}
+
+/// Free path s = −ln ξ / μt [cm], or the optical depth left over from the last boundary hit.
+#[inline]
+fn step_size(p: &mut Photon, mu_t: f64, rng: &mut Pcg64) -> f64 {
+    if p.s_left == 0.0 {
+        // 1 − ξ lies in (0, 1], so the logarithm is finite.
+        let xi_step: f64 = 1.0 - rng.random::<f64>();
+        -xi_step.ln() / mu_t
+    } else {
+        let s = p.s_left / mu_t;
+        p.s_left = 0.0;
+        s
+    }
+}
+
+/// Distance to the layer boundary along the direction when it is shorter than `s` [cm].
+#[inline]
+fn hit_boundary(p: &Photon, slab: &Slab, s: f64) -> Option<f64> {
+    let d = if p.uz > 0.0 {
+        (slab.z1 - p.z) / p.uz
+    } else if p.uz < 0.0 {
+        (slab.z0 - p.z) / p.uz
+    } else {
+        return None;
+    };
+    (s > d).then_some(d)
+}
+
+#[inline]
+fn hop(p: &mut Photon, s: f64) {
+    p.x += s * p.ux;
+    p.y += s * p.uy;
+    p.z += s * p.uz;
+}
+
+/// Implicit capture: deposit w·μa/μt, keep the rest (MCML's `Drop`).
+#[inline]
+fn drop<S: Scorer>(p: &mut Photon, absorb: f64, scorer: &mut S) {
+    let dw = p.w * absorb;
+    p.w -= dw;
+    p.interactions += 1;
+    scorer.absorb(p, dw);
+}
+
+/// New direction after a Henyey–Greenstein scattering (MCML's `Spin`).
+#[inline]
+fn spin(p: &mut Photon, g: f64, rng: &mut Pcg64) {
+    let xi_theta: f64 = rng.random();
+    let xi_psi: f64 = rng.random();
+    let cos_t = sample_cos_theta(g, xi_theta);
+    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+    let (sin_p, cos_p) = (2.0 * std::f64::consts::PI * xi_psi).sin_cos();
+    if p.uz.abs() > COS_ZERO {
+        p.ux = sin_t * cos_p;
+        p.uy = sin_t * sin_p;
+        p.uz = if p.uz > 0.0 { cos_t } else { -cos_t };
+    } else {
+        let t = (1.0 - p.uz * p.uz).sqrt();
+        let ux = sin_t * (p.ux * p.uz * cos_p - p.uy * sin_p) / t + p.ux * cos_t;
+        let uy = sin_t * (p.uy * p.uz * cos_p + p.ux * sin_p) / t + p.uy * cos_t;
+        p.uz = -sin_t * cos_p * t + p.uz * cos_t;
+        p.ux = ux;
+        p.uy = uy;
+    }
+}
+
+/// At a boundary: reflect with the Fresnel probability, otherwise refract into the next layer or
+/// escape into the ambient medium (MCML's `CrossUpOrNot` / `CrossDnOrNot`, statistical mode).
+#[inline]
+fn cross_or_not<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Pcg64, scorer: &mut S) {
+    let slab = m.slabs[p.layer];
+    let up = p.uz < 0.0;
+    let (n_t, cos_crit) = if up { (slab.n_up, slab.cos_crit_up) } else { (slab.n_down, slab.cos_crit_down) };
+    let cos_i = p.uz.abs();
+    let (r, cos_t) = if cos_i <= cos_crit { (1.0, 0.0) } else { fresnel(slab.n, n_t, cos_i) };
+    let xi_fresnel: f64 = rng.random();
+    if xi_fresnel > r {
+        let last = if up { p.layer == 0 } else { p.layer + 1 == m.slabs.len() };
+        if last {
+            scorer.escape(p, up, cos_t);
+            p.alive = false;
+        } else {
+            p.layer = if up { p.layer - 1 } else { p.layer + 1 };
+            let ratio = slab.n / n_t;
+            p.ux *= ratio;
+            p.uy *= ratio;
+            p.uz = cos_t.copysign(p.uz);
+        }
+    } else {
+        p.uz = -p.uz;
+    }
+}
+
+/// Russian roulette: survive with probability `survival` and weight / `survival`, else die.
+fn roulette<S: Scorer>(p: &mut Photon, rng: &mut Pcg64, scorer: &mut S, survival: f64) {
+    let xi_roulette: f64 = rng.random();
+    let factor = if xi_roulette < survival { 1.0 / survival } else { 0.0 };
+    scorer.roulette(p, factor);
+    p.w *= factor;
+    if factor == 0.0 {
+        p.alive = false;
+    }
+}

@@ -1,0 +1,246 @@
+//! Raw tallies: sums of weights and of squared per-photon weights, in MCML's bins, before any
+//! normalization. Second moments are per photon, so standard errors are exact estimates of the
+//! sampling error (no batch means):
+//! - a photon escapes at most once, so the exit tallies `Rd(r, α)` and `Tt(r, α)` get w and w²
+//!   directly, and every 1D/0D exit quantity's second moment is a sum of theirs;
+//! - absorption happens many times per photon, so deposits are gathered in a per-photon scratch
+//!   (`A(r,z)`, `A(z)`, `A_l`, `A`) and flushed as (Σw, (Σw)²) when the photon's history ends.
+//!
+//! Chunk tallies are summed into an [`Accumulator`] in 2⁻⁶⁴ fixed point (i128), which makes the
+//! merge associative: results are bit-identical whatever the thread count, chunk order or shards.
+
+use crate::grid::Grid;
+use crate::photon::{Photon, Scorer};
+
+/// Which optional tallies to record. Exit tallies and total/per-layer absorption are always on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TallySet {
+    /// Record absorption on the (r, z) grid (MCML's `A_rz` and `A_z`). Costs a scratch write per
+    /// interaction; turn it off when only profiles are needed.
+    pub absorption_rz: bool,
+}
+
+impl Default for TallySet {
+    fn default() -> Self {
+        TallySet { absorption_rz: true }
+    }
+}
+
+/// Offsets of each quantity in the flat tally vectors.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Layout {
+    pub nr: usize,
+    pub nz: usize,
+    pub na: usize,
+    pub layers: usize,
+    pub rz: bool,
+    /// Number of channels tallied side by side (1 except for batch runs).
+    pub channels: usize,
+}
+
+impl Layout {
+    /// Entries per channel: Rd(r,α), Tt(r,α), A_l, A, then A(r,z) and A(z) if recorded.
+    pub fn per_channel(&self) -> usize {
+        2 * self.nr * self.na + self.layers + 1 + if self.rz { self.nr * self.nz + self.nz } else { 0 }
+    }
+    pub fn len(&self) -> usize {
+        self.per_channel() * self.channels
+    }
+    pub fn rd_ra(&self, c: usize) -> usize {
+        c * self.per_channel()
+    }
+    pub fn tt_ra(&self, c: usize) -> usize {
+        self.rd_ra(c) + self.nr * self.na
+    }
+    pub fn a_l(&self, c: usize) -> usize {
+        self.tt_ra(c) + self.nr * self.na
+    }
+    pub fn a_total(&self, c: usize) -> usize {
+        self.a_l(c) + self.layers
+    }
+    /// Offset of A(r,z), stored [ir][iz]; only when `rz`.
+    pub fn a_rz(&self, c: usize) -> usize {
+        self.a_total(c) + 1
+    }
+    pub fn a_z(&self, c: usize) -> usize {
+        self.a_rz(c) + self.nr * self.nz
+    }
+}
+
+/// Sums of w and of per-photon w² for one chunk, in f64.
+#[derive(Clone, Debug)]
+pub struct Tally {
+    pub layout: Layout,
+    pub sum: Vec<f64>,
+    pub sum_sq: Vec<f64>,
+    pub photons: u64,
+    pub interactions: u64,
+}
+
+impl Tally {
+    pub fn new(layout: Layout) -> Self {
+        Tally { layout, sum: vec![0.0; layout.len()], sum_sq: vec![0.0; layout.len()], photons: 0, interactions: 0 }
+    }
+
+    /// Adds this chunk into `acc` in exact fixed point and resets it to zero for reuse.
+    pub fn drain_into(&mut self, acc: &mut Accumulator) {
+        debug_assert_eq!(self.layout, acc.layout);
+        for (s, a) in self.sum.iter_mut().zip(acc.sum.iter_mut()) {
+            if *s != 0.0 {
+                *a += to_fixed(*s);
+                *s = 0.0;
+            }
+        }
+        for (s, a) in self.sum_sq.iter_mut().zip(acc.sum_sq.iter_mut()) {
+            if *s != 0.0 {
+                *a += to_fixed(*s);
+                *s = 0.0;
+            }
+        }
+        acc.photons += self.photons;
+        acc.interactions += self.interactions;
+        self.photons = 0;
+        self.interactions = 0;
+    }
+}
+
+const FIXED_ONE: f64 = 18_446_744_073_709_551_616.0; // 2⁶⁴
+
+#[inline]
+fn to_fixed(x: f64) -> i128 {
+    (x * FIXED_ONE).round() as i128
+}
+
+/// Exact (fixed-point, 2⁻⁶⁴ resolution) sums over many chunks. Integer addition is associative,
+/// so any merge order gives the same bits. Headroom: |sums| < 2⁶³, far above any tally
+/// (a chunk's sums are bounded by its photon count times the largest weight).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Accumulator {
+    pub layout: Layout,
+    pub sum: Vec<i128>,
+    pub sum_sq: Vec<i128>,
+    /// Photons traced (u64: 10⁹ photons and far beyond fit).
+    pub photons: u64,
+    /// Interaction events (drops) over all photons.
+    pub interactions: u64,
+}
+
+impl Accumulator {
+    pub fn new(layout: Layout) -> Self {
+        Accumulator { layout, sum: vec![0; layout.len()], sum_sq: vec![0; layout.len()], photons: 0, interactions: 0 }
+    }
+
+    /// Adds another accumulator of the same layout.
+    pub fn merge(&mut self, other: &Accumulator) {
+        debug_assert_eq!(self.layout, other.layout);
+        for (a, b) in self.sum.iter_mut().zip(&other.sum) {
+            *a += b;
+        }
+        for (a, b) in self.sum_sq.iter_mut().zip(&other.sum_sq) {
+            *a += b;
+        }
+        self.photons += other.photons;
+        self.interactions += other.interactions;
+    }
+
+    /// Σw of entry `i` as f64.
+    pub fn s(&self, i: usize) -> f64 {
+        self.sum[i] as f64 / FIXED_ONE
+    }
+
+    /// Σw² of entry `i` as f64.
+    pub fn s2(&self, i: usize) -> f64 {
+        self.sum_sq[i] as f64 / FIXED_ONE
+    }
+}
+
+/// Gathers one photon's deposits in a dense array with a list of touched cells, then flushes
+/// (Σw, (Σw)²) per cell. No allocation after the first photons.
+#[derive(Clone, Debug)]
+struct Scratch {
+    value: Vec<f64>,
+    touched: Vec<u32>,
+}
+
+impl Scratch {
+    fn new(n: usize) -> Self {
+        Scratch { value: vec![0.0; n], touched: Vec::new() }
+    }
+
+    #[inline]
+    fn add(&mut self, i: usize, w: f64) {
+        if self.value[i] == 0.0 {
+            self.touched.push(i as u32);
+        }
+        self.value[i] += w;
+    }
+
+    fn flush(&mut self, offset: usize, sum: &mut [f64], sum_sq: &mut [f64]) {
+        for &i in &self.touched {
+            let i = i as usize;
+            let v = self.value[i];
+            sum[offset + i] += v;
+            sum_sq[offset + i] += v * v;
+            self.value[i] = 0.0;
+        }
+        self.touched.clear();
+    }
+}
+
+/// The MCML tallies of one channel, fed by the walk.
+pub(crate) struct McmlScorer<'a> {
+    tally: &'a mut Tally,
+    grid: Grid,
+    /// Depth of the top of each layer [cm], to index per-layer absorption.
+    rz: Option<(Scratch, Scratch)>,
+    a_l: Scratch,
+}
+
+impl<'a> McmlScorer<'a> {
+    pub fn new(tally: &'a mut Tally, grid: Grid) -> Self {
+        let l = tally.layout;
+        let rz = l.rz.then(|| (Scratch::new(l.nr * l.nz), Scratch::new(l.nz)));
+        McmlScorer { tally, grid, rz, a_l: Scratch::new(l.layers) }
+    }
+}
+
+impl Scorer for McmlScorer<'_> {
+    #[inline]
+    fn absorb(&mut self, p: &Photon, dw: f64) {
+        if dw == 0.0 {
+            return;
+        }
+        self.a_l.add(p.layer, dw);
+        if let Some((a_rz, a_z)) = &mut self.rz {
+            let iz = self.grid.iz(p.z);
+            a_rz.add(self.grid.ir(p.r()) * self.grid.nz + iz, dw);
+            a_z.add(iz, dw);
+        }
+    }
+
+    fn roulette(&mut self, _: &Photon, _: f64) {}
+
+    #[inline]
+    fn escape(&mut self, p: &Photon, top: bool, cos_exit: f64) {
+        let l = self.tally.layout;
+        let i = self.grid.ir(p.r()) * l.na + self.grid.ia(cos_exit);
+        let o = if top { l.rd_ra(0) } else { l.tt_ra(0) };
+        self.tally.sum[o + i] += p.w;
+        self.tally.sum_sq[o + i] += p.w * p.w;
+    }
+
+    fn finish(&mut self, p: &Photon) {
+        let l = self.tally.layout;
+        let t = &mut *self.tally;
+        let a: f64 = self.a_l.touched.iter().map(|&i| self.a_l.value[i as usize]).sum();
+        t.sum[l.a_total(0)] += a;
+        t.sum_sq[l.a_total(0)] += a * a;
+        self.a_l.flush(l.a_l(0), &mut t.sum, &mut t.sum_sq);
+        if let Some((a_rz, a_z)) = &mut self.rz {
+            a_rz.flush(l.a_rz(0), &mut t.sum, &mut t.sum_sq);
+            a_z.flush(l.a_z(0), &mut t.sum, &mut t.sum_sq);
+        }
+        t.photons += 1;
+        t.interactions += p.interactions;
+    }
+}
