@@ -8,15 +8,26 @@ use std::path::PathBuf;
 pub enum McError {
     /// A numeric input is outside its physical range (negative coefficient, η ≤ 0, …).
     #[error("invalid {field} = {value}: {reason}")]
-    InvalidValue { field: String, value: String, reason: &'static str },
+    InvalidValue {
+        field: String,
+        value: String,
+        reason: &'static str,
+    },
 
     /// A text input (`.mci`, material TOML, config TOML, shard file) could not be parsed.
     #[error("{source_name}:{line}: {message}")]
-    Parse { source_name: String, line: usize, message: String },
+    Parse {
+        source_name: String,
+        line: usize,
+        message: String,
+    },
 
     /// A file could not be read or written.
     #[error("{path}: {source}")]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
 
     /// Shards to merge do not belong to the same run.
     #[error("cannot merge shards: {0}")]
@@ -24,12 +35,28 @@ pub enum McError {
 }
 
 impl McError {
-    pub(crate) fn invalid(field: impl Into<String>, value: impl ToString, reason: &'static str) -> Self {
-        McError::InvalidValue { field: field.into(), value: value.to_string(), reason }
+    pub(crate) fn invalid(
+        field: impl Into<String>,
+        value: impl ToString,
+        reason: &'static str,
+    ) -> Self {
+        McError::InvalidValue {
+            field: field.into(),
+            value: value.to_string(),
+            reason,
+        }
     }
 
-    pub(crate) fn parse(source_name: impl Into<String>, line: usize, message: impl Into<String>) -> Self {
-        McError::Parse { source_name: source_name.into(), line, message: message.into() }
+    pub(crate) fn parse(
+        source_name: impl Into<String>,
+        line: usize,
+        message: impl Into<String>,
+    ) -> Self {
+        McError::Parse {
+            source_name: source_name.into(),
+            line,
+            message: message.into(),
+        }
     }
 }
 

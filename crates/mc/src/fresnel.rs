@@ -40,7 +40,11 @@ pub fn fresnel(n_i: f64, n_t: f64, cos_i: f64) -> (f64, f64) {
 
 /// Cosine of the critical angle for light going from `n_i` to `n_t`; 0 when there is none.
 pub fn cos_critical(n_i: f64, n_t: f64) -> f64 {
-    if n_i > n_t { (1.0 - (n_t / n_i).powi(2)).sqrt() } else { 0.0 }
+    if n_i > n_t {
+        (1.0 - (n_t / n_i).powi(2)).sqrt()
+    } else {
+        0.0
+    }
 }
 
 /// Specular reflectance of a normally incident beam: ((n₁−n₂)/(n₁+n₂))². When the first layer is
@@ -98,7 +102,10 @@ mod tests {
                 let rs = ((n1 * ci - n2 * ct) / (n1 * ci + n2 * ct)).powi(2);
                 let rp = ((n1 * ct - n2 * ci) / (n1 * ct + n2 * ci)).powi(2);
                 let (r, c) = fresnel(n1, n2, ci);
-                assert!((r - 0.5 * (rs + rp)).abs() < 1e-12, "n1={n1} n2={n2} ci={ci}");
+                assert!(
+                    (r - 0.5 * (rs + rp)).abs() < 1e-12,
+                    "n1={n1} n2={n2} ci={ci}"
+                );
                 assert!((c - ct).abs() < 1e-12);
                 // Reciprocity: the same reflectance from the other side along the refracted ray.
                 assert!((fresnel(n2, n1, ct).0 - r).abs() < 1e-12);

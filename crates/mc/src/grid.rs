@@ -46,35 +46,73 @@ impl Grid {
     pub fn validate(&self) -> Result<()> {
         for (field, v) in [("dr", self.dr), ("dz", self.dz)] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(McError::invalid(field, v, "grid spacing must be positive and finite"));
+                return Err(McError::invalid(
+                    field,
+                    v,
+                    "grid spacing must be positive and finite",
+                ));
             }
         }
         for (field, n) in [("nr", self.nr), ("nz", self.nz), ("na", self.na)] {
             if n == 0 || n > 1_000_000 {
-                return Err(McError::invalid(field, n, "number of bins must be in 1..=1000000"));
+                return Err(McError::invalid(
+                    field,
+                    n,
+                    "number of bins must be in 1..=1000000",
+                ));
             }
         }
-        if self.nr.saturating_mul(self.nz) > 50_000_000 || self.nr.saturating_mul(self.na) > 50_000_000 {
-            return Err(McError::invalid("nr", self.nr, "2D tally would exceed 5e7 bins"));
+        if self.nr.saturating_mul(self.nz) > 50_000_000
+            || self.nr.saturating_mul(self.na) > 50_000_000
+        {
+            return Err(McError::invalid(
+                "nr",
+                self.nr,
+                "2D tally would exceed 5e7 bins",
+            ));
         }
         Ok(())
+    }
+}
+
+/// Bin lookup for the photon loop: reciprocal spacings precomputed so indexing multiplies.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct GridIndex {
+    inv_dr: f64,
+    inv_dz: f64,
+    inv_da: f64,
+    nr: usize,
+    nz: usize,
+    na: usize,
+}
+
+impl GridIndex {
+    pub fn new(g: &Grid) -> Self {
+        GridIndex {
+            inv_dr: 1.0 / g.dr,
+            inv_dz: 1.0 / g.dz,
+            inv_da: 1.0 / g.da(),
+            nr: g.nr,
+            nz: g.nz,
+            na: g.na,
+        }
     }
 
     /// Radial bin of radius `r` [cm], clamped to the last bin.
     #[inline]
-    pub(crate) fn ir(&self, r: f64) -> usize {
-        ((r / self.dr) as usize).min(self.nr - 1)
+    pub fn ir(&self, r: f64) -> usize {
+        ((r * self.inv_dr) as usize).min(self.nr - 1)
     }
 
     /// Depth bin of depth `z` [cm], clamped to the last bin.
     #[inline]
-    pub(crate) fn iz(&self, z: f64) -> usize {
-        ((z / self.dz) as usize).min(self.nz - 1)
+    pub fn iz(&self, z: f64) -> usize {
+        ((z * self.inv_dz) as usize).min(self.nz - 1)
     }
 
     /// Exit-angle bin of an exit direction with |cos α| = `cos_a`, clamped to the last bin.
     #[inline]
-    pub(crate) fn ia(&self, cos_a: f64) -> usize {
-        ((cos_a.min(1.0).acos() / self.da()) as usize).min(self.na - 1)
+    pub fn ia(&self, cos_a: f64) -> usize {
+        ((cos_a.min(1.0).acos() * self.inv_da) as usize).min(self.na - 1)
     }
 }

@@ -28,7 +28,11 @@ impl Layer {
 
     /// Single-scattering albedo a = μs/μt [-]; 0 for a non-interacting (glass) layer.
     pub fn albedo(&self) -> f64 {
-        if self.mu_t() > 0.0 { self.mu_s / self.mu_t() } else { 0.0 }
+        if self.mu_t() > 0.0 {
+            self.mu_s / self.mu_t()
+        } else {
+            0.0
+        }
     }
 
     /// A layer that neither absorbs nor scatters: MCML's "glass" layer.
@@ -51,7 +55,11 @@ pub struct Sample {
 impl Sample {
     /// One layer in air above and below: the thesis's setup.
     pub fn single(layer: Layer) -> Self {
-        Sample { n_above: 1.0, n_below: 1.0, layers: vec![layer] }
+        Sample {
+            n_above: 1.0,
+            n_below: 1.0,
+            layers: vec![layer],
+        }
     }
 
     /// Checks every field; the error names the first offending one (`layer 2 mu_s`, …).
@@ -59,7 +67,11 @@ impl Sample {
         check_index("n_above", self.n_above)?;
         check_index("n_below", self.n_below)?;
         if self.layers.is_empty() {
-            return Err(McError::invalid("layers", 0, "at least one layer is required"));
+            return Err(McError::invalid(
+                "layers",
+                0,
+                "at least one layer is required",
+            ));
         }
         for (i, l) in self.layers.iter().enumerate() {
             let name = |f: &str| format!("layer {} {f}", i + 1);
@@ -70,7 +82,11 @@ impl Sample {
                 return Err(McError::invalid(name("g"), l.g, "must lie in [-1, 1]"));
             }
             if !(l.thickness.is_finite() && l.thickness > 0.0) {
-                return Err(McError::invalid(name("thickness"), l.thickness, "must be positive and finite"));
+                return Err(McError::invalid(
+                    name("thickness"),
+                    l.thickness,
+                    "must be positive and finite",
+                ));
             }
         }
         Ok(())
@@ -83,9 +99,25 @@ impl Sample {
 }
 
 fn check_index(field: &str, n: f64) -> Result<()> {
-    if n.is_finite() && n > 0.0 { Ok(()) } else { Err(McError::invalid(field, n, "refractive index must be positive and finite")) }
+    if n.is_finite() && n > 0.0 {
+        Ok(())
+    } else {
+        Err(McError::invalid(
+            field,
+            n,
+            "refractive index must be positive and finite",
+        ))
+    }
 }
 
 fn check_nonneg(field: &str, v: f64) -> Result<()> {
-    if v.is_finite() && v >= 0.0 { Ok(()) } else { Err(McError::invalid(field, v, "must be non-negative and finite")) }
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(McError::invalid(
+            field,
+            v,
+            "must be non-negative and finite",
+        ))
+    }
 }

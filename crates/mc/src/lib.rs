@@ -26,10 +26,16 @@
 //! assert!((out.rd.value - 0.09739).abs() < 5.0 * out.rd.se);
 //! ```
 
+mod batch;
+mod cfmt;
+mod config;
 mod error;
 mod fresnel;
 mod grid;
 mod layer;
+mod material;
+pub mod mci;
+pub mod mco;
 mod output;
 mod phase;
 mod photon;
@@ -37,13 +43,19 @@ mod rng;
 mod simulate;
 mod tally;
 
+pub use batch::{BatchSpec, ChannelSpec, QUASI_INFINITE_MFP};
+pub use config::{GridRule, SimConfig};
 pub use error::{McError, Result};
 pub use fresnel::{cos_critical, fresnel, specular};
 pub use grid::Grid;
 pub use layer::{Layer, Sample};
+pub use material::{CHANNELS, Material};
 pub use output::{Estimate, Output};
 pub use phase::{pdf_cos_theta, sample_cos_theta};
 pub use photon::{PATH_ROULETTE_INTERVAL, ROULETTE_SURVIVAL, ROULETTE_THRESHOLD};
 pub use rng::CHUNK_PHOTONS;
-pub use simulate::{accumulate, run, RunSpec};
+pub use simulate::{
+    ROUND_CHUNKS, RunSpec, accumulate, accumulate_batch, batch_outputs, chunk_count,
+    relative_error, run, run_batch, run_batch_to_error,
+};
 pub use tally::{Accumulator, Layout, TallySet};

@@ -61,8 +61,15 @@ pub struct Output {
 fn estimate(s: f64, s2: f64, n: u64, scale: f64) -> Estimate {
     let nf = n as f64;
     let mean = s / nf;
-    let var = if n > 1 { ((s2 / nf - mean * mean) / (nf - 1.0)).max(0.0) } else { 0.0 };
-    Estimate { value: mean * scale, se: var.sqrt() * scale }
+    let var = if n > 1 {
+        ((s2 / nf - mean * mean) / (nf - 1.0)).max(0.0)
+    } else {
+        0.0
+    };
+    Estimate {
+        value: mean * scale,
+        se: var.sqrt() * scale,
+    }
 }
 
 impl Output {
@@ -71,49 +78,69 @@ impl Output {
     pub fn from_accumulator(acc: &Accumulator, c: usize, grid: Grid, rsp: f64) -> Self {
         let l = acc.layout;
         let n = acc.photons.max(1);
-        let (nr, na, nz) = (l.nr, l.na, l.nz);
+        // Loops run over this channel's grid; strides are the layout's (the largest of a batch).
+        let (nr, na, nz) = (grid.nr, grid.na, grid.nz);
+        let (sa, sz) = (l.na, l.nz);
         let da = grid.da();
         let area = |ir: usize| 2.0 * PI * (ir as f64 + 0.5) * grid.dr * grid.dr;
         let solid = |ia: usize| 2.0 * PI * ((ia as f64 + 0.5) * da).sin() * da;
         // MCML's exact Rd_ra scale: 4π² dr² (i+½) sin(da/2) sin(2α_j).
         let area_solid = |ir: usize, ia: usize| {
-            4.0 * PI * PI * grid.dr * grid.dr * (ir as f64 + 0.5) * (da / 2.0).sin() * (2.0 * (ia as f64 + 0.5) * da).sin()
+            4.0 * PI
+                * PI
+                * grid.dr
+                * grid.dr
+                * (ir as f64 + 0.5)
+                * (da / 2.0).sin()
+                * (2.0 * (ia as f64 + 0.5) * da).sin()
         };
 
         // 2D exit tallies, and their marginals: one exit per photon makes Σw² additive.
         let exit = |off: usize| {
+            let at = |ir: usize, ia: usize| (acc.s(off + ir * sa + ia), acc.s2(off + ir * sa + ia));
+            let add = |(s, s2): (f64, f64), (a, b): (f64, f64)| (s + a, s2 + b);
             let ra: Vec<Estimate> = (0..nr * na)
-                .map(|i| estimate(acc.s(off + i), acc.s2(off + i), n, 1.0 / area_solid(i / na, i % na)))
+                .map(|i| {
+                    let (s, s2) = at(i / na, i % na);
+                    estimate(s, s2, n, 1.0 / area_solid(i / na, i % na))
+                })
                 .collect();
             let r: Vec<Estimate> = (0..nr)
                 .map(|ir| {
-                    let (s, s2) = (0..na).fold((0.0, 0.0), |(s, s2), ia| {
-                        (s + acc.s(off + ir * na + ia), s2 + acc.s2(off + ir * na + ia))
-                    });
+                    let (s, s2) = (0..na).map(|ia| at(ir, ia)).fold((0.0, 0.0), add);
                     estimate(s, s2, n, 1.0 / area(ir))
                 })
                 .collect();
             let a: Vec<Estimate> = (0..na)
                 .map(|ia| {
-                    let (s, s2) = (0..nr).fold((0.0, 0.0), |(s, s2), ir| {
-                        (s + acc.s(off + ir * na + ia), s2 + acc.s2(off + ir * na + ia))
-                    });
+                    let (s, s2) = (0..nr).map(|ir| at(ir, ia)).fold((0.0, 0.0), add);
                     estimate(s, s2, n, 1.0 / solid(ia))
                 })
                 .collect();
-            let (s, s2) = (0..nr * na).fold((0.0, 0.0), |(s, s2), i| (s + acc.s(off + i), s2 + acc.s2(off + i)));
+            let (s, s2) = (0..nr * na)
+                .map(|i| at(i / na, i % na))
+                .fold((0.0, 0.0), add);
             (ra, r, a, estimate(s, s2, n, 1.0))
         };
         let (rd_ra, rd_r, rd_a, rd) = exit(l.rd_ra(c));
         let (tt_ra, tt_r, tt_a, tt) = exit(l.tt_ra(c));
 
-        let a_l = (0..l.layers).map(|i| estimate(acc.s(l.a_l(c) + i), acc.s2(l.a_l(c) + i), n, 1.0)).collect();
+        let a_l = (0..l.layers)
+            .map(|i| estimate(acc.s(l.a_l(c) + i), acc.s2(l.a_l(c) + i), n, 1.0))
+            .collect();
         let a = estimate(acc.s(l.a_total(c)), acc.s2(l.a_total(c)), n, 1.0);
         let (a_rz, a_z) = if l.rz {
             let o = l.a_rz(c);
-            let a_rz = (0..nr * nz).map(|i| estimate(acc.s(o + i), acc.s2(o + i), n, 1.0 / (area(i / nz) * grid.dz))).collect();
+            let a_rz = (0..nr * nz)
+                .map(|i| {
+                    let j = o + (i / nz) * sz + i % nz;
+                    estimate(acc.s(j), acc.s2(j), n, 1.0 / (area(i / nz) * grid.dz))
+                })
+                .collect();
             let o = l.a_z(c);
-            let a_z = (0..nz).map(|i| estimate(acc.s(o + i), acc.s2(o + i), n, 1.0 / grid.dz)).collect();
+            let a_z = (0..nz)
+                .map(|i| estimate(acc.s(o + i), acc.s2(o + i), n, 1.0 / grid.dz))
+                .collect();
             (a_rz, a_z)
         } else {
             (Vec::new(), Vec::new())

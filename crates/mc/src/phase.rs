@@ -8,6 +8,9 @@ pub fn sample_cos_theta(g: f64, xi: f64) -> f64 {
     if g == 0.0 {
         return 2.0 * xi - 1.0;
     }
+    if g.abs() == 1.0 {
+        return g; // delta phase function: the CDF inversion below would be 0/0 at ξ = 0
+    }
     let t = (1.0 - g * g) / (1.0 - g + 2.0 * g * xi);
     ((1.0 + g * g - t * t) / (2.0 * g)).clamp(-1.0, 1.0)
 }
@@ -26,7 +29,9 @@ mod tests {
         for &g in &[-0.9, -0.3, 0.0, 0.5, 0.9] {
             let n = 200_000;
             let h = 2.0 / n as f64;
-            let s: f64 = (0..n).map(|i| pdf_cos_theta(g, -1.0 + (i as f64 + 0.5) * h) * h).sum();
+            let s: f64 = (0..n)
+                .map(|i| pdf_cos_theta(g, -1.0 + (i as f64 + 0.5) * h) * h)
+                .sum();
             assert!((s - 1.0).abs() < 1e-4, "g={g}: {s}");
         }
     }
@@ -36,7 +41,10 @@ mod tests {
         // Stratified ξ gives the exact mean up to quadrature error: ⟨cos θ⟩ = g.
         for &g in &[-0.95, -0.5, 0.0, 0.3, 0.75, 0.99] {
             let n = 1_000_000;
-            let m: f64 = (0..n).map(|i| sample_cos_theta(g, (i as f64 + 0.5) / n as f64)).sum::<f64>() / n as f64;
+            let m: f64 = (0..n)
+                .map(|i| sample_cos_theta(g, (i as f64 + 0.5) / n as f64))
+                .sum::<f64>()
+                / n as f64;
             assert!((m - g).abs() < 1e-4, "g={g}: {m}");
         }
     }

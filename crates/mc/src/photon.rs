@@ -7,9 +7,10 @@
 //! MCML tallies and the batch tallies of many channels at once.
 
 use rand::RngExt;
+use rand_distr::{Distribution, Exp1};
 use rand_pcg::Pcg64;
 
-use crate::fresnel::{cos_critical, fresnel, specular, COS_ZERO};
+use crate::fresnel::{COS_ZERO, cos_critical, fresnel, specular};
 use crate::layer::Sample;
 use crate::phase::sample_cos_theta;
 
@@ -60,13 +61,21 @@ impl Medium {
             .enumerate()
             .map(|(i, l)| {
                 let n_up = if i == 0 { sample.n_above } else { ls[i - 1].n };
-                let n_down = if i + 1 == ls.len() { sample.n_below } else { ls[i + 1].n };
+                let n_down = if i + 1 == ls.len() {
+                    sample.n_below
+                } else {
+                    ls[i + 1].n
+                };
                 let s = Slab {
                     z0: z,
                     z1: z + l.thickness,
                     n: l.n,
                     mu_t: l.mu_t(),
-                    absorb: if l.mu_t() > 0.0 { l.mu_a / l.mu_t() } else { 0.0 },
+                    absorb: if l.mu_t() > 0.0 {
+                        l.mu_a / l.mu_t()
+                    } else {
+                        0.0
+                    },
                     g: l.g,
                     cos_crit_up: cos_critical(l.n, n_up),
                     cos_crit_down: cos_critical(l.n, n_down),
@@ -79,7 +88,11 @@ impl Medium {
             .collect();
         let glass_first = ls[0].is_glass() && ls.len() > 1;
         let rsp = specular(sample.n_above, ls[0].n, glass_first.then(|| ls[1].n));
-        Medium { slabs, rsp, first: usize::from(glass_first) }
+        Medium {
+            slabs,
+            rsp,
+            first: usize::from(glass_first),
+        }
     }
 }
 
@@ -189,18 +202,22 @@ fn hop_in_glass<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Pcg64, scorer: 
         return;
     }
     let slab = m.slabs[p.layer];
-    let d = if p.uz > 0.0 { (slab.z1 - p.z) / p.uz } else { (slab.z0 - p.z) / p.uz };
+    let d = if p.uz > 0.0 {
+        (slab.z1 - p.z) / p.uz
+    } else {
+        (slab.z0 - p.z) / p.uz
+    };
     hop(p, d);
     cross_or_not(m, p, rng, scorer);
 }
 
-/// Free path s = −ln ξ / μt [cm], or the optical depth left over from the last boundary hit.
+/// Free path s = −ln ξ / μt [cm] (sampled with the ziggurat method, no logarithm), or the optical
+/// depth left over from the last boundary hit.
 #[inline]
 fn step_size(p: &mut Photon, mu_t: f64, rng: &mut Pcg64) -> f64 {
     if p.s_left == 0.0 {
-        // 1 − ξ lies in (0, 1], so the logarithm is finite.
-        let xi_step: f64 = 1.0 - rng.random::<f64>();
-        -xi_step.ln() / mu_t
+        let tau: f64 = Exp1.sample(rng);
+        tau / mu_t
     } else {
         let s = p.s_left / mu_t;
         p.s_left = 0.0;
@@ -208,17 +225,18 @@ fn step_size(p: &mut Photon, mu_t: f64, rng: &mut Pcg64) -> f64 {
     }
 }
 
-/// Distance to the layer boundary along the direction when it is shorter than `s` [cm].
+/// Distance to the layer boundary along the direction when it is shorter than `s` [cm]. The test
+/// z + s·uz beyond the boundary needs no division; the distance is computed only on a hit.
 #[inline]
 fn hit_boundary(p: &Photon, slab: &Slab, s: f64) -> Option<f64> {
-    let d = if p.uz > 0.0 {
-        (slab.z1 - p.z) / p.uz
-    } else if p.uz < 0.0 {
-        (slab.z0 - p.z) / p.uz
+    let z_end = p.z + s * p.uz;
+    if z_end > slab.z1 {
+        Some((slab.z1 - p.z) / p.uz)
+    } else if z_end < slab.z0 {
+        Some((slab.z0 - p.z) / p.uz)
     } else {
-        return None;
-    };
-    (s > d).then_some(d)
+        None
+    }
 }
 
 #[inline]
@@ -237,18 +255,23 @@ fn drop<S: Scorer>(p: &mut Photon, absorb: f64, scorer: &mut S) {
     scorer.absorb(p, dw);
 }
 
-/// New direction after a Henyey–Greenstein scattering (MCML's `Spin`).
+/// New direction after a Henyey–Greenstein scattering (MCML's `Spin`). Isotropic scattering
+/// (g = 0) forgets the old direction, so the new one is drawn directly; otherwise the sampled
+/// (θ, ψ) are applied in the frame of the old direction.
 #[inline]
 fn spin(p: &mut Photon, g: f64, rng: &mut Pcg64) {
     let xi_theta: f64 = rng.random();
-    let xi_psi: f64 = rng.random();
     let cos_t = sample_cos_theta(g, xi_theta);
     let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
-    let (sin_p, cos_p) = (2.0 * std::f64::consts::PI * xi_psi).sin_cos();
-    if p.uz.abs() > COS_ZERO {
+    let (cos_p, sin_p) = azimuth(rng);
+    if g == 0.0 || p.uz.abs() > COS_ZERO {
         p.ux = sin_t * cos_p;
         p.uy = sin_t * sin_p;
-        p.uz = if p.uz > 0.0 { cos_t } else { -cos_t };
+        p.uz = if g == 0.0 || p.uz > 0.0 {
+            cos_t
+        } else {
+            -cos_t
+        };
     } else {
         let t = (1.0 - p.uz * p.uz).sqrt();
         let ux = sin_t * (p.ux * p.uz * cos_p - p.uy * sin_p) / t + p.ux * cos_t;
@@ -259,18 +282,45 @@ fn spin(p: &mut Photon, g: f64, rng: &mut Pcg64) {
     }
 }
 
+/// (cos ψ, sin ψ) of a uniform azimuth ψ ∈ [0, 2π), without trigonometry: a point (u, v)
+/// uniform in the unit disk has angle ψ uniform, and (u² − v², 2uv)/(u² + v²) is (cos 2ψ', sin 2ψ')
+/// for its polar angle ψ', again uniform.
+#[inline]
+fn azimuth(rng: &mut Pcg64) -> (f64, f64) {
+    loop {
+        let u: f64 = 2.0 * rng.random::<f64>() - 1.0;
+        let v: f64 = 2.0 * rng.random::<f64>() - 1.0;
+        let s = u * u + v * v;
+        if s <= 1.0 && s > 1.0e-12 {
+            return ((u * u - v * v) / s, 2.0 * u * v / s);
+        }
+    }
+}
+
 /// At a boundary: reflect with the Fresnel probability, otherwise refract into the next layer or
 /// escape into the ambient medium (MCML's `CrossUpOrNot` / `CrossDnOrNot`, statistical mode).
 #[inline]
 fn cross_or_not<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Pcg64, scorer: &mut S) {
     let slab = m.slabs[p.layer];
     let up = p.uz < 0.0;
-    let (n_t, cos_crit) = if up { (slab.n_up, slab.cos_crit_up) } else { (slab.n_down, slab.cos_crit_down) };
+    let (n_t, cos_crit) = if up {
+        (slab.n_up, slab.cos_crit_up)
+    } else {
+        (slab.n_down, slab.cos_crit_down)
+    };
     let cos_i = p.uz.abs();
-    let (r, cos_t) = if cos_i <= cos_crit { (1.0, 0.0) } else { fresnel(slab.n, n_t, cos_i) };
+    let (r, cos_t) = if cos_i <= cos_crit {
+        (1.0, 0.0)
+    } else {
+        fresnel(slab.n, n_t, cos_i)
+    };
     let xi_fresnel: f64 = rng.random();
     if xi_fresnel > r {
-        let last = if up { p.layer == 0 } else { p.layer + 1 == m.slabs.len() };
+        let last = if up {
+            p.layer == 0
+        } else {
+            p.layer + 1 == m.slabs.len()
+        };
         if last {
             scorer.escape(p, up, cos_t);
             p.alive = false;
@@ -289,7 +339,11 @@ fn cross_or_not<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Pcg64, scorer: 
 /// Russian roulette: survive with probability `survival` and weight / `survival`, else die.
 fn roulette<S: Scorer>(p: &mut Photon, rng: &mut Pcg64, scorer: &mut S, survival: f64) {
     let xi_roulette: f64 = rng.random();
-    let factor = if xi_roulette < survival { 1.0 / survival } else { 0.0 };
+    let factor = if xi_roulette < survival {
+        1.0 / survival
+    } else {
+        0.0
+    };
     scorer.roulette(p, factor);
     p.w *= factor;
     if factor == 0.0 {

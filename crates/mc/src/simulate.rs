@@ -1,21 +1,37 @@
 //! The run driver: splits N photons into fixed chunks of [`CHUNK_PHOTONS`], traces the chunks in
-//! parallel on the caller's rayon pool, each with its own random stream, and sums the chunk
-//! tallies exactly. The same seed therefore gives bit-identical results with any thread count,
-//! and a run can be cut into shards (disjoint chunk ranges) that merge into the unsharded run.
+//! parallel on the caller's rayon pool, each with its own random stream derived from (seed,
+//! chunk), and sums the chunk tallies exactly. The same seed therefore gives bit-identical results
+//! with any thread count, and a run can be cut into shards (disjoint chunk ranges) whose sums
+//! merge into exactly the unsharded run.
+//!
+//! Error-targeted runs trace rounds of [`ROUND_CHUNKS`] chunks and stop after the first round at
+//! which the target is met; the decision depends only on the tallies, so it is as reproducible as
+//! a fixed photon count.
 
 use std::ops::Range;
 
+use rand_pcg::Pcg64;
 use rayon::prelude::*;
 
+use crate::batch::{BatchSpec, GroupJob};
 use crate::error::{McError, Result};
 use crate::grid::Grid;
 use crate::layer::Sample;
 use crate::output::Output;
-use crate::photon::{trace, Medium};
-use crate::rng::{chunk_rng, CHUNK_PHOTONS};
+use crate::photon::{Medium, trace};
+use crate::rng::{CHUNK_PHOTONS, chunk_rng};
 use crate::tally::{Accumulator, Layout, McmlScorer, Tally, TallySet};
 
-/// One single-channel simulation: what MCML calls a run.
+/// Chunks per round of an error-targeted run.
+pub const ROUND_CHUNKS: u64 = 4;
+
+/// Something that traces photons into a tally: an MCML run or a batch group.
+pub(crate) trait Job: Sync {
+    fn layout(&self) -> Layout;
+    fn trace_chunk(&self, tally: &mut Tally, rng: &mut Pcg64, photons: u64);
+}
+
+/// One single-channel simulation of a layered sample: what MCML calls a run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RunSpec {
     pub sample: Sample,
@@ -37,60 +53,60 @@ impl RunSpec {
         Ok(())
     }
 
-    /// Number of chunks the photons are split into.
-    pub fn chunks(&self) -> u64 {
-        self.photons.div_ceil(CHUNK_PHOTONS)
-    }
-
-    /// Layout of this run's tallies.
-    pub fn layout(&self) -> Layout {
-        Layout {
-            nr: self.grid.nr,
-            nz: self.grid.nz,
-            na: self.grid.na,
-            layers: self.sample.layers.len(),
-            rz: self.tallies.absorption_rz,
-            channels: 1,
-        }
-    }
-
     /// Specular reflectance at entry [-].
     pub fn rsp(&self) -> f64 {
         Medium::new(&self.sample).rsp
     }
 }
 
-/// Photons in chunk `c` of a run of `photons`.
-pub(crate) fn chunk_len(photons: u64, c: u64) -> u64 {
-    CHUNK_PHOTONS.min(photons - c * CHUNK_PHOTONS)
+struct McmlJob<'a> {
+    medium: Medium,
+    spec: &'a RunSpec,
 }
 
-/// Runs the whole simulation and normalizes it. `progress` is called after each chunk with the
-/// number of photons just finished (from any thread).
-pub fn run(spec: &RunSpec, progress: &(dyn Fn(u64) + Sync)) -> Result<Output> {
-    let acc = accumulate(spec, 0..spec.chunks(), progress)?;
-    Ok(Output::from_accumulator(&acc, 0, spec.grid, spec.rsp()))
-}
-
-/// Traces the chunks in `chunks` (a shard of the run) and returns their exact sums.
-pub fn accumulate(spec: &RunSpec, chunks: Range<u64>, progress: &(dyn Fn(u64) + Sync)) -> Result<Accumulator> {
-    spec.validate()?;
-    if chunks.end > spec.chunks() {
-        return Err(McError::invalid("chunks", chunks.end, "beyond the run's last chunk"));
+impl Job for McmlJob<'_> {
+    fn layout(&self) -> Layout {
+        let g = self.spec.grid;
+        Layout {
+            nr: g.nr,
+            nz: g.nz,
+            na: g.na,
+            layers: self.spec.sample.layers.len(),
+            rz: self.spec.tallies.absorption_rz,
+            channels: 1,
+        }
     }
-    let medium = Medium::new(&spec.sample);
-    let layout = spec.layout();
-    let acc = chunks
+
+    fn trace_chunk(&self, tally: &mut Tally, rng: &mut Pcg64, photons: u64) {
+        let mut scorer = McmlScorer::new(tally, self.spec.grid);
+        for _ in 0..photons {
+            trace(&self.medium, rng, &mut scorer);
+        }
+    }
+}
+
+/// Number of chunks a run of `photons` is split into.
+pub fn chunk_count(photons: u64) -> u64 {
+    photons.div_ceil(CHUNK_PHOTONS)
+}
+
+/// Traces chunks `chunks` of a run of `photons` and returns their exact sums. `progress` is called
+/// after each chunk with the photons just finished.
+fn accumulate_job<J: Job>(
+    job: &J,
+    photons: u64,
+    seed: u64,
+    chunks: Range<u64>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Accumulator {
+    let layout = job.layout();
+    chunks
         .into_par_iter()
         .fold(
             || (Tally::new(layout), Accumulator::new(layout)),
             |(mut tally, mut acc), c| {
-                let n = chunk_len(spec.photons, c);
-                let mut rng = chunk_rng(spec.seed, c);
-                let mut scorer = McmlScorer::new(&mut tally, spec.grid);
-                for _ in 0..n {
-                    trace(&medium, &mut rng, &mut scorer);
-                }
+                let n = CHUNK_PHOTONS.min(photons - c * CHUNK_PHOTONS);
+                job.trace_chunk(&mut tally, &mut chunk_rng(seed, c), n);
                 tally.drain_into(&mut acc);
                 progress(n);
                 (tally, acc)
@@ -103,6 +119,169 @@ pub fn accumulate(spec: &RunSpec, chunks: Range<u64>, progress: &(dyn Fn(u64) + 
                 a.merge(&b);
                 a
             },
-        );
-    Ok(acc)
+        )
+}
+
+/// Runs an MCML run and normalizes it.
+pub fn run(spec: &RunSpec, progress: &(dyn Fn(u64) + Sync)) -> Result<Output> {
+    let acc = accumulate(spec, 0..chunk_count(spec.photons), progress)?;
+    Ok(Output::from_accumulator(&acc, 0, spec.grid, spec.rsp()))
+}
+
+/// Traces the chunks `chunks` (a shard) of an MCML run.
+pub fn accumulate(
+    spec: &RunSpec,
+    chunks: Range<u64>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Accumulator> {
+    spec.validate()?;
+    check_chunks(&chunks, spec.photons)?;
+    let job = McmlJob {
+        medium: Medium::new(&spec.sample),
+        spec,
+    };
+    Ok(accumulate_job(
+        &job,
+        spec.photons,
+        spec.seed,
+        chunks,
+        progress,
+    ))
+}
+
+fn check_chunks(chunks: &Range<u64>, photons: u64) -> Result<()> {
+    if chunks.start > chunks.end || chunks.end > chunk_count(photons) {
+        return Err(McError::invalid(
+            "chunks",
+            format!("{chunks:?}"),
+            "outside the run's chunks",
+        ));
+    }
+    Ok(())
+}
+
+/// Seed of group `g` of a batch: decorrelates the groups' streams.
+fn group_seed(seed: u64, g: usize) -> u64 {
+    seed ^ (g as u64).wrapping_mul(0xD1B5_4A32_D192_ED03)
+}
+
+/// Traces chunks `chunks` of every group of a batch (one accumulator per group, in
+/// [`BatchSpec::groups`] order).
+pub fn accumulate_batch(
+    spec: &BatchSpec,
+    chunks: Range<u64>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<Accumulator>> {
+    spec.validate()?;
+    check_chunks(&chunks, spec.photons)?;
+    Ok(spec
+        .groups()
+        .iter()
+        .enumerate()
+        .map(|(g, group)| {
+            let job = GroupJob::new(spec, group);
+            accumulate_job(
+                &job,
+                spec.photons,
+                group_seed(spec.seed, g),
+                chunks.clone(),
+                progress,
+            )
+        })
+        .collect())
+}
+
+/// Normalizes a batch's group accumulators into one [`Output`] per channel, in channel order.
+pub fn batch_outputs(spec: &BatchSpec, accs: &[Accumulator]) -> Vec<Output> {
+    let mut out: Vec<Option<Output>> = vec![None; spec.channels.len()];
+    for (group, acc) in spec.groups().iter().zip(accs) {
+        let job = GroupJob::new(spec, group);
+        for (k, &ch) in group.iter().enumerate() {
+            out[ch] = Some(job.output(acc, k));
+        }
+    }
+    out.into_iter()
+        .map(|o| o.expect("every channel is in one group"))
+        .collect()
+}
+
+/// Runs every channel of a batch, grouped by similarity, for `spec.photons` photons each.
+pub fn run_batch(spec: &BatchSpec, progress: &(dyn Fn(u64) + Sync)) -> Result<Vec<Output>> {
+    let accs = accumulate_batch(spec, 0..chunk_count(spec.photons), progress)?;
+    Ok(batch_outputs(spec, &accs))
+}
+
+/// The stopping statistic of an error-targeted run for one channel: the larger of
+/// - the relative standard error of total Rd, and
+/// - the relative RMS noise of the profile r·Rd(r) (the energy per annulus, what a kernel is
+///   built from) over the bins with r ≤ `r_max` [cm]: √(Σ rᵢ² seᵢ²) / √(Σ rᵢ² Rdᵢ²).
+///
+/// The CLI uses `r_max` = 3 transport mean free paths of the channel. Infinite while nothing
+/// has been scored.
+pub fn relative_error(o: &Output, r_max: f64) -> f64 {
+    let rel_rd = if o.rd.value > 0.0 {
+        o.rd.se / o.rd.value
+    } else {
+        f64::INFINITY
+    };
+    let (mut noise, mut signal) = (0.0, 0.0);
+    for i in (0..o.grid.nr).take_while(|&i| i == 0 || i as f64 * o.grid.dr <= r_max) {
+        let r = o.grid.r_optimal(i);
+        noise += (r * o.rd_r[i].se).powi(2);
+        signal += (r * o.rd_r[i].value).powi(2);
+    }
+    let rel_profile = if signal > 0.0 {
+        (noise / signal).sqrt()
+    } else {
+        f64::INFINITY
+    };
+    rel_rd.max(rel_profile)
+}
+
+/// Runs each group of a batch in rounds of [`ROUND_CHUNKS`] chunks until every channel's
+/// [`relative_error`] (with `r_max[channel]`) is at most `target`, or `spec.photons` photons are
+/// traced. Returns the outputs (photon counts may differ between groups).
+pub fn run_batch_to_error(
+    spec: &BatchSpec,
+    target: f64,
+    r_max: &[f64],
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<Output>> {
+    spec.validate()?;
+    if !(target.is_finite() && target > 0.0) {
+        return Err(McError::invalid("target_error", target, "must be positive"));
+    }
+    let total = chunk_count(spec.photons);
+    let mut out: Vec<Option<Output>> = vec![None; spec.channels.len()];
+    for (g, group) in spec.groups().iter().enumerate() {
+        let job = GroupJob::new(spec, group);
+        let mut acc = Accumulator::new(job.layout());
+        let mut next = 0;
+        loop {
+            let end = (next + ROUND_CHUNKS).min(total);
+            acc.merge(&accumulate_job(
+                &job,
+                spec.photons,
+                group_seed(spec.seed, g),
+                next..end,
+                progress,
+            ));
+            next = end;
+            let worst = group
+                .iter()
+                .enumerate()
+                .map(|(k, &ch)| relative_error(&job.output(&acc, k), r_max[ch]))
+                .fold(0.0, f64::max);
+            if worst <= target || next == total {
+                break;
+            }
+        }
+        for (k, &ch) in group.iter().enumerate() {
+            out[ch] = Some(job.output(&acc, k));
+        }
+    }
+    Ok(out
+        .into_iter()
+        .map(|o| o.expect("every channel is in one group"))
+        .collect())
 }

@@ -9,7 +9,7 @@
 //! Chunk tallies are summed into an [`Accumulator`] in 2⁻⁶⁴ fixed point (i128), which makes the
 //! merge associative: results are bit-identical whatever the thread count, chunk order or shards.
 
-use crate::grid::Grid;
+use crate::grid::{Grid, GridIndex};
 use crate::photon::{Photon, Scorer};
 
 /// Which optional tallies to record. Exit tallies and total/per-layer absorption are always on.
@@ -22,7 +22,9 @@ pub struct TallySet {
 
 impl Default for TallySet {
     fn default() -> Self {
-        TallySet { absorption_rz: true }
+        TallySet {
+            absorption_rz: true,
+        }
     }
 }
 
@@ -41,7 +43,14 @@ pub struct Layout {
 impl Layout {
     /// Entries per channel: Rd(r,α), Tt(r,α), A_l, A, then A(r,z) and A(z) if recorded.
     pub fn per_channel(&self) -> usize {
-        2 * self.nr * self.na + self.layers + 1 + if self.rz { self.nr * self.nz + self.nz } else { 0 }
+        2 * self.nr * self.na
+            + self.layers
+            + 1
+            + if self.rz {
+                self.nr * self.nz + self.nz
+            } else {
+                0
+            }
     }
     pub fn len(&self) -> usize {
         self.per_channel() * self.channels
@@ -79,7 +88,13 @@ pub struct Tally {
 
 impl Tally {
     pub fn new(layout: Layout) -> Self {
-        Tally { layout, sum: vec![0.0; layout.len()], sum_sq: vec![0.0; layout.len()], photons: 0, interactions: 0 }
+        Tally {
+            layout,
+            sum: vec![0.0; layout.len()],
+            sum_sq: vec![0.0; layout.len()],
+            photons: 0,
+            interactions: 0,
+        }
     }
 
     /// Adds this chunk into `acc` in exact fixed point and resets it to zero for reuse.
@@ -127,7 +142,13 @@ pub struct Accumulator {
 
 impl Accumulator {
     pub fn new(layout: Layout) -> Self {
-        Accumulator { layout, sum: vec![0; layout.len()], sum_sq: vec![0; layout.len()], photons: 0, interactions: 0 }
+        Accumulator {
+            layout,
+            sum: vec![0; layout.len()],
+            sum_sq: vec![0; layout.len()],
+            photons: 0,
+            interactions: 0,
+        }
     }
 
     /// Adds another accumulator of the same layout.
@@ -164,7 +185,10 @@ struct Scratch {
 
 impl Scratch {
     fn new(n: usize) -> Self {
-        Scratch { value: vec![0.0; n], touched: Vec::new() }
+        Scratch {
+            value: vec![0.0; n],
+            touched: Vec::new(),
+        }
     }
 
     #[inline]
@@ -190,8 +214,7 @@ impl Scratch {
 /// The MCML tallies of one channel, fed by the walk.
 pub(crate) struct McmlScorer<'a> {
     tally: &'a mut Tally,
-    grid: Grid,
-    /// Depth of the top of each layer [cm], to index per-layer absorption.
+    grid: GridIndex,
     rz: Option<(Scratch, Scratch)>,
     a_l: Scratch,
 }
@@ -199,8 +222,14 @@ pub(crate) struct McmlScorer<'a> {
 impl<'a> McmlScorer<'a> {
     pub fn new(tally: &'a mut Tally, grid: Grid) -> Self {
         let l = tally.layout;
-        let rz = l.rz.then(|| (Scratch::new(l.nr * l.nz), Scratch::new(l.nz)));
-        McmlScorer { tally, grid, rz, a_l: Scratch::new(l.layers) }
+        let rz =
+            l.rz.then(|| (Scratch::new(l.nr * l.nz), Scratch::new(l.nz)));
+        McmlScorer {
+            tally,
+            grid: GridIndex::new(&grid),
+            rz,
+            a_l: Scratch::new(l.layers),
+        }
     }
 }
 
@@ -213,7 +242,7 @@ impl Scorer for McmlScorer<'_> {
         self.a_l.add(p.layer, dw);
         if let Some((a_rz, a_z)) = &mut self.rz {
             let iz = self.grid.iz(p.z);
-            a_rz.add(self.grid.ir(p.r()) * self.grid.nz + iz, dw);
+            a_rz.add(self.grid.ir(p.r()) * self.tally.layout.nz + iz, dw);
             a_z.add(iz, dw);
         }
     }
@@ -232,7 +261,12 @@ impl Scorer for McmlScorer<'_> {
     fn finish(&mut self, p: &Photon) {
         let l = self.tally.layout;
         let t = &mut *self.tally;
-        let a: f64 = self.a_l.touched.iter().map(|&i| self.a_l.value[i as usize]).sum();
+        let a: f64 = self
+            .a_l
+            .touched
+            .iter()
+            .map(|&i| self.a_l.value[i as usize])
+            .sum();
         t.sum[l.a_total(0)] += a;
         t.sum_sq[l.a_total(0)] += a * a;
         self.a_l.flush(l.a_l(0), &mut t.sum, &mut t.sum_sq);

@@ -4,25 +4,47 @@
 use mc::{Grid, Layer, Output, RunSpec, Sample, TallySet};
 
 fn run(sample: Sample, grid: Grid, photons: u64, seed: u64) -> Output {
-    let spec = RunSpec { sample, grid, photons, seed, tallies: TallySet::default() };
+    let spec = RunSpec {
+        sample,
+        grid,
+        photons,
+        seed,
+        tallies: TallySet::default(),
+    };
     mc::run(&spec, &|_| {}).unwrap()
 }
 
 fn small_grid() -> Grid {
-    Grid { dr: 0.01, dz: 0.01, nr: 100, nz: 40, na: 30 }
+    Grid {
+        dr: 0.01,
+        dz: 0.01,
+        nr: 100,
+        nz: 40,
+        na: 30,
+    }
 }
 
 /// Asserts |got − want| ≤ k·se with a message.
 fn within(what: &str, got: f64, se: f64, want: f64, k: f64) {
     assert!(se > 0.0 || got == want, "{what}: zero standard error");
-    assert!((got - want).abs() <= k * se, "{what}: {got} ± {se}, expected {want} (off by {:.2} se)", (got - want) / se);
+    assert!(
+        (got - want).abs() <= k * se,
+        "{what}: {got} ± {se}, expected {want} (off by {:.2} se)",
+        (got - want) / se
+    );
 }
 
 /// MCML paper, Table 2 / van de Hulst (1980): μa = 10, μs = 90 cm⁻¹, g = 0.75, matched n = 1,
 /// d = 0.02 cm: Rd = 0.09739, Tt = 0.66096.
 #[test]
 fn van_de_hulst_slab() {
-    let s = Sample::single(Layer { n: 1.0, mu_a: 10.0, mu_s: 90.0, g: 0.75, thickness: 0.02 });
+    let s = Sample::single(Layer {
+        n: 1.0,
+        mu_a: 10.0,
+        mu_s: 90.0,
+        g: 0.75,
+        thickness: 0.02,
+    });
     let o = run(s, small_grid(), 400_000, 11);
     within("Rd", o.rd.value, o.rd.se, 0.09739, 3.0);
     within("Tt", o.tt.value, o.tt.se, 0.66096, 3.0);
@@ -33,7 +55,13 @@ fn van_de_hulst_slab() {
 /// air: specular + diffuse reflectance 0.2600; specular alone 0.04.
 #[test]
 fn giovanelli_semi_infinite() {
-    let s = Sample::single(Layer { n: 1.5, mu_a: 10.0, mu_s: 90.0, g: 0.0, thickness: 1.0e8 });
+    let s = Sample::single(Layer {
+        n: 1.5,
+        mu_a: 10.0,
+        mu_s: 90.0,
+        g: 0.0,
+        thickness: 1.0e8,
+    });
     let o = run(s, small_grid(), 400_000, 12);
     assert!((o.rsp - 0.04).abs() < 1e-15);
     within("Rsp+Rd", o.rsp + o.rd.value, o.rd.se, 0.2600, 3.0);
@@ -48,9 +76,27 @@ fn energy_is_conserved_in_a_multilayer_stack() {
         n_above: 1.0,
         n_below: 1.4,
         layers: vec![
-            Layer { n: 1.52, mu_a: 0.0, mu_s: 0.0, g: 0.0, thickness: 0.1 },
-            Layer { n: 1.37, mu_a: 1.0, mu_s: 100.0, g: 0.9, thickness: 0.1 },
-            Layer { n: 1.45, mu_a: 2.0, mu_s: 10.0, g: -0.3, thickness: 0.05 },
+            Layer {
+                n: 1.52,
+                mu_a: 0.0,
+                mu_s: 0.0,
+                g: 0.0,
+                thickness: 0.1,
+            },
+            Layer {
+                n: 1.37,
+                mu_a: 1.0,
+                mu_s: 100.0,
+                g: 0.9,
+                thickness: 0.1,
+            },
+            Layer {
+                n: 1.45,
+                mu_a: 2.0,
+                mu_s: 10.0,
+                g: -0.3,
+                thickness: 0.05,
+            },
         ],
     };
     let o = run(s, small_grid(), 100_000, 3);
@@ -69,7 +115,17 @@ fn energy_is_conserved_in_a_multilayer_stack() {
 /// ever lost, so Rsp + Rd + Tt = 1 to rounding (roulette is never played since w never drops).
 #[test]
 fn non_absorbing_slab_conserves_to_rounding() {
-    let s = Sample { n_above: 1.0, n_below: 1.0, layers: vec![Layer { n: 1.4, mu_a: 0.0, mu_s: 100.0, g: 0.8, thickness: 0.1 }] };
+    let s = Sample {
+        n_above: 1.0,
+        n_below: 1.0,
+        layers: vec![Layer {
+            n: 1.4,
+            mu_a: 0.0,
+            mu_s: 100.0,
+            g: 0.8,
+            thickness: 0.1,
+        }],
+    };
     let o = run(s, small_grid(), 20_000, 5);
     assert_eq!(o.a.value, 0.0);
     let total = o.rsp + o.rd.value + o.tt.value;
@@ -85,17 +141,31 @@ fn h_function(a: f64, mu: f64) -> f64 {
         let next: Vec<f64> = x
             .iter()
             .map(|&m| {
-                let s: f64 = x.iter().zip(&w).zip(&h).map(|((&xp, &wp), &hp)| wp * xp * hp / (m + xp)).sum();
+                let s: f64 = x
+                    .iter()
+                    .zip(&w)
+                    .zip(&h)
+                    .map(|((&xp, &wp), &hp)| wp * xp * hp / (m + xp))
+                    .sum();
                 1.0 / ((1.0 - a).sqrt() + 0.5 * a * s)
             })
             .collect();
-        let diff = next.iter().zip(&h).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+        let diff = next
+            .iter()
+            .zip(&h)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max);
         h = next;
         if diff < 1e-14 {
             break;
         }
     }
-    let s: f64 = x.iter().zip(&w).zip(&h).map(|((&xp, &wp), &hp)| wp * xp * hp / (mu + xp)).sum();
+    let s: f64 = x
+        .iter()
+        .zip(&w)
+        .zip(&h)
+        .map(|((&xp, &wp), &hp)| wp * xp * hp / (mu + xp))
+        .sum();
     1.0 / ((1.0 - a).sqrt() + 0.5 * a * s)
 }
 
@@ -131,7 +201,11 @@ fn h_function_satisfies_known_identities() {
     // Zeroth moment: ∫₀¹ H(μ) dμ = (2/a)(1 − √(1−a)) exactly; H(0) = 1.
     let (x, w) = gauss_legendre_01(96);
     for &a in &[0.3, 0.9, 0.999] {
-        let m0: f64 = x.iter().zip(&w).map(|(&m, &wi)| wi * h_function(a, m)).sum();
+        let m0: f64 = x
+            .iter()
+            .zip(&w)
+            .map(|(&m, &wi)| wi * h_function(a, m))
+            .sum();
         let exact = 2.0 / a * (1.0 - (1.0 - a).sqrt());
         assert!((m0 - exact).abs() < 1e-6, "a={a}: {m0} vs {exact}");
         assert!((h_function(a, 0.0) - 1.0).abs() < 1e-12);
@@ -145,7 +219,13 @@ fn h_function_satisfies_known_identities() {
 fn isotropic_half_space_matches_chandrasekhar() {
     for (i, &a) in [0.1, 0.5, 0.9, 0.99, 0.999].iter().enumerate() {
         let mu_t = 10.0;
-        let layer = Layer { n: 1.0, mu_a: mu_t * (1.0 - a), mu_s: mu_t * a, g: 0.0, thickness: 1.0e8 };
+        let layer = Layer {
+            n: 1.0,
+            mu_a: mu_t * (1.0 - a),
+            mu_s: mu_t * a,
+            g: 0.0,
+            thickness: 1.0e8,
+        };
         let o = run(Sample::single(layer), small_grid(), 200_000, 100 + i as u64);
         let exact = 1.0 - (1.0 - a).sqrt() * h_function(a, 1.0);
         within(&format!("Rd(a={a})"), o.rd.value, o.rd.se, exact, 3.0);

@@ -1,0 +1,101 @@
+//! Simulation settings for materials (the thesis's Table 6.1 by default), read from TOML.
+//!
+//! ```toml
+//! photons = 10_000_000
+//! seed = 1
+//! thickness_cm = 1e8      # quasi-infinite half-space
+//! n_above = 1.0           # ambient media
+//! n_below = 1.0
+//! [grid]
+//! dr_per_min_mfp = 20.0   # dr = min(MFP_rgb) / 20
+//! r_max_mfp = 32.0        # nr = ⌈32 · max(MFP_rgb) / dr⌉
+//! z_max_mfp = 32.0        # depth range of A(r,z), in max(MFP_rgb)
+//! nz = 100
+//! na = 30
+//! ```
+
+use serde::Deserialize;
+
+use crate::error::{McError, Result};
+use crate::grid::Grid;
+use crate::material::Material;
+
+/// Per-material run settings.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimConfig {
+    pub photons: u64,
+    pub seed: u64,
+    /// Layer thickness when the material sets none [cm].
+    pub thickness_cm: f64,
+    pub n_above: f64,
+    pub n_below: f64,
+    pub grid: GridRule,
+}
+
+/// How the grid follows from a material's mean free paths (thesis Table 6.1).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GridRule {
+    /// dr = min(MFP_rgb) / dr_per_min_mfp.
+    pub dr_per_min_mfp: f64,
+    /// nr = ⌈r_max_mfp · max(MFP_rgb) / dr⌉.
+    pub r_max_mfp: f64,
+    /// dz = z_max_mfp · max(MFP_rgb) / nz.
+    pub z_max_mfp: f64,
+    pub nz: usize,
+    pub na: usize,
+}
+
+impl SimConfig {
+    pub fn from_toml(text: &str, source_name: &str) -> Result<Self> {
+        let c: SimConfig = toml::from_str(text).map_err(|e| {
+            let line = e
+                .span()
+                .map(|s| text[..s.start].lines().count().max(1))
+                .unwrap_or(0);
+            McError::parse(source_name, line, e.message().to_string())
+        })?;
+        for (field, v) in [
+            ("grid.dr_per_min_mfp", c.grid.dr_per_min_mfp),
+            ("grid.r_max_mfp", c.grid.r_max_mfp),
+            ("grid.z_max_mfp", c.grid.z_max_mfp),
+            ("thickness_cm", c.thickness_cm),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(McError::invalid(field, v, "must be positive and finite"));
+            }
+        }
+        if c.photons == 0 {
+            return Err(McError::invalid("photons", 0, "must be at least 1"));
+        }
+        Ok(c)
+    }
+
+    /// The thesis grid for a material: dr from the smallest MFP, nr to cover 32 of the largest.
+    /// Channels that do not interact at all (infinite MFP) are left out of the rule.
+    pub fn grid_for(&self, m: &Material) -> Result<Grid> {
+        let mfps: Vec<f64> = (0..3).map(|c| m.mfp(c)).filter(|l| l.is_finite()).collect();
+        if mfps.is_empty() {
+            return Err(McError::invalid(
+                format!("material {} sigma_a + sigma_s", m.name),
+                0,
+                "no channel interacts with light: no grid to derive",
+            ));
+        }
+        let min = mfps.iter().cloned().fold(f64::INFINITY, f64::min);
+        let max = mfps.iter().cloned().fold(0.0, f64::max);
+        let r = &self.grid;
+        let dr = min / r.dr_per_min_mfp;
+        let nr = (r.r_max_mfp * max / dr).ceil() as usize;
+        let grid = Grid {
+            dr,
+            dz: r.z_max_mfp * max / r.nz as f64,
+            nr,
+            nz: r.nz,
+            na: r.na,
+        };
+        grid.validate()?;
+        Ok(grid)
+    }
+}

@@ -1,0 +1,160 @@
+//! Materials: RGB optical coefficients of a homogeneous medium, read from TOML.
+//!
+//! ```toml
+//! name = "Skin1"
+//! source = "Jensen et al. 2001, via Freude 2014 Table 6.2"
+//! unit = "cm"                 # lengths in cm or mm; coefficients in unit⁻¹
+//! sigma_a = [0.32, 1.7, 4.8]  # absorption, R G B
+//! sigma_s = [7.4, 8.8, 10.1]  # scattering, R G B
+//! g = 0.0                     # HG anisotropy, one value or [R, G, B]
+//! eta = 1.3                   # refractive index
+//! # thickness = 1e8           # optional, in `unit`; default: the run config's
+//! ```
+//! Values are converted to cm / cm⁻¹ on load.
+
+use serde::Deserialize;
+
+use crate::error::{McError, Result};
+
+/// Channel names, in order.
+pub const CHANNELS: [&str; 3] = ["R", "G", "B"];
+
+/// A named homogeneous material, coefficients in cm⁻¹.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub source: String,
+    /// Absorption coefficient σa per channel [cm⁻¹].
+    pub sigma_a: [f64; 3],
+    /// Scattering coefficient σs per channel [cm⁻¹].
+    pub sigma_s: [f64; 3],
+    /// HG anisotropy g per channel [-].
+    pub g: [f64; 3],
+    /// Refractive index η [-].
+    pub eta: f64,
+    /// Thickness [cm], if the material fixes one.
+    pub thickness: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialFile {
+    name: String,
+    #[serde(default)]
+    source: String,
+    unit: String,
+    sigma_a: [f64; 3],
+    sigma_s: [f64; 3],
+    g: OneOrThree,
+    eta: f64,
+    thickness: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum OneOrThree {
+    One(f64),
+    Three([f64; 3]),
+}
+
+impl Material {
+    /// Parses and validates a material TOML; `source_name` is used in error messages.
+    pub fn from_toml(text: &str, source_name: &str) -> Result<Self> {
+        let f: MaterialFile = toml::from_str(text).map_err(|e| {
+            let line = e
+                .span()
+                .map(|s| text[..s.start].lines().count().max(1))
+                .unwrap_or(0);
+            McError::parse(source_name, line, e.message().to_string())
+        })?;
+        let to_cm = match f.unit.as_str() {
+            "cm" => 1.0,
+            "mm" => 0.1,
+            other => {
+                return Err(McError::invalid(
+                    "unit",
+                    format!("{other:?}"),
+                    "must be \"cm\" or \"mm\"",
+                ));
+            }
+        };
+        let g = match f.g {
+            OneOrThree::One(g) => [g; 3],
+            OneOrThree::Three(g) => g,
+        };
+        let m = Material {
+            name: f.name,
+            source: f.source,
+            sigma_a: f.sigma_a.map(|s| s / to_cm),
+            sigma_s: f.sigma_s.map(|s| s / to_cm),
+            g,
+            eta: f.eta,
+            thickness: f.thickness.map(|t| t * to_cm),
+        };
+        m.validate()?;
+        Ok(m)
+    }
+
+    /// Checks every coefficient; the error names the field and channel.
+    pub fn validate(&self) -> Result<()> {
+        for c in 0..3 {
+            let ch = CHANNELS[c];
+            for (field, v) in [("sigma_a", self.sigma_a[c]), ("sigma_s", self.sigma_s[c])] {
+                if !(v.is_finite() && v >= 0.0) {
+                    return Err(McError::invalid(
+                        format!("{field}[{ch}]"),
+                        v,
+                        "must be non-negative and finite",
+                    ));
+                }
+            }
+            if !(self.g[c].is_finite() && (-1.0..=1.0).contains(&self.g[c])) {
+                return Err(McError::invalid(
+                    format!("g[{ch}]"),
+                    self.g[c],
+                    "must lie in [-1, 1]",
+                ));
+            }
+        }
+        if !(self.eta.is_finite() && self.eta > 0.0) {
+            return Err(McError::invalid(
+                "eta",
+                self.eta,
+                "refractive index must be positive and finite",
+            ));
+        }
+        if let Some(t) = self.thickness {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(McError::invalid(
+                    "thickness",
+                    t,
+                    "must be positive and finite",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Single-scattering albedo σs/(σa+σs) of channel `c` [-]; 0 when nothing interacts.
+    pub fn albedo(&self, c: usize) -> f64 {
+        let t = self.sigma_a[c] + self.sigma_s[c];
+        if t > 0.0 { self.sigma_s[c] / t } else { 0.0 }
+    }
+
+    /// Transport mean free path 1/(σa + σs(1−g)) of channel `c` [cm] (thesis Table 6.1);
+    /// infinite for a non-interacting channel.
+    pub fn mfp(&self, c: usize) -> f64 {
+        1.0 / (self.sigma_a[c] + self.sigma_s[c] * (1.0 - self.g[c]))
+    }
+
+    /// The layer of channel `c` with the given thickness [cm].
+    pub fn layer(&self, c: usize, thickness: f64) -> crate::Layer {
+        crate::Layer {
+            n: self.eta,
+            mu_a: self.sigma_a[c],
+            mu_s: self.sigma_s[c],
+            g: self.g[c],
+            thickness,
+        }
+    }
+}

@@ -1,0 +1,263 @@
+//! Batch tracing against independent per-channel MCML runs, determinism and shards.
+
+use mc::{BatchSpec, ChannelSpec, Grid, Layer, Output, RunSpec, Sample, TallySet};
+
+/// Channels with very different albedos sharing g = 0 and η = 1.3: Ketchup G and B
+/// (a ≈ 0.07, 0.02) and Wholemilk R (a ≈ 0.9996), thesis Table 6.2 [cm⁻¹].
+fn channels() -> Vec<ChannelSpec> {
+    [(9.7, 0.7), (14.5, 0.3), (0.011, 25.5)]
+        .iter()
+        .map(|&(mu_a, mu_s)| {
+            let layer = Layer {
+                n: 1.3,
+                mu_a,
+                mu_s,
+                g: 0.0,
+                thickness: 1.0e8,
+            };
+            let mfp = 1.0 / layer.mu_t();
+            ChannelSpec {
+                layer,
+                grid: Grid {
+                    dr: mfp / 20.0,
+                    dz: mfp / 2.0,
+                    nr: 80,
+                    nz: 20,
+                    na: 10,
+                },
+            }
+        })
+        .collect()
+}
+
+fn chi2(a: &[mc::Estimate], b: &[mc::Estimate]) -> (f64, usize) {
+    let mut chi = 0.0;
+    let mut dof = 0;
+    for (x, y) in a.iter().zip(b) {
+        let v = x.se * x.se + y.se * y.se;
+        // Bins with only a handful of scores have non-Gaussian errors; χ² needs well-sampled bins.
+        if v > 0.0 && x.se < 0.2 * x.value && y.se < 0.2 * y.value {
+            chi += (x.value - y.value).powi(2) / v;
+            dof += 1;
+        }
+    }
+    (chi, dof)
+}
+
+fn assert_agree(name: &str, batch: &Output, single: &Output) {
+    let (chi, dof) = chi2(&batch.rd_r, &single.rd_r);
+    assert!(dof >= 15, "{name}: only {dof} bins to compare");
+    // χ² with `dof` degrees of freedom: mean dof, sd √(2 dof); 5 sd is a p ≈ 10⁻⁶ tail.
+    assert!(
+        chi < dof as f64 + 5.0 * (2.0 * dof as f64).sqrt(),
+        "{name}: χ² = {chi:.1} over {dof} bins"
+    );
+    for (what, x, y) in [("Rd", batch.rd, single.rd), ("A", batch.a, single.a)] {
+        let z = (x.value - y.value) / (x.se * x.se + y.se * y.se).sqrt();
+        assert!(
+            z.abs() < 4.0,
+            "{name} {what}: batch {x:?} vs single {y:?} (z = {z:.2})"
+        );
+    }
+    assert_eq!(batch.rsp, single.rsp);
+}
+
+#[test]
+fn batch_equals_independent_runs_within_statistics() {
+    let chans = channels();
+    let photons = 60_000;
+    let spec = BatchSpec {
+        n_above: 1.0,
+        n_below: 1.0,
+        channels: chans.clone(),
+        photons,
+        seed: 1,
+        tallies: TallySet {
+            absorption_rz: true,
+        },
+    };
+    assert_eq!(
+        spec.groups(),
+        vec![vec![0, 1, 2]],
+        "one walk for all three channels"
+    );
+    let batch = mc::run_batch(&spec, &|_| {}).unwrap();
+    for (i, c) in chans.iter().enumerate() {
+        let single = RunSpec {
+            sample: Sample::single(c.layer),
+            grid: c.grid,
+            photons,
+            seed: 99 + i as u64,
+            tallies: TallySet::default(),
+        };
+        let single = mc::run(&single, &|_| {}).unwrap();
+        assert_agree(&format!("channel {i}"), &batch[i], &single);
+        // The batch's A(r,z) is on the channel's own grid too: its total matches A.
+        let a_rz: f64 = (0..c.grid.nr)
+            .flat_map(|ir| (0..c.grid.nz).map(move |iz| (ir, iz)))
+            .map(|(ir, iz)| {
+                batch[i].a_rz[ir * c.grid.nz + iz].value
+                    * 2.0
+                    * std::f64::consts::PI
+                    * (ir as f64 + 0.5)
+                    * c.grid.dr
+                    * c.grid.dr
+                    * c.grid.dz
+            })
+            .sum();
+        assert!(
+            (a_rz - batch[i].a.value).abs() < 1e-9,
+            "channel {i}: ΣA(r,z) = {a_rz}, A = {}",
+            batch[i].a.value
+        );
+    }
+}
+
+#[test]
+fn grouping_respects_g_eta_and_thickness() {
+    let mut chans = channels();
+    chans[1].layer.g = 0.5; // different g
+    chans.push(ChannelSpec {
+        layer: Layer {
+            n: 1.5,
+            ..chans[0].layer
+        },
+        grid: chans[0].grid,
+    }); // different η
+    chans.push(ChannelSpec {
+        layer: Layer {
+            thickness: 0.01,
+            ..chans[0].layer
+        },
+        grid: chans[0].grid,
+    }); // finite slab
+    chans.push(ChannelSpec {
+        layer: Layer {
+            mu_a: 0.0,
+            mu_s: 0.0,
+            ..chans[0].layer
+        },
+        grid: chans[0].grid,
+    }); // glass
+    let spec = BatchSpec {
+        n_above: 1.0,
+        n_below: 1.0,
+        channels: chans,
+        photons: 1000,
+        seed: 1,
+        tallies: TallySet {
+            absorption_rz: false,
+        },
+    };
+    assert_eq!(
+        spec.groups(),
+        vec![vec![0, 2], vec![1], vec![3], vec![4], vec![5]]
+    );
+    let out = mc::run_batch(&spec, &|_| {}).unwrap();
+    // A glass half-space absorbs nothing: what is not reflected is transmitted (the bottom
+    // surface reflects some light back up, which leaves as Rd).
+    assert_eq!(out[5].a.value, 0.0);
+    assert!((out[5].rsp + out[5].rd.value + out[5].tt.value - 1.0).abs() < 1e-12);
+}
+
+/// Same seed ⇒ bit-identical tallies with 1 and 2 threads (and any chunk order).
+#[test]
+fn same_seed_same_bits_whatever_the_thread_count() {
+    let spec = BatchSpec {
+        n_above: 1.0,
+        n_below: 1.0,
+        channels: channels(),
+        photons: 100_000,
+        seed: 42,
+        tallies: TallySet::default(),
+    };
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            mc::accumulate_batch(&spec, 0..mc::chunk_count(spec.photons), &|_| {}).unwrap()
+        })
+    };
+    assert_eq!(run(1), run(2));
+    let mcml = RunSpec {
+        sample: Sample::single(channels()[2].layer),
+        grid: channels()[2].grid,
+        photons: 50_000,
+        seed: 3,
+        tallies: TallySet::default(),
+    };
+    let run1 = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| mc::accumulate(&mcml, 0..mc::chunk_count(mcml.photons), &|_| {}).unwrap())
+    };
+    assert_eq!(run1(1), run1(2));
+}
+
+/// Shards (disjoint chunk ranges) merge into exactly the unsharded run.
+#[test]
+fn shards_merge_bit_identically() {
+    let spec = BatchSpec {
+        n_above: 1.0,
+        n_below: 1.0,
+        channels: channels(),
+        photons: 70_000,
+        seed: 5,
+        tallies: TallySet::default(),
+    };
+    let n = mc::chunk_count(spec.photons);
+    let whole = mc::accumulate_batch(&spec, 0..n, &|_| {}).unwrap();
+    let mut merged = mc::accumulate_batch(&spec, 0..2, &|_| {}).unwrap();
+    for (m, s) in merged
+        .iter_mut()
+        .zip(mc::accumulate_batch(&spec, 2..n, &|_| {}).unwrap())
+    {
+        m.merge(&s);
+    }
+    assert_eq!(merged, whole);
+}
+
+/// An error-targeted run stops once every channel meets the target, and not before.
+#[test]
+fn error_target_is_met() {
+    let spec = BatchSpec {
+        n_above: 1.0,
+        n_below: 1.0,
+        channels: channels(),
+        photons: 2_000_000,
+        seed: 8,
+        tallies: TallySet {
+            absorption_rz: false,
+        },
+    };
+    let r_max: Vec<f64> = spec.channels.iter().map(|c| 3.0 / c.layer.mu_t()).collect();
+    let target = 0.01;
+    let out = mc::run_batch_to_error(&spec, target, &r_max, &|_| {}).unwrap();
+    let worst = out
+        .iter()
+        .zip(&r_max)
+        .map(|(o, &r)| mc::relative_error(o, r))
+        .fold(0.0, f64::max);
+    assert!(worst <= target, "{worst}");
+    assert!(
+        out[0].photons < spec.photons,
+        "stopped before the photon cap"
+    );
+    // It stopped at the first round that met the target: one round fewer does not meet it.
+    let round = mc::ROUND_CHUNKS * mc::CHUNK_PHOTONS;
+    let fewer = BatchSpec {
+        photons: out[0].photons - round,
+        ..spec.clone()
+    };
+    let before = mc::run_batch(&fewer, &|_| {}).unwrap();
+    let worst = before
+        .iter()
+        .zip(&r_max)
+        .map(|(o, &r)| mc::relative_error(o, r))
+        .fold(0.0, f64::max);
+    assert!(worst > target, "{worst}");
+}
