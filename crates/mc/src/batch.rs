@@ -30,14 +30,14 @@ use crate::tally::{Layout, Tally, TallySet};
 pub const QUASI_INFINITE_MFP: f64 = 1.0e6;
 
 /// One channel to simulate: a single homogeneous layer (cm, cm⁻¹) and its own tally grid.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ChannelSpec {
     pub layer: Layer,
     pub grid: Grid,
 }
 
 /// Many single-layer channels between the same ambient media, simulated together.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BatchSpec {
     pub n_above: f64,
     pub n_below: f64,

@@ -5,7 +5,7 @@
 use crate::error::{McError, Result};
 
 /// Grid sizes and spacings (MCML's `dz dr` / `nz nr na` input lines).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Grid {
     /// Radial bin width [cm].
     pub dr: f64,

@@ -6,7 +6,7 @@
 use crate::error::{McError, Result};
 
 /// One homogeneous slab (MCML's `LayerStruct`).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Layer {
     /// Refractive index η of the slab [-].
     pub n: f64,
@@ -42,7 +42,7 @@ impl Layer {
 }
 
 /// A stack of layers between ambient media (MCML's `InputStruct` geometry part).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Sample {
     /// Refractive index of the medium above (where the beam comes from) [-].
     pub n_above: f64,

@@ -40,6 +40,7 @@ mod output;
 mod phase;
 mod photon;
 mod rng;
+pub mod shard;
 mod simulate;
 mod tally;
 

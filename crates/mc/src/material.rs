@@ -97,8 +97,7 @@ impl Material {
 
     /// Checks every coefficient; the error names the field and channel.
     pub fn validate(&self) -> Result<()> {
-        for c in 0..3 {
-            let ch = CHANNELS[c];
+        for (c, ch) in CHANNELS.iter().enumerate() {
             for (field, v) in [("sigma_a", self.sigma_a[c]), ("sigma_s", self.sigma_s[c])] {
                 if !(v.is_finite() && v >= 0.0) {
                     return Err(McError::invalid(
@@ -123,14 +122,14 @@ impl Material {
                 "refractive index must be positive and finite",
             ));
         }
-        if let Some(t) = self.thickness {
-            if !(t.is_finite() && t > 0.0) {
-                return Err(McError::invalid(
-                    "thickness",
-                    t,
-                    "must be positive and finite",
-                ));
-            }
+        if let Some(t) = self.thickness
+            && !(t.is_finite() && t > 0.0)
+        {
+            return Err(McError::invalid(
+                "thickness",
+                t,
+                "must be positive and finite",
+            ));
         }
         Ok(())
     }

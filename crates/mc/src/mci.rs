@@ -51,13 +51,13 @@ pub fn parse(text: &str, source_name: &str, seed: u64) -> Result<Vec<MciRun>> {
         let ctx = |f: &str| format!("run {run} {f}");
         let name_line = lines.next_line(&ctx("output file name"))?;
         let out_name = name_line.fields[0].to_string();
-        if let Some(fmt) = name_line.fields.get(1) {
-            if !fmt.eq_ignore_ascii_case("a") {
-                return Err(lines.error(
-                    name_line.number,
-                    format!("output format {fmt:?} is not supported; use A (ASCII)"),
-                ));
-            }
+        if let Some(fmt) = name_line.fields.get(1)
+            && !fmt.eq_ignore_ascii_case("a")
+        {
+            return Err(lines.error(
+                name_line.number,
+                format!("output format {fmt:?} is not supported; use A (ASCII)"),
+            ));
         }
         let photons_f: f64 = lines.value(&ctx("number of photons"))?;
         if !(photons_f.is_finite() && photons_f >= 1.0 && photons_f.fract() == 0.0) {

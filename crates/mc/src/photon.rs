@@ -187,7 +187,7 @@ fn hop_drop_spin<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Pcg64, scorer:
             hop(p, s);
             drop(p, slab.absorb, scorer);
             spin(p, slab.g, rng);
-            if p.interactions % PATH_ROULETTE_INTERVAL == 0 {
+            if p.interactions.is_multiple_of(PATH_ROULETTE_INTERVAL) {
                 roulette(p, rng, scorer, 0.5);
             }
         }

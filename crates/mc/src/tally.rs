@@ -13,7 +13,7 @@ use crate::grid::{Grid, GridIndex};
 use crate::photon::{Photon, Scorer};
 
 /// Which optional tallies to record. Exit tallies and total/per-layer absorption are always on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct TallySet {
     /// Record absorption on the (r, z) grid (MCML's `A_rz` and `A_z`). Costs a scratch write per
     /// interaction; turn it off when only profiles are needed.
@@ -29,7 +29,7 @@ impl Default for TallySet {
 }
 
 /// Offsets of each quantity in the flat tally vectors.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Layout {
     pub nr: usize,
     pub nz: usize,
@@ -52,7 +52,8 @@ impl Layout {
                 0
             }
     }
-    pub fn len(&self) -> usize {
+    /// Total entries of the flat tally vectors.
+    pub fn entries(&self) -> usize {
         self.per_channel() * self.channels
     }
     pub fn rd_ra(&self, c: usize) -> usize {
@@ -90,8 +91,8 @@ impl Tally {
     pub fn new(layout: Layout) -> Self {
         Tally {
             layout,
-            sum: vec![0.0; layout.len()],
-            sum_sq: vec![0.0; layout.len()],
+            sum: vec![0.0; layout.entries()],
+            sum_sq: vec![0.0; layout.entries()],
             photons: 0,
             interactions: 0,
         }
@@ -144,8 +145,8 @@ impl Accumulator {
     pub fn new(layout: Layout) -> Self {
         Accumulator {
             layout,
-            sum: vec![0; layout.len()],
-            sum_sq: vec![0; layout.len()],
+            sum: vec![0; layout.entries()],
+            sum_sq: vec![0; layout.entries()],
             photons: 0,
             interactions: 0,
         }

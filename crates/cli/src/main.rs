@@ -1,0 +1,66 @@
+//! `sss`: from measured optical coefficients to real-time subsurface-scattering kernels.
+//!
+//! Thin glue over the library crates: argument parsing, progress bars, files and exit codes.
+//! Every error is printed as one line on stderr and exits with code 2; nothing is written then.
+
+mod files;
+mod library;
+mod materials;
+mod progress;
+mod simulate;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "sss", version, about = "Measured optical coefficients → Monte Carlo profiles → separable SSS kernels", long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Simulate diffuse reflectance profiles Rd(r) with MCML physics (materials or an .mci file)
+    Simulate(simulate::SimulateArgs),
+    /// Merge shard files of one `simulate --shard I/N` run into its outputs
+    Merge(simulate::MergeArgs),
+    /// List the built-in materials with σa, σs, g, η, albedo and mean free path per channel
+    Materials(materials::MaterialsArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Simulate(a) => simulate::simulate(a),
+        Command::Merge(a) => simulate::merge(a),
+        Command::Materials(a) => materials::list(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            let chain: Vec<String> = e.chain().map(|c| c.to_string()).collect();
+            eprintln!("error: {}", chain.join(": "));
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Parses a positive count written as an integer or in scientific notation (`1e6`).
+pub fn parse_count(s: &str) -> Result<u64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number"))?;
+    if !(v.is_finite() && v >= 1.0 && v.fract() == 0.0 && v <= u64::MAX as f64) {
+        return Err(format!("{s:?} must be a positive whole number"));
+    }
+    Ok(v as u64)
+}
+
+/// Default output folder.
+pub fn default_out() -> PathBuf {
+    PathBuf::from("out")
+}

@@ -1,0 +1,449 @@
+//! `sss simulate` and `sss merge`: run the photon tracer for materials (batched by similarity)
+//! or for an MCML `.mci` file, and write profiles, summaries and MCML `.mco` files.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use mc::shard::{self, Shard};
+use mc::{BatchSpec, CHANNELS, ChannelSpec, Output, TallySet};
+use serde_json::{Value, json};
+
+use crate::files::write_all;
+use crate::library::{self, Named};
+use crate::{parse_count, progress};
+
+#[derive(Args)]
+pub struct SimulateArgs {
+    /// Materials: built-in names (see `sss materials`) or paths to material .toml files
+    #[arg(value_name = "MATERIAL")]
+    materials: Vec<String>,
+
+    /// Simulate every built-in material (channels that share g and η share one random walk)
+    #[arg(long, conflicts_with = "mci")]
+    all: bool,
+
+    /// Run every run of an MCML input file (.mci) and write one .mco per run
+    #[arg(long, value_name = "FILE.mci")]
+    mci: Option<PathBuf>,
+
+    /// Photon packets per channel [default: from the config, 1e7 for the thesis settings]; accepts 1e6
+    #[arg(long, value_parser = parse_count)]
+    photons: Option<u64>,
+
+    /// Seed of all random streams [default: from the config]; same seed ⇒ same results for any --threads
+    #[arg(long)]
+    seed: Option<u64>,
+
+    /// Worker threads [default: all cores]
+    #[arg(long)]
+    threads: Option<usize>,
+
+    /// Run settings TOML (photons, seed, grid rule, thickness, ambient η) [default: built-in configs/thesis.toml]
+    #[arg(long, value_name = "FILE")]
+    config: Option<PathBuf>,
+
+    /// Output folder
+    #[arg(long, default_value = "out")]
+    out: PathBuf,
+
+    /// Stop each walk group once the relative standard error of total Rd and of r·Rd(r) within 3 MFP is ≤ E (e.g. 0.01); --photons is then the cap
+    #[arg(long, value_name = "E", conflicts_with_all = ["shard", "mci"])]
+    target_error: Option<f64>,
+
+    /// Tally only what profiles need (no A(r,z), no .mco files): faster
+    #[arg(long)]
+    profile_only: bool,
+
+    /// Run only the I-th of N deterministic slices of the photon chunks and write a shard file; combine with `sss merge`
+    #[arg(long, value_name = "I/N", conflicts_with = "mci")]
+    shard: Option<String>,
+
+    /// Print a machine-readable summary on stdout
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+pub struct MergeArgs {
+    /// Shard files written by `sss simulate --shard I/N`
+    #[arg(required = true, value_name = "SHARD.json")]
+    shards: Vec<PathBuf>,
+
+    /// Output folder
+    #[arg(long, default_value = "out")]
+    out: PathBuf,
+
+    /// Print a machine-readable summary on stdout
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn simulate(args: SimulateArgs) -> Result<()> {
+    let pool = thread_pool(args.threads)?;
+    if let Some(mci) = &args.mci {
+        if !args.materials.is_empty() {
+            bail!("give either materials or --mci, not both");
+        }
+        return pool.install(|| run_mci(mci, &args));
+    }
+    let named: Vec<Named> = if args.all {
+        if !args.materials.is_empty() {
+            bail!("give either material names or --all, not both");
+        }
+        library::all()?
+    } else if args.materials.is_empty() {
+        bail!("no material given: name one (e.g. `sss simulate skin1`), use --all, or --mci FILE");
+    } else {
+        args.materials
+            .iter()
+            .map(|m| library::material(m))
+            .collect::<Result<_>>()?
+    };
+    let config = library::config(args.config.as_deref())?;
+    let photons = args.photons.unwrap_or(config.photons);
+    let seed = args.seed.unwrap_or(config.seed);
+    let mut channels = Vec::new();
+    for n in &named {
+        let grid = config.grid_for(&n.material)?;
+        let thickness = n.material.thickness.unwrap_or(config.thickness_cm);
+        channels.extend((0..3).map(|c| ChannelSpec {
+            layer: n.material.layer(c, thickness),
+            grid,
+        }));
+    }
+    let spec = BatchSpec {
+        n_above: config.n_above,
+        n_below: config.n_below,
+        channels,
+        photons,
+        seed,
+        tallies: TallySet {
+            absorption_rz: !args.profile_only,
+        },
+    };
+    spec.validate()?;
+    let labels: Vec<String> = named
+        .iter()
+        .flat_map(|n| CHANNELS.iter().map(move |c| format!("{}:{c}", n.slug)))
+        .collect();
+    let groups = spec.groups().len() as u64;
+
+    let start = Instant::now();
+    if let Some(s) = &args.shard {
+        let (i, n) = parse_shard(s)?;
+        let chunks = shard::shard_chunks(photons, i - 1, n);
+        let chunk_photons =
+            (chunks.end * mc::CHUNK_PHOTONS).min(photons) - chunks.start * mc::CHUNK_PHOTONS;
+        let bar = progress::photons(chunk_photons * groups, &format!("shard {i}/{n}"));
+        let accs = pool.install(|| mc::accumulate_batch(&spec, chunks.clone(), &|k| bar.inc(k)))?;
+        bar.finish_and_clear();
+        let path = args.out.join(format!("shard-{i}-of-{n}.json"));
+        let sh = Shard {
+            spec,
+            labels,
+            chunks,
+            groups: accs,
+        };
+        write_all(&[(path.clone(), sh.to_json())])?;
+        if args.json {
+            println!(
+                "{}",
+                json!({ "shard": path, "index": i, "of": n, "seconds": start.elapsed().as_secs_f64() })
+            );
+        } else {
+            eprintln!(
+                "wrote {} ({:.1} s); combine all {n} shards with `sss merge`",
+                path.display(),
+                start.elapsed().as_secs_f64()
+            );
+        }
+        return Ok(());
+    }
+
+    let bar = progress::photons(
+        photons * groups,
+        &format!(
+            "{} channel(s) in {groups} walk group(s)",
+            spec.channels.len()
+        ),
+    );
+    let outputs = pool.install(|| match args.target_error {
+        Some(e) => {
+            let r_max: Vec<f64> = spec
+                .channels
+                .iter()
+                .map(|c| 3.0 / (c.layer.mu_a + c.layer.mu_s * (1.0 - c.layer.g)))
+                .collect();
+            mc::run_batch_to_error(&spec, e, &r_max, &|k| bar.inc(k))
+        }
+        None => mc::run_batch(&spec, &|k| bar.inc(k)),
+    })?;
+    bar.finish_and_clear();
+    finish(
+        &spec,
+        &labels,
+        &outputs,
+        start.elapsed().as_secs_f64(),
+        pool.current_num_threads(),
+        &args.out,
+        args.json,
+        args.profile_only,
+    )
+}
+
+pub fn merge(args: MergeArgs) -> Result<()> {
+    let start = Instant::now();
+    let shards = args
+        .shards
+        .iter()
+        .map(|p| {
+            let text = std::fs::read_to_string(p)
+                .with_context(|| format!("cannot read shard {}", p.display()))?;
+            Ok(Shard::from_json(&text, &p.display().to_string())?)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let (spec, labels, accs) = shard::merge(&shards)?;
+    let outputs = mc::batch_outputs(&spec, &accs);
+    finish(
+        &spec,
+        &labels,
+        &outputs,
+        start.elapsed().as_secs_f64(),
+        1,
+        &args.out,
+        args.json,
+        !spec.tallies.absorption_rz,
+    )
+}
+
+/// Writes each material's CSV profile, JSON summary and .mco files, and reports.
+#[allow(clippy::too_many_arguments)]
+fn finish(
+    spec: &BatchSpec,
+    labels: &[String],
+    outputs: &[Output],
+    seconds: f64,
+    threads: usize,
+    out: &Path,
+    json_out: bool,
+    profile_only: bool,
+) -> Result<()> {
+    let mut files = Vec::new();
+    let mut summaries = Vec::new();
+    for m in 0..outputs.len() / 3 {
+        let slug = labels[3 * m]
+            .split(':')
+            .next()
+            .unwrap_or("material")
+            .to_string();
+        let chans: Vec<&Output> = outputs[3 * m..3 * m + 3].iter().collect();
+        let specs = &spec.channels[3 * m..3 * m + 3];
+        files.push((out.join(format!("{slug}.profile.csv")), profile_csv(&chans)));
+        let mut mco_files = Vec::new();
+        if !profile_only {
+            for (c, ch) in CHANNELS.iter().enumerate() {
+                let name = format!("{slug}.{ch}.mco");
+                let run = mc::RunSpec {
+                    sample: mc::Sample {
+                        n_above: spec.n_above,
+                        n_below: spec.n_below,
+                        layers: vec![specs[c].layer],
+                    },
+                    grid: specs[c].grid,
+                    photons: chans[c].photons,
+                    seed: spec.seed,
+                    tallies: spec.tallies,
+                };
+                files.push((
+                    out.join(&name),
+                    mc::mco::write(&name, &run, chans[c], seconds)?,
+                ));
+                mco_files.push(name);
+            }
+        }
+        let summary = summary_json(&slug, spec, specs, &chans, seconds, threads, &mco_files);
+        files.push((
+            out.join(format!("{slug}.summary.json")),
+            serde_json::to_string_pretty(&summary)? + "\n",
+        ));
+        summaries.push(summary);
+    }
+    write_all(&files)?;
+    if json_out {
+        let v = if summaries.len() == 1 {
+            summaries.remove(0)
+        } else {
+            json!({ "materials": summaries, "seconds": seconds })
+        };
+        println!("{}", serde_json::to_string_pretty(&v)?);
+    } else {
+        for s in &summaries {
+            print_summary(s);
+        }
+        eprintln!(
+            "wrote {} file(s) to {} in {seconds:.1} s",
+            files.len(),
+            out.display()
+        );
+    }
+    Ok(())
+}
+
+/// `r_cm,R,G,B,R_se,G_se,B_se`: Rd(r) [cm⁻²] at MCML's optimal bin radii, with standard errors.
+fn profile_csv(chans: &[&Output]) -> String {
+    let g = chans[0].grid;
+    let mut s = String::from("r_cm,R,G,B,R_se,G_se,B_se\n");
+    for i in 0..g.nr {
+        s += &format!(
+            "{},{},{},{},{},{},{}\n",
+            g.r_optimal(i),
+            chans[0].rd_r[i].value,
+            chans[1].rd_r[i].value,
+            chans[2].rd_r[i].value,
+            chans[0].rd_r[i].se,
+            chans[1].rd_r[i].se,
+            chans[2].rd_r[i].se
+        );
+    }
+    s
+}
+
+fn summary_json(
+    slug: &str,
+    spec: &BatchSpec,
+    specs: &[ChannelSpec],
+    chans: &[&Output],
+    seconds: f64,
+    threads: usize,
+    mco: &[String],
+) -> Value {
+    let g = chans[0].grid;
+    let channels: serde_json::Map<String, Value> = CHANNELS
+        .iter()
+        .enumerate()
+        .map(|(c, ch)| {
+            let (o, l) = (chans[c], specs[c].layer);
+            let v = json!({
+                "rsp": o.rsp, "rd": o.rd.value, "rd_se": o.rd.se, "a": o.a.value, "a_se": o.a.se, "tt": o.tt.value, "tt_se": o.tt.se,
+                "photons": o.photons, "interactions": o.interactions,
+                "sigma_a_per_cm": l.mu_a, "sigma_s_per_cm": l.mu_s, "g": l.g, "eta": l.n, "thickness_cm": l.thickness,
+                "albedo": l.albedo(), "mfp_cm": 1.0 / (l.mu_a + l.mu_s * (1.0 - l.g)),
+            });
+            (ch.to_string(), v)
+        })
+        .collect();
+    json!({
+        "material": slug,
+        "photons": chans[0].photons,
+        "seed": spec.seed,
+        "seconds": seconds,
+        "threads": threads,
+        "grid": { "dr_cm": g.dr, "nr": g.nr, "dz_cm": g.dz, "nz": g.nz, "na": g.na, "da_rad": g.da() },
+        "channels": channels,
+        "walk_groups": spec.groups().len(),
+        "files": { "profile": format!("{slug}.profile.csv"), "mco": mco },
+    })
+}
+
+fn print_summary(s: &Value) {
+    println!(
+        "{}  ({} photons/channel, dr = {:.4e} cm, nr = {})",
+        s["material"].as_str().unwrap_or("?"),
+        s["photons"],
+        s["grid"]["dr_cm"].as_f64().unwrap_or(0.0),
+        s["grid"]["nr"]
+    );
+    for ch in CHANNELS {
+        let c = &s["channels"][ch];
+        let f = |k: &str| c[k].as_f64().unwrap_or(f64::NAN);
+        println!(
+            "  {ch}: Rd = {:.5} ± {:.5}  A = {:.5} ± {:.5}  Tt = {:.5}  Rsp = {:.5}  MFP = {:.4} cm",
+            f("rd"),
+            f("rd_se"),
+            f("a"),
+            f("a_se"),
+            f("tt"),
+            f("rsp"),
+            f("mfp_cm")
+        );
+    }
+}
+
+fn run_mci(path: &Path, args: &SimulateArgs) -> Result<()> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let mut runs = mc::mci::parse(&text, &path.display().to_string(), args.seed.unwrap_or(1))?;
+    for r in &mut runs {
+        if let Some(n) = args.photons {
+            r.spec.photons = n;
+        }
+        r.spec.tallies.absorption_rz = true;
+    }
+    let mut files = Vec::new();
+    let mut report = Vec::new();
+    for (k, r) in runs.iter().enumerate() {
+        let start = Instant::now();
+        let bar = progress::photons(r.spec.photons, &format!("run {}/{}", k + 1, runs.len()));
+        let out = mc::run(&r.spec, &|n| bar.inc(n))?;
+        bar.finish_and_clear();
+        let seconds = start.elapsed().as_secs_f64();
+        let name = Path::new(&r.out_name)
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| format!("run{}.mco", k + 1));
+        files.push((
+            args.out.join(&name),
+            mc::mco::write(&r.out_name, &r.spec, &out, seconds)?,
+        ));
+        report.push(json!({
+            "output": args.out.join(&name), "photons": out.photons, "seconds": seconds,
+            "rsp": out.rsp, "rd": out.rd.value, "rd_se": out.rd.se, "a": out.a.value, "a_se": out.a.se, "tt": out.tt.value, "tt_se": out.tt.se,
+        }));
+    }
+    write_all(&files)?;
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&json!({ "runs": report }))?
+        );
+    } else {
+        for r in &report {
+            println!(
+                "{}: Rsp = {:.5}  Rd = {:.5} ± {:.5}  A = {:.5} ± {:.5}  Tt = {:.5} ± {:.5}",
+                r["output"].as_str().unwrap_or("?"),
+                r["rsp"],
+                r["rd"].as_f64().unwrap_or(0.0),
+                r["rd_se"].as_f64().unwrap_or(0.0),
+                r["a"].as_f64().unwrap_or(0.0),
+                r["a_se"].as_f64().unwrap_or(0.0),
+                r["tt"].as_f64().unwrap_or(0.0),
+                r["tt_se"].as_f64().unwrap_or(0.0)
+            );
+        }
+    }
+    Ok(())
+}
+
+fn parse_shard(s: &str) -> Result<(u64, u64)> {
+    let bad = || anyhow::anyhow!("invalid --shard {s:?}: expected I/N with 1 ≤ I ≤ N");
+    let (i, n) = s.split_once('/').ok_or_else(bad)?;
+    let (i, n): (u64, u64) = (
+        i.trim().parse().map_err(|_| bad())?,
+        n.trim().parse().map_err(|_| bad())?,
+    );
+    if i == 0 || i > n {
+        return Err(bad());
+    }
+    Ok((i, n))
+}
+
+fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
+    if threads == Some(0) {
+        bail!("invalid --threads 0: must be at least 1");
+    }
+    Ok(rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()?)
+}

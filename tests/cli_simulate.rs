@@ -1,0 +1,303 @@
+//! End-to-end tests of `sss simulate`, `sss merge` and `sss materials`.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn sss(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sss"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("sss runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    match std::fs::read_dir(dir) {
+        Ok(rd) => rd
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect(),
+        Err(_) => Vec::new(),
+    }
+}
+
+#[test]
+fn simulate_writes_profile_summary_and_mco() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = sss(
+        &[
+            "simulate",
+            "skin1",
+            "--photons",
+            "2e4",
+            "--seed",
+            "3",
+            "--out",
+            "res",
+            "--json",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(summary["material"], "skin1");
+    assert_eq!(summary["photons"], 20_000);
+    assert_eq!(summary["seed"], 3);
+    for ch in ["R", "G", "B"] {
+        for k in ["rsp", "rd", "rd_se", "a", "tt"] {
+            assert!(summary["channels"][ch][k].is_number(), "{ch}.{k}");
+        }
+    }
+    // Thesis grid rule: dr = min(MFP)/20 with MFP_B = 1/14.9 cm; nr = ⌈32·MFP_R/dr⌉, MFP_R = 1/7.72 cm.
+    let dr = summary["grid"]["dr_cm"].as_f64().unwrap();
+    assert!((dr - 1.0 / 14.9 / 20.0).abs() < 1e-15);
+    assert_eq!(
+        summary["grid"]["nr"].as_u64().unwrap(),
+        (32.0 / 7.72 / dr).ceil() as u64
+    );
+
+    let res = dir.path().join("res");
+    let csv = std::fs::read_to_string(res.join("skin1.profile.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("r_cm,R,G,B,R_se,G_se,B_se"));
+    // ∫Rd(r) 2πr dr over the annuli equals total Rd (the last bin collects the rest).
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let integral: f64 = (0..rows.len())
+        .map(|i| rows[i][1] * 2.0 * std::f64::consts::PI * (i as f64 + 0.5) * dr * dr)
+        .sum();
+    let rd = summary["channels"]["R"]["rd"].as_f64().unwrap();
+    assert!((integral - rd).abs() < 1e-9 * rd, "{integral} vs {rd}");
+
+    // The .mco reads back with the same totals, and Rsp + Rd + A + Tt = 1 within error.
+    let mco = mc::mco::read(
+        &std::fs::read_to_string(res.join("skin1.R.mco")).unwrap(),
+        "skin1.R.mco",
+    )
+    .unwrap();
+    assert_eq!(mco.photons, 20_000);
+    assert!((mco.rd - rd).abs() < 1e-5);
+    assert!((mco.rsp + mco.rd + mco.a + mco.tt - 1.0).abs() < 1e-3);
+    assert_eq!(mco.rd_r.len(), rows.len());
+}
+
+#[test]
+fn same_seed_same_files_with_one_or_two_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    for t in ["1", "2"] {
+        let o = sss(
+            &[
+                "simulate",
+                "ketchup",
+                "--photons",
+                "50000",
+                "--threads",
+                t,
+                "--profile-only",
+                "--out",
+                t,
+            ],
+            dir.path(),
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let a = std::fs::read(dir.path().join("1/ketchup.profile.csv")).unwrap();
+    let b = std::fs::read(dir.path().join("2/ketchup.profile.csv")).unwrap();
+    assert_eq!(a, b);
+    assert!(
+        !files_in(&dir.path().join("1"))
+            .iter()
+            .any(|f| f.ends_with(".mco")),
+        "--profile-only writes no .mco"
+    );
+}
+
+#[test]
+fn shards_merge_into_the_unsharded_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let common = ["--photons", "70000", "--seed", "9", "--profile-only"];
+    let run = |extra: &[&str]| {
+        let mut args = vec!["simulate", "skin1", "apple"];
+        args.extend_from_slice(&common);
+        args.extend_from_slice(extra);
+        let o = sss(&args, dir.path());
+        assert!(o.status.success(), "{}", stderr(&o));
+    };
+    run(&["--out", "whole"]);
+    run(&["--shard", "1/3", "--out", "shards"]);
+    run(&["--shard", "3/3", "--out", "shards"]);
+    run(&["--shard", "2/3", "--out", "shards"]);
+    // An incomplete set is refused.
+    let o = sss(
+        &[
+            "merge",
+            "shards/shard-1-of-3.json",
+            "shards/shard-3-of-3.json",
+            "--out",
+            "merged",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("missing"), "{}", stderr(&o));
+    let o = sss(
+        &[
+            "merge",
+            "shards/shard-3-of-3.json",
+            "shards/shard-1-of-3.json",
+            "shards/shard-2-of-3.json",
+            "--out",
+            "merged",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    for f in ["skin1.profile.csv", "apple.profile.csv"] {
+        let a = std::fs::read(dir.path().join("whole").join(f)).unwrap();
+        let b = std::fs::read(dir.path().join("merged").join(f)).unwrap();
+        assert!(a == b, "{f} differs after merge");
+    }
+}
+
+#[test]
+fn mci_runs_every_run_and_writes_mcml_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let mci = "1.0\n2\n# run 1: van de Hulst's slab\nslab.mco A\n20000\n0.01 0.01\n10 20 5\n1\n1.0\n1.0 10 90 0.75 0.02\n1.0\n\n# run 2: two layers\ntwo.mco A\n5000\n0.01 0.01\n10 20 5\n2\n1.0\n1.37 1 100 0.9 0.05\n1.45 2 10 0 0.1\n1.0\n";
+    std::fs::write(dir.path().join("in.mci"), mci).unwrap();
+    let o = sss(
+        &["simulate", "--mci", "in.mci", "--out", "res", "--json"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["runs"].as_array().unwrap().len(), 2);
+    let slab = std::fs::read_to_string(dir.path().join("res/slab.mco")).unwrap();
+    for section in [
+        "InParm",
+        "RAT",
+        "A_l",
+        "A_z",
+        "Rd_r",
+        "Rd_a",
+        "Tt_r",
+        "Tt_a",
+        "A_rz",
+        "Rd_ra",
+        "Tt_ra",
+        "#Specular reflectance [-]",
+        "#Diffuse reflectance [-]",
+        "#Absorbed fraction [-]",
+        "#Transmittance [-]",
+    ] {
+        assert!(slab.contains(section), "missing {section}");
+    }
+    let d = mc::mco::read(&slab, "slab.mco").unwrap();
+    // van de Hulst: Rd = 0.09739, Tt = 0.66096 (loose: 20k photons).
+    assert!(
+        (d.rd - 0.09739).abs() < 0.006 && (d.tt - 0.66096).abs() < 0.01,
+        "{} {}",
+        d.rd,
+        d.tt
+    );
+    let two = mc::mco::read(
+        &std::fs::read_to_string(dir.path().join("res/two.mco")).unwrap(),
+        "two.mco",
+    )
+    .unwrap();
+    assert_eq!(two.a_l.len(), 2);
+}
+
+/// Bad input: exit code 2, a one-line error naming the field and value, and no output written.
+#[test]
+fn bad_input_is_refused_cleanly() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../materials/skin1.toml"),
+    )
+    .unwrap();
+    let cases: Vec<(&str, String, Vec<&str>)> = vec![
+        ("negative", good.replace("sigma_a = [0.32", "sigma_a = [-0.32"), vec!["sigma_a[R]", "-0.32"]),
+        ("nan", good.replace("sigma_s = [7.4", "sigma_s = [nan"), vec!["sigma_s[R]", "NaN"]),
+        ("eta", good.replace("eta = 1.3", "eta = 0.0"), vec!["eta", "0"]),
+        ("thick", good + "thickness = 0.0\n", vec!["thickness", "0"]),
+        ("malformed", "name = \"x\"\nsigma_a = [1, 2\n".to_string(), vec!["malformed.toml"]),
+        ("unit", "name = \"x\"\nunit = \"in\"\nsigma_a = [1.0, 1.0, 1.0]\nsigma_s = [1.0, 1.0, 1.0]\ng = 0.0\neta = 1.3\n".to_string(), vec!["unit", "\"in\""]),
+    ];
+    for (name, text, expect) in cases {
+        let file = format!("{name}.toml");
+        std::fs::write(dir.path().join(&file), text).unwrap();
+        let o = sss(
+            &["simulate", &file, "--photons", "1000", "--out", "never"],
+            dir.path(),
+        );
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert_eq!(
+            err.trim().lines().count(),
+            1,
+            "{name}: one line expected: {err}"
+        );
+        for e in expect {
+            assert!(err.contains(e), "{name}: {err:?} should mention {e:?}");
+        }
+    }
+    let o = sss(
+        &["simulate", "skin1", "--photons", "0", "--out", "never"],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("photons"));
+    let o = sss(&["simulate", "unobtainium", "--out", "never"], dir.path());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("unknown material \"unobtainium\""),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::write(
+        dir.path().join("bad.mci"),
+        "1.0\n1\nx.mco A\n100\n0.01 0.01\n10 10 10\n1\n1.0\n1.3 1 10 0.9 -1\n1.0\n",
+    )
+    .unwrap();
+    let o = sss(
+        &["simulate", "--mci", "bad.mci", "--out", "never"],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("run 1 layer 1 thickness = -1"),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::write(dir.path().join("trunc.mci"), "1.0\n1\nx.mco A\n100\n").unwrap();
+    let o = sss(
+        &["simulate", "--mci", "trunc.mci", "--out", "never"],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        !dir.path().join("never").exists(),
+        "nothing may be written on bad input"
+    );
+}
+
+#[test]
+fn materials_lists_the_library() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = sss(&["materials", "--json"], dir.path());
+    assert!(o.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let m = v["materials"].as_array().unwrap();
+    assert_eq!(m.len(), 16, "11 thesis materials + 5 Narasimhan liquids");
+    let skin = m.iter().find(|x| x["material"] == "skin1").unwrap();
+    // Albedo and MFP from Table 6.2: σa = 0.32, σs = 7.4 cm⁻¹ (R).
+    assert!((skin["channels"]["R"]["albedo"].as_f64().unwrap() - 7.4 / 7.72).abs() < 1e-12);
+    assert!((skin["channels"]["R"]["mfp_cm"].as_f64().unwrap() - 1.0 / 7.72).abs() < 1e-12);
+    // The mm-unit liquids are converted: coffee σa R = 0.1669 mm⁻¹ = 1.669 cm⁻¹.
+    let coffee = m.iter().find(|x| x["material"] == "coffee").unwrap();
+    assert!((coffee["channels"]["R"]["sigma_a_per_cm"].as_f64().unwrap() - 1.669).abs() < 1e-12);
+}
