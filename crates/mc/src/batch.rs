@@ -16,7 +16,7 @@
 //! no photon of any practical run gets that deep. Channels that do not interact (μt = 0) form
 //! groups of their own and use MCML's glass-layer walk.
 
-use rand_pcg::Pcg64;
+use crate::rng::Rng;
 
 use crate::error::{McError, Result};
 use crate::grid::{Grid, GridIndex};
@@ -173,7 +173,7 @@ impl Job for GroupJob {
         self.layout
     }
 
-    fn trace_chunk(&self, tally: &mut Tally, rng: &mut Pcg64, photons: u64) {
+    fn trace_chunk(&self, tally: &mut Tally, rng: &mut Rng, photons: u64) {
         let mut scorer = BatchScorer::new(self, tally);
         for _ in 0..photons {
             scorer.start(1.0 - self.medium.rsp);
@@ -183,18 +183,36 @@ impl Job for GroupJob {
 }
 
 /// Scores every channel of a group from one walk.
+///
+/// Channel k's weight after n interactions is F·aₖⁿ (F: launch weight times roulette factors), so
+/// nothing is done per interaction unless A(r,z) is tallied. Absorption is summed per roulette
+/// segment in closed form: between interactions n₀ and n at constant F a channel deposits
+/// F·(aₖ^{n₀} − aₖⁿ).
 struct BatchScorer<'a> {
     job: &'a GroupJob,
     tally: &'a mut Tally,
-    /// Current weight of each channel.
-    w: Vec<f64>,
+    /// F: launch weight times the roulette factors so far.
+    factor: f64,
+    /// Interaction count at the start of the current roulette segment.
+    n0: u64,
+    /// aₖ^{n₀} per channel.
+    a_n0: Vec<f64>,
     /// Weight absorbed so far by each channel in this photon's history.
     absorbed: Vec<f64>,
+    /// Current weight F·aₖⁿ of each channel, kept per interaction only when A(r,z) is tallied.
+    w: Vec<f64>,
     /// Per-photon A(r,z) and A(z) deposits of every channel (when tallied): dense + touched list.
     rz: Vec<f64>,
     z: Vec<f64>,
     touched_rz: Vec<u32>,
     touched_z: Vec<u32>,
+}
+
+/// aⁿ for an interaction count (repeated squaring; counts beyond i32 are unreachable in practice
+/// thanks to the path-length roulette, and clamp harmlessly to aⁿ = 0 or 1).
+#[inline]
+fn pow_n(a: f64, n: u64) -> f64 {
+    a.powi(n.min(i32::MAX as u64) as i32)
 }
 
 impl<'a> BatchScorer<'a> {
@@ -209,8 +227,11 @@ impl<'a> BatchScorer<'a> {
         BatchScorer {
             job,
             tally,
-            w: vec![0.0; k],
+            factor: 0.0,
+            n0: 0,
+            a_n0: vec![1.0; k],
             absorbed: vec![0.0; k],
+            w: vec![0.0; k],
             rz,
             z,
             touched_rz: Vec::new(),
@@ -219,8 +240,26 @@ impl<'a> BatchScorer<'a> {
     }
 
     fn start(&mut self, w0: f64) {
-        self.w.fill(w0);
+        self.factor = w0;
+        self.n0 = 0;
+        self.a_n0.fill(1.0);
         self.absorbed.fill(0.0);
+        self.w.fill(w0);
+    }
+
+    /// Closes the current roulette segment at interaction `n`.
+    fn close_segment(&mut self, n: u64) {
+        for ((abs, a_n0), &a) in self
+            .absorbed
+            .iter_mut()
+            .zip(self.a_n0.iter_mut())
+            .zip(&self.job.albedo)
+        {
+            let a_n = pow_n(a, n);
+            *abs += self.factor * (*a_n0 - a_n);
+            *a_n0 = a_n;
+        }
+        self.n0 = n;
     }
 }
 
@@ -230,30 +269,18 @@ impl Scorer for BatchScorer<'_> {
         let job = self.job;
         let l = job.layout;
         if !l.rz {
-            // Branch-free, vectorizable: every channel loses the fraction 1 − a_k.
-            for ((w, a), &alb) in self
-                .w
-                .iter_mut()
-                .zip(self.absorbed.iter_mut())
-                .zip(&job.albedo)
-            {
-                let dw = *w * (1.0 - alb);
-                *a += dw;
-                *w -= dw;
-            }
             return;
         }
         let r = p.r();
         for k in 0..l.channels {
             let dw = self.w[k] * (1.0 - job.albedo[k]);
-            self.absorbed[k] += dw;
             self.w[k] -= dw;
             if dw == 0.0 {
                 continue;
             }
             let g = &job.index[k];
             let iz = g.iz(p.z * job.scale[k]);
-            let i = (k * l.nr + g.ir(r * job.scale[k])) * l.nz + iz; // [k][ir][iz] with layout strides
+            let i = (k * l.nr + g.ir(r * job.scale[k])) * l.nz + iz; // [k][ir][iz], layout strides
             if self.rz[i] == 0.0 {
                 self.touched_rz.push(i as u32);
             }
@@ -266,7 +293,9 @@ impl Scorer for BatchScorer<'_> {
         }
     }
 
-    fn roulette(&mut self, _: &Photon, factor: f64) {
+    fn roulette(&mut self, p: &Photon, factor: f64) {
+        self.close_segment(p.interactions);
+        self.factor *= factor;
         for w in &mut self.w {
             *w *= factor;
         }
@@ -278,7 +307,7 @@ impl Scorer for BatchScorer<'_> {
         let l = job.layout;
         let r = p.r();
         for k in 0..l.channels {
-            let w = self.w[k];
+            let w = self.factor * pow_n(job.albedo[k], p.interactions);
             if w == 0.0 {
                 continue;
             }
@@ -291,6 +320,9 @@ impl Scorer for BatchScorer<'_> {
     }
 
     fn finish(&mut self, p: &Photon) {
+        if self.factor > 0.0 && p.interactions > self.n0 {
+            self.close_segment(p.interactions);
+        }
         let l = self.job.layout;
         let t = &mut *self.tally;
         for k in 0..l.channels {

@@ -10,8 +10,10 @@
 
 use std::ops::Range;
 
-use rand_pcg::Pcg64;
-use rayon::prelude::*;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use crate::rng::Rng;
 
 use crate::batch::{BatchSpec, GroupJob};
 use crate::error::{McError, Result};
@@ -28,7 +30,7 @@ pub const ROUND_CHUNKS: u64 = 4;
 /// Something that traces photons into a tally: an MCML run or a batch group.
 pub(crate) trait Job: Sync {
     fn layout(&self) -> Layout;
-    fn trace_chunk(&self, tally: &mut Tally, rng: &mut Pcg64, photons: u64);
+    fn trace_chunk(&self, tally: &mut Tally, rng: &mut Rng, photons: u64);
 }
 
 /// One single-channel simulation of a layered sample: what MCML calls a run.
@@ -77,7 +79,7 @@ impl Job for McmlJob<'_> {
         }
     }
 
-    fn trace_chunk(&self, tally: &mut Tally, rng: &mut Pcg64, photons: u64) {
+    fn trace_chunk(&self, tally: &mut Tally, rng: &mut Rng, photons: u64) {
         let mut scorer = McmlScorer::new(tally, self.spec.grid);
         for _ in 0..photons {
             trace(&self.medium, rng, &mut scorer);
@@ -92,6 +94,10 @@ pub fn chunk_count(photons: u64) -> u64 {
 
 /// Traces chunks `chunks` of a run of `photons` and returns their exact sums. `progress` is called
 /// after each chunk with the photons just finished.
+///
+/// One worker per pool thread, each with one reusable chunk tally, takes the next chunk index from
+/// a shared counter and drains its tally into the shared accumulator: exact sums make the result
+/// independent of which worker traced which chunk.
 fn accumulate_job<J: Job>(
     job: &J,
     photons: u64,
@@ -100,26 +106,31 @@ fn accumulate_job<J: Job>(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Accumulator {
     let layout = job.layout();
-    chunks
-        .into_par_iter()
-        .fold(
-            || (Tally::new(layout), Accumulator::new(layout)),
-            |(mut tally, mut acc), c| {
-                let n = CHUNK_PHOTONS.min(photons - c * CHUNK_PHOTONS);
-                job.trace_chunk(&mut tally, &mut chunk_rng(seed, c), n);
-                tally.drain_into(&mut acc);
-                progress(n);
-                (tally, acc)
-            },
-        )
-        .map(|(_, acc)| acc)
-        .reduce(
-            || Accumulator::new(layout),
-            |mut a, b| {
-                a.merge(&b);
-                a
-            },
-        )
+    let acc = Mutex::new(Accumulator::new(layout));
+    let next = AtomicU64::new(chunks.start);
+    let workers = rayon::current_num_threads()
+        .min((chunks.end - chunks.start) as usize)
+        .max(1);
+    rayon::scope(|scope| {
+        for _ in 0..workers {
+            scope.spawn(|_| {
+                let mut tally = Tally::new(layout);
+                loop {
+                    let c = next.fetch_add(1, Ordering::Relaxed);
+                    if c >= chunks.end {
+                        break;
+                    }
+                    let n = CHUNK_PHOTONS.min(photons - c * CHUNK_PHOTONS);
+                    job.trace_chunk(&mut tally, &mut chunk_rng(seed, c), n);
+                    tally.drain_into(
+                        &mut acc.lock().expect("no worker panics while holding the lock"),
+                    );
+                    progress(n);
+                }
+            });
+        }
+    });
+    acc.into_inner().expect("workers are done")
 }
 
 /// Runs an MCML run and normalizes it.
