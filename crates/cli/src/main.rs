@@ -3,6 +3,7 @@
 //! Thin glue over the library crates: argument parsing, progress bars, files and exit codes.
 //! Every error is printed as one line on stderr and exits with code 2; nothing is written then.
 
+mod bench;
 mod files;
 mod library;
 mod materials;
@@ -29,6 +30,8 @@ enum Command {
     Merge(simulate::MergeArgs),
     /// List the built-in materials with σa, σs, g, η, albedo and mean free path per channel
     Materials(materials::MaterialsArgs),
+    /// Benchmarks (run time against error); measurements only, never pass/fail
+    Bench(bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
@@ -37,6 +40,7 @@ fn main() -> ExitCode {
         Command::Simulate(a) => simulate::simulate(a),
         Command::Merge(a) => simulate::merge(a),
         Command::Materials(a) => materials::list(a),
+        Command::Bench(a) => bench::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
