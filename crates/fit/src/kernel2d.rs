@@ -1,0 +1,66 @@
+//! The 2D ground-truth kernel R_d(x, y) built from a radial profile by rotation (thesis §6.1).
+//!
+//! Grid: a square of side m = 2n+1 samples with the profile's own spacing h = dr [cm], the centre
+//! at index n, so sample (i, j) sits at (x, y) = ((j−n)h, (i−n)h). Each sample takes Rd at its
+//! radius ρ = √(x²+y²) by linear interpolation between the profile's sample radii (constant below
+//! the first, zero beyond the last). "Normalized" means the samples of a channel sum to 1.
+
+use crate::profile::Profile;
+
+/// A dense, square, centred 2D kernel (row-major, `side × side`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Kernel2 {
+    /// Half-width n in samples; side = 2n+1.
+    pub half: usize,
+    /// Sample spacing h [cm].
+    pub h: f64,
+    /// Values, row-major.
+    pub v: Vec<f64>,
+}
+
+impl Kernel2 {
+    pub fn side(&self) -> usize {
+        2 * self.half + 1
+    }
+
+    /// Value at row `i`, column `j`.
+    pub fn at(&self, i: usize, j: usize) -> f64 {
+        self.v[i * self.side() + j]
+    }
+
+    /// ‖K‖₁ = Σ|k_ij|.
+    pub fn l1(&self) -> f64 {
+        self.v.iter().map(|x| x.abs()).sum()
+    }
+
+    /// The kernel scaled so its samples sum to 1.
+    pub fn normalized(mut self) -> Self {
+        let s: f64 = self.v.iter().sum();
+        if s != 0.0 {
+            self.v.iter_mut().for_each(|x| *x /= s);
+        }
+        self
+    }
+
+    /// Coordinate of index `i` along an axis [cm].
+    pub fn coord(&self, i: usize) -> f64 {
+        (i as f64 - self.half as f64) * self.h
+    }
+}
+
+/// The normalized ground truth of channel `c`, half-width `half` samples (default: the profile's
+/// length, so the axes reach its last radius).
+pub fn ground_truth(p: &Profile, c: usize, half: Option<usize>) -> Kernel2 {
+    let n = half.unwrap_or(p.len());
+    let m = 2 * n + 1;
+    let h = p.dr;
+    let mut v = vec![0.0; m * m];
+    for i in 0..m {
+        let y = (i as f64 - n as f64) * h;
+        for j in 0..m {
+            let x = (j as f64 - n as f64) * h;
+            v[i * m + j] = p.at(c, (x * x + y * y).sqrt());
+        }
+    }
+    Kernel2 { half: n, h, v }.normalized()
+}

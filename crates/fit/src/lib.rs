@@ -1,0 +1,43 @@
+//! `fit`: separable subsurface-scattering kernels from radial diffuse reflectance profiles
+//! (Freude 2014, chapters 5–6; Jimenez et al. 2015 supplement).
+//!
+//! Conventions: lengths in cm; profiles Rd(r) in cm⁻²; 2D kernels are sampled on a square grid with
+//! the profile's spacing, centred at the origin, and "normalized" means the samples of a channel
+//! sum to 1 (thesis §6.2). A separable kernel is a sum of rank-1 terms sᵢ aᵢ(x) aᵢ(y), applied as
+//! two 1D passes per term.
+//!
+//! Main types: [`Profile`] (input), [`Kernel2`] (dense 2D kernel, the ground truth from
+//! [`ground_truth`]), [`Separable`] (every model's output); models: [`svd`], [`preint`],
+//! [`Guided`], [`Gaussians`]; evaluation: [`metrics`], [`convolve`], [`signals`].
+//!
+//! ```
+//! use fit::{ground_truth, preint, svd, Profile};
+//! // An exponential profile, the same in every channel.
+//! let p = Profile::from_fn(0.01, 60, |_, r| (-r / 0.1).exp() / r.max(0.005));
+//! let k = ground_truth(&p, 0, None);
+//! let (a1, _) = svd(&k, 1);
+//! let pre = preint(&k);
+//! // Eckart–Young: no rank-1 kernel is closer to K in Frobenius norm than SVD rank-1.
+//! assert!(fit::metrics::kernel_rms(&k, &a1) <= fit::metrics::kernel_rms(&k, &pre));
+//! ```
+
+pub mod convolve;
+mod error;
+mod gaussians;
+mod guided;
+mod kernel2d;
+pub mod metrics;
+mod preint;
+mod profile;
+mod separable;
+pub mod signals;
+mod svd;
+
+pub use error::{FitError, Result};
+pub use gaussians::Gaussians;
+pub use guided::{Guided, GuidedFit, GuidedStop};
+pub use kernel2d::{Kernel2, ground_truth};
+pub use preint::{preint, projection};
+pub use profile::Profile;
+pub use separable::{Separable, Term};
+pub use svd::{Eigen, Stop, svd, top_eigen};

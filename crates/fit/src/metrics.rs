@@ -1,0 +1,133 @@
+//! Error metrics (thesis §5.1, §6.2): kernel-space RMS, L1 error, and image-space RMS of test
+//! signal convolutions against the full 2D convolution with the ground truth.
+//!
+//! Image-space evaluation runs on a coarser grid when the kernel is large: both the ground truth
+//! and each model are block-summed by an odd factor f around the centre, which keeps every
+//! separable model separable (a block sum of a(x)a(y) is A(X)A(Y)) and every L1 norm unchanged.
+//! Models are applied with ‖A‖₁ = ‖R_d‖₁ (eq. 5.12), as SSSS normalizes kernels before use.
+
+use crate::convolve::{Image, convolve_2d, convolve_separable};
+use crate::kernel2d::Kernel2;
+use crate::separable::{Separable, Term};
+use crate::signals::Signal;
+
+/// Kernel-space RMS: √(mean over the grid of (K − A)²).
+pub fn kernel_rms(k: &Kernel2, a: &Separable) -> f64 {
+    let d = a.to_dense();
+    let s: f64 = k.v.iter().zip(&d.v).map(|(x, y)| (x - y).powi(2)).sum();
+    (s / k.v.len() as f64).sqrt()
+}
+
+/// |‖A‖₁ − ‖K‖₁| / ‖K‖₁, before any renormalization.
+pub fn l1_error(k: &Kernel2, a: &Separable) -> f64 {
+    let kl = k.l1();
+    (a.l1() - kl).abs() / kl
+}
+
+/// Block-summing by an odd factor `f` about the centre.
+pub fn bin_kernel(k: &Kernel2, f: usize) -> Kernel2 {
+    let (half, map) = bin_map(k.half, f);
+    let m = 2 * half + 1;
+    let mut v = vec![0.0; m * m];
+    let side = k.side();
+    for i in 0..side {
+        for j in 0..side {
+            v[map[i] * m + map[j]] += k.v[i * side + j];
+        }
+    }
+    Kernel2 {
+        half,
+        h: k.h * f as f64,
+        v,
+    }
+}
+
+pub fn bin_separable(s: &Separable, f: usize) -> Separable {
+    let (half, map) = bin_map(s.half(), f);
+    let terms = s
+        .terms
+        .iter()
+        .map(|t| {
+            let mut a = vec![0.0; 2 * half + 1];
+            for (i, x) in t.a.iter().enumerate() {
+                a[map[i]] += x;
+            }
+            Term { sign: t.sign, a }
+        })
+        .collect();
+    Separable {
+        h: s.h * f as f64,
+        terms,
+    }
+}
+
+/// New half-width and the coarse index of every fine index for odd factor f.
+fn bin_map(half: usize, f: usize) -> (usize, Vec<usize>) {
+    let f = f.max(1) | 1;
+    let r = (f / 2) as isize;
+    let new_half = (half as isize + r) / f as isize;
+    let map = (0..2 * half + 1)
+        .map(|i| {
+            let d = i as isize - half as isize;
+            ((d + r).div_euclid(f as isize) + new_half) as usize
+        })
+        .collect();
+    (new_half as usize, map)
+}
+
+/// The binning factor that brings a kernel of half-width `half` to at most `max_half`.
+pub fn eval_factor(half: usize, max_half: usize) -> usize {
+    let f = half.div_ceil(max_half.max(1)).max(1);
+    f | 1
+}
+
+/// Image-space evaluation of models on the test signals at a common coarse grid.
+pub struct ImageEval {
+    pub factor: usize,
+    pub size: usize,
+    ground_truth: Kernel2,
+    references: Vec<(Signal, Image, Image)>,
+}
+
+impl ImageEval {
+    /// Prepares signals of `size` pixels and their ground-truth convolutions; kernels are binned
+    /// to half-width ≤ `max_half`.
+    pub fn new(k: &Kernel2, size: usize, max_half: usize) -> Self {
+        let factor = eval_factor(k.half, max_half);
+        let ground_truth = bin_kernel(k, factor);
+        let references = Signal::ALL
+            .iter()
+            .map(|&s| {
+                let e = s.image(size);
+                let m = convolve_2d(&e, &ground_truth);
+                (s, e, m)
+            })
+            .collect();
+        ImageEval {
+            factor,
+            size,
+            ground_truth,
+            references,
+        }
+    }
+
+    /// Image RMS per signal of a model (renormalized to the ground truth's L1 norm).
+    pub fn rms(&self, model: &Separable) -> Vec<(Signal, f64)> {
+        let binned = bin_separable(model, self.factor).renormalized(self.ground_truth.l1());
+        self.references
+            .iter()
+            .map(|(s, e, m)| (*s, convolve_separable(e, &binned).rms_diff(m)))
+            .collect()
+    }
+
+    /// The convolution of a signal with a model and the ground-truth reference (for plots).
+    pub fn images(&self, signal: Signal, model: &Separable) -> (Image, Image, Image) {
+        let binned = bin_separable(model, self.factor).renormalized(self.ground_truth.l1());
+        let (_, e, m) = self
+            .references
+            .iter()
+            .find(|(s, _, _)| *s == signal)
+            .expect("every signal is prepared");
+        (e.clone(), m.clone(), convolve_separable(e, &binned))
+    }
+}

@@ -1,0 +1,160 @@
+//! Radial diffuse reflectance profiles Rd(r): the input of every kernel model.
+//!
+//! Units: r in cm, Rd in cm⁻² (MCML's `Rd_r`), three channels (R, G, B). Radii are MCML's bin
+//! coordinates: bin i covers [i·dr, (i+1)·dr). The last bin of an MC profile also collects every
+//! photon beyond the grid, so it is not a sample of Rd(r) and is dropped on load.
+
+use crate::error::{FitError, Result};
+
+/// An RGB radial profile on a uniform radial grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Profile {
+    /// Radial bin width [cm].
+    pub dr: f64,
+    /// Sample radius of each bin [cm] (MCML's optimal coordinate, or the bin centre).
+    pub r: Vec<f64>,
+    /// Rd(r) per channel [cm⁻²].
+    pub rd: [Vec<f64>; 3],
+    /// Standard error of Rd(r) per channel [cm⁻²] (0 for analytic profiles).
+    pub se: [Vec<f64>; 3],
+}
+
+impl Profile {
+    /// Reads the CSV written by `sss simulate` (`r_cm,R,G,B,R_se,G_se,B_se`). The last bin (MCML's
+    /// overflow bin) is dropped. `source_name` is used in error messages.
+    pub fn from_csv(text: &str, source_name: &str) -> Result<Self> {
+        let perr = |line: usize, m: String| FitError::Parse {
+            source_name: source_name.into(),
+            line,
+            message: m,
+        };
+        let mut lines = text.lines().enumerate();
+        let header = lines.next().map(|(_, l)| l.trim()).unwrap_or("");
+        if header != "r_cm,R,G,B,R_se,G_se,B_se" {
+            return Err(perr(
+                1,
+                format!("expected header r_cm,R,G,B,R_se,G_se,B_se, found {header:?}"),
+            ));
+        }
+        let mut r = Vec::new();
+        let mut rd: [Vec<f64>; 3] = Default::default();
+        let mut se: [Vec<f64>; 3] = Default::default();
+        for (i, line) in lines {
+            if line.trim().is_empty() {
+                continue;
+            }
+            let v: Vec<f64> = line
+                .split(',')
+                .map(|f| f.trim().parse::<f64>())
+                .collect::<std::result::Result<_, _>>()
+                .map_err(|_| perr(i + 1, format!("not 7 numbers: {line:?}")))?;
+            if v.len() != 7 {
+                return Err(perr(
+                    i + 1,
+                    format!("expected 7 columns, found {}", v.len()),
+                ));
+            }
+            r.push(v[0]);
+            for c in 0..3 {
+                rd[c].push(v[1 + c]);
+                se[c].push(v[4 + c]);
+            }
+        }
+        if r.len() < 3 {
+            return Err(FitError::invalid(
+                "profile bins",
+                r.len(),
+                "need at least 3 radial bins",
+            ));
+        }
+        // The bin width follows from MCML's optimal coordinate of bin 0: r₀ = (½ + 1/6)·dr.
+        let dr = r[0] / (0.5 + 1.0 / 6.0);
+        r.pop();
+        for c in 0..3 {
+            rd[c].pop();
+            se[c].pop();
+        }
+        let p = Profile { dr, r, rd, se };
+        p.validate()?;
+        Ok(p)
+    }
+
+    /// An analytic profile sampled at bin centres (i+½)·dr, i < n.
+    pub fn from_fn(dr: f64, n: usize, f: impl Fn(usize, f64) -> f64) -> Self {
+        let r: Vec<f64> = (0..n).map(|i| (i as f64 + 0.5) * dr).collect();
+        let rd = [0, 1, 2].map(|c| r.iter().map(|&x| f(c, x)).collect());
+        Profile {
+            dr,
+            r,
+            rd,
+            se: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+        }
+    }
+
+    /// Refuses profiles no kernel can be built from: fewer than 2 bins, non-finite or negative
+    /// values, or a channel that is zero everywhere.
+    pub fn validate(&self) -> Result<()> {
+        if !(self.dr.is_finite() && self.dr > 0.0) {
+            return Err(FitError::invalid("dr", self.dr, "must be positive"));
+        }
+        if self.r.len() < 2 {
+            return Err(FitError::invalid(
+                "profile bins",
+                self.r.len(),
+                "need at least 2 radial bins",
+            ));
+        }
+        for (c, ch) in ["R", "G", "B"].iter().enumerate() {
+            if self.rd[c].len() != self.r.len() {
+                return Err(FitError::invalid(
+                    format!("Rd[{ch}] length"),
+                    self.rd[c].len(),
+                    "must match r",
+                ));
+            }
+            if let Some((i, v)) = self.rd[c]
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !v.is_finite() || **v < 0.0)
+            {
+                return Err(FitError::invalid(
+                    format!("Rd[{ch}] at r = {} cm", self.r[i]),
+                    v,
+                    "must be finite and non-negative",
+                ));
+            }
+            if self.rd[c].iter().all(|&v| v == 0.0) {
+                return Err(FitError::invalid(
+                    format!("Rd[{ch}]"),
+                    0,
+                    "is zero everywhere: no kernel to fit",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Number of radial bins.
+    pub fn len(&self) -> usize {
+        self.r.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.r.is_empty()
+    }
+
+    /// Rd of channel `c` at radius `r` [cm]: linear interpolation between sample radii, constant
+    /// below the first, zero beyond the last.
+    pub fn at(&self, c: usize, r: f64) -> f64 {
+        let (rs, v) = (&self.r, &self.rd[c]);
+        if r <= rs[0] {
+            return v[0];
+        }
+        if r > *rs.last().expect("validated non-empty") {
+            return 0.0;
+        }
+        let i = rs.partition_point(|&x| x < r).max(1);
+        let t = (r - rs[i - 1]) / (rs[i] - rs[i - 1]);
+        v[i - 1] + t * (v[i] - v[i - 1])
+    }
+}

@@ -1,0 +1,80 @@
+//! Separable kernels: a sum of N rank-1 terms s_i·a_i(x)·a_i(y), each applied as one horizontal
+//! and one vertical 1D pass (two passes per term). Rank-1 models have one term with s = +1.
+
+use crate::kernel2d::Kernel2;
+
+/// One rank-1 term s·a(x)a(y) on the kernel's grid (length 2n+1, centred).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Term {
+    /// +1 or −1: a symmetric kernel's eigenvalues can be negative.
+    pub sign: f64,
+    pub a: Vec<f64>,
+}
+
+/// A separable (sum of rank-1 terms) approximation of one channel's 2D kernel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Separable {
+    /// Sample spacing [cm].
+    pub h: f64,
+    pub terms: Vec<Term>,
+}
+
+impl Separable {
+    pub fn rank1(h: f64, a: Vec<f64>) -> Self {
+        Separable {
+            h,
+            terms: vec![Term { sign: 1.0, a }],
+        }
+    }
+
+    /// Half-width n of the 1D functions (length 2n+1).
+    pub fn half(&self) -> usize {
+        self.terms.first().map(|t| t.a.len() / 2).unwrap_or(0)
+    }
+
+    /// The dense 2D kernel Σ sᵢ aᵢ aᵢᵀ.
+    pub fn to_dense(&self) -> Kernel2 {
+        let n = self.half();
+        let m = 2 * n + 1;
+        let mut v = vec![0.0; m * m];
+        for t in &self.terms {
+            for i in 0..m {
+                let ai = t.sign * t.a[i];
+                for j in 0..m {
+                    v[i * m + j] += ai * t.a[j];
+                }
+            }
+        }
+        Kernel2 {
+            half: n,
+            h: self.h,
+            v,
+        }
+    }
+
+    /// ‖A‖₁ of the dense kernel, computed without forming it for rank 1.
+    pub fn l1(&self) -> f64 {
+        if let [t] = &self.terms[..] {
+            let s: f64 = t.a.iter().map(|x| x.abs()).sum();
+            return s * s;
+        }
+        self.to_dense().l1()
+    }
+
+    /// Scales the kernel so ‖A‖₁ = `target` (thesis eq. 5.12).
+    pub fn renormalized(mut self, target: f64) -> Self {
+        let s = (target / self.l1()).sqrt();
+        for t in &mut self.terms {
+            t.a.iter_mut().for_each(|x| *x *= s);
+        }
+        self
+    }
+
+    /// The kernel's samples sum Σ A(x, y) (= its integral over the grid).
+    pub fn sum(&self) -> f64 {
+        self.terms
+            .iter()
+            .map(|t| t.sign * t.a.iter().sum::<f64>().powi(2))
+            .sum()
+    }
+}
