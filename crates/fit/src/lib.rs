@@ -21,19 +21,24 @@
 //! assert!(fit::metrics::kernel_rms(&k, &a1) <= fit::metrics::kernel_rms(&k, &pre));
 //! ```
 
+mod burley;
 pub mod convolve;
 mod error;
 mod gaussians;
 mod guided;
 mod kernel2d;
+mod manual;
 pub mod metrics;
 mod preint;
 mod profile;
 mod separable;
+pub mod skin;
 pub mod signals;
 mod svd;
+pub mod taps;
 
 pub use error::{FitError, Result};
+pub use burley::Burley;
 pub use gaussians::Gaussians;
 pub use guided::{Guided, GuidedFit, GuidedStop};
 pub use kernel2d::{Kernel2, ground_truth};

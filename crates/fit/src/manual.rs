@@ -1,0 +1,98 @@
+//! Manual approximation (Jimenez; thesis §5.4, eq. 5.21): A_m = a_m(x) a_m(y) with
+//! a_m = w·G(τ_n) + (1−w)·G(τ_f), G(τ) the zero-mean 1D Gaussian of variance τ, per channel.
+//! Parameters come from the thesis's Table A.1 (√τ in mm) or from an automatic fit that minimizes
+//! the image-space error on the test signals. On the grid each sample is the Gaussian mixture
+//! integrated over its cell (erf), so narrow near-field Gaussians keep their mass.
+
+use argmin::core::{CostFunction, Error, Executor};
+use argmin::solver::neldermead::NelderMead;
+use serde::Deserialize;
+
+use crate::kernel2d::Kernel2;
+use crate::metrics::ImageEval;
+use crate::separable::Separable;
+
+/// Parameters of one channel: w, and variances τ_n, τ_f [cm²].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Manual {
+    pub w: f64,
+    pub tau_near: f64,
+    pub tau_far: f64,
+}
+
+#[derive(Deserialize)]
+struct Row {
+    sqrt_tau_near_mm: [f64; 3],
+    sqrt_tau_far_mm: [f64; 3],
+    w: f64,
+}
+
+const TABLE_A1: &str = include_str!("../../../configs/manual_table_a1.toml");
+
+/// The thesis's Table A.1 parameters for a material (apple, ketchup, marble, skin1, wholemilk).
+pub fn table_a1(material: &str) -> Option<[Manual; 3]> {
+    let table: std::collections::BTreeMap<String, Row> = toml::from_str(TABLE_A1).expect("Table A.1 parses");
+    let row = table.get(&material.to_lowercase())?;
+    Some([0, 1, 2].map(|c| Manual { w: row.w, tau_near: (0.1 * row.sqrt_tau_near_mm[c]).powi(2), tau_far: (0.1 * row.sqrt_tau_far_mm[c]).powi(2) }))
+}
+
+impl Manual {
+    /// The 1D function on a grid of half-width `half` and spacing `h` [cm], cell-integrated, with
+    /// Σ a = 1 (so ‖A‖₁ = 1, the normalized ground truth's).
+    pub fn separable(&self, half: usize, h: f64) -> Separable {
+        let cdf = |x: f64, tau: f64| 0.5 * (1.0 + libm::erf(x / (2.0 * tau).sqrt()));
+        let a: Vec<f64> = (0..2 * half + 1)
+            .map(|i| {
+                let x = (i as f64 - half as f64) * h;
+                let cell = |tau: f64| cdf(x + 0.5 * h, tau) - cdf(x - 0.5 * h, tau);
+                self.w * cell(self.tau_near) + (1.0 - self.w) * cell(self.tau_far)
+            })
+            .collect();
+        let s: f64 = a.iter().sum();
+        Separable::rank1(h, a.into_iter().map(|x| x / s).collect())
+    }
+
+    /// Fits (w, τ_n, τ_f) to minimize Σ over the test signals of the image-space MSE (Nelder–Mead
+    /// over (logit w, log τ_n, log τ_f)), starting from `start`.
+    pub fn fit_image_space(k: &Kernel2, start: Manual) -> Manual {
+        // A coarse evaluation grid keeps each cost evaluation cheap.
+        let eval = ImageEval::new(k, 128, 48);
+        let problem = ManualCost { eval: &eval, half: k.half, h: k.h };
+        let x0 = vec![(start.w / (1.0 - start.w)).ln(), start.tau_near.ln(), start.tau_far.ln()];
+        let mut simplex = vec![x0.clone()];
+        for (i, d) in [0.8, 0.8, 0.8].iter().enumerate() {
+            let mut p = x0.clone();
+            p[i] += d;
+            simplex.push(p);
+        }
+        let best = NelderMead::new(simplex)
+            .with_sd_tolerance(1e-8)
+            .ok()
+            .and_then(|s| Executor::new(problem, s).configure(|st| st.max_iters(120)).run().ok())
+            .and_then(|r| r.state.best_param.clone())
+            .unwrap_or(x0);
+        from_params(&best)
+    }
+}
+
+fn from_params(p: &[f64]) -> Manual {
+    let w = 1.0 / (1.0 + (-p[0]).exp());
+    let (a, b) = (p[1].clamp(-60.0, 10.0).exp(), p[2].clamp(-60.0, 10.0).exp());
+    Manual { w, tau_near: a.min(b), tau_far: a.max(b) }
+}
+
+struct ManualCost<'a> {
+    eval: &'a ImageEval,
+    half: usize,
+    h: f64,
+}
+
+impl CostFunction for ManualCost<'_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+
+    fn cost(&self, p: &Self::Param) -> Result<f64, Error> {
+        let s = from_params(p).separable(self.half, self.h);
+        Ok(self.eval.rms(&s).iter().map(|(_, e)| e * e).sum())
+    }
+}
