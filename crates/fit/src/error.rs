@@ -11,6 +11,10 @@ pub enum FitError {
         reason: String,
     },
 
+    /// A plot could not be drawn or written.
+    #[error("plot {path}: {message}")]
+    Plot { path: String, message: String },
+
     /// A text input (profile CSV, kernel TOML, parameter table) could not be parsed.
     #[error("{source_name}:{line}: {message}")]
     Parse {

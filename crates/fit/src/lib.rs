@@ -21,27 +21,33 @@
 //! assert!(fit::metrics::kernel_rms(&k, &a1) <= fit::metrics::kernel_rms(&k, &pre));
 //! ```
 
+// Per-channel loops index parallel [_; 3] arrays (profile, kernels, colours) by channel.
+#![allow(clippy::needless_range_loop)]
+
 mod burley;
 pub mod convolve;
 mod error;
+pub mod evaluate;
 mod gaussians;
 mod guided;
 mod kernel2d;
 mod manual;
 pub mod metrics;
+pub mod plot;
 mod preint;
 mod profile;
 mod separable;
-pub mod skin;
 pub mod signals;
+pub mod skin;
 mod svd;
 pub mod taps;
 
-pub use error::{FitError, Result};
 pub use burley::Burley;
+pub use error::{FitError, Result};
 pub use gaussians::Gaussians;
 pub use guided::{Guided, GuidedFit, GuidedStop};
 pub use kernel2d::{Kernel2, ground_truth};
+pub use manual::{Manual, table_a1};
 pub use preint::{preint, projection};
 pub use profile::Profile;
 pub use separable::{Separable, Term};

@@ -31,9 +31,14 @@ const TABLE_A1: &str = include_str!("../../../configs/manual_table_a1.toml");
 
 /// The thesis's Table A.1 parameters for a material (apple, ketchup, marble, skin1, wholemilk).
 pub fn table_a1(material: &str) -> Option<[Manual; 3]> {
-    let table: std::collections::BTreeMap<String, Row> = toml::from_str(TABLE_A1).expect("Table A.1 parses");
+    let table: std::collections::BTreeMap<String, Row> =
+        toml::from_str(TABLE_A1).expect("Table A.1 parses");
     let row = table.get(&material.to_lowercase())?;
-    Some([0, 1, 2].map(|c| Manual { w: row.w, tau_near: (0.1 * row.sqrt_tau_near_mm[c]).powi(2), tau_far: (0.1 * row.sqrt_tau_far_mm[c]).powi(2) }))
+    Some([0, 1, 2].map(|c| Manual {
+        w: row.w,
+        tau_near: (0.1 * row.sqrt_tau_near_mm[c]).powi(2),
+        tau_far: (0.1 * row.sqrt_tau_far_mm[c]).powi(2),
+    }))
 }
 
 impl Manual {
@@ -57,8 +62,16 @@ impl Manual {
     pub fn fit_image_space(k: &Kernel2, start: Manual) -> Manual {
         // A coarse evaluation grid keeps each cost evaluation cheap.
         let eval = ImageEval::new(k, 128, 48);
-        let problem = ManualCost { eval: &eval, half: k.half, h: k.h };
-        let x0 = vec![(start.w / (1.0 - start.w)).ln(), start.tau_near.ln(), start.tau_far.ln()];
+        let problem = ManualCost {
+            eval: &eval,
+            half: k.half,
+            h: k.h,
+        };
+        let x0 = vec![
+            (start.w / (1.0 - start.w)).ln(),
+            start.tau_near.ln(),
+            start.tau_far.ln(),
+        ];
         let mut simplex = vec![x0.clone()];
         for (i, d) in [0.8, 0.8, 0.8].iter().enumerate() {
             let mut p = x0.clone();
@@ -68,7 +81,12 @@ impl Manual {
         let best = NelderMead::new(simplex)
             .with_sd_tolerance(1e-8)
             .ok()
-            .and_then(|s| Executor::new(problem, s).configure(|st| st.max_iters(120)).run().ok())
+            .and_then(|s| {
+                Executor::new(problem, s)
+                    .configure(|st| st.max_iters(120))
+                    .run()
+                    .ok()
+            })
             .and_then(|r| r.state.best_param.clone())
             .unwrap_or(x0);
         from_params(&best)
@@ -78,7 +96,11 @@ impl Manual {
 fn from_params(p: &[f64]) -> Manual {
     let w = 1.0 / (1.0 + (-p[0]).exp());
     let (a, b) = (p[1].clamp(-60.0, 10.0).exp(), p[2].clamp(-60.0, 10.0).exp());
-    Manual { w, tau_near: a.min(b), tau_far: a.max(b) }
+    Manual {
+        w,
+        tau_near: a.min(b),
+        tau_far: a.max(b),
+    }
 }
 
 struct ManualCost<'a> {

@@ -6,7 +6,13 @@
 //! the strength: centre tap → lerp(1, w₀, t), others × t. Offsets here are in mm, as in the demo.
 
 /// d'Eon & Luebke (GPU Gems 3) red-channel variances [mm²] and weights, without the 0.0064 term.
-const PROFILE: [(f64, f64); 5] = [(0.0484, 0.100), (0.187, 0.118), (0.567, 0.113), (1.99, 0.358), (7.41, 0.078)];
+const PROFILE: [(f64, f64); 5] = [
+    (0.0484, 0.100),
+    (0.187, 0.118),
+    (0.567, 0.113),
+    (1.99, 0.358),
+    (7.41, 0.078),
+];
 
 /// The demo's defaults.
 pub const FALLOFF: [f64; 3] = [1.0, 0.37, 0.3];
@@ -16,7 +22,10 @@ pub const STRENGTH: [f64; 3] = [0.48, 0.41, 0.28];
 pub fn profile(r: f64, falloff: [f64; 3]) -> [f64; 3] {
     falloff.map(|f| {
         let rr = r / (0.001 + f);
-        PROFILE.iter().map(|&(v, w)| w * (-(rr * rr) / (2.0 * v)).exp() / (2.0 * std::f64::consts::PI * v)).sum()
+        PROFILE
+            .iter()
+            .map(|&(v, w)| w * (-(rr * rr) / (2.0 * v)).exp() / (2.0 * std::f64::consts::PI * v))
+            .sum()
     })
 }
 
@@ -27,8 +36,16 @@ pub fn kernel(taps: usize, falloff: [f64; 3], strength: [f64; 3]) -> Vec<(f64, [
     let offs = crate::taps::offsets(taps, range);
     let mut k: Vec<(f64, [f64; 3])> = (0..taps)
         .map(|i| {
-            let w0 = if i > 0 { (offs[i] - offs[i - 1]).abs() } else { 0.0 };
-            let w1 = if i + 1 < taps { (offs[i] - offs[i + 1]).abs() } else { 0.0 };
+            let w0 = if i > 0 {
+                (offs[i] - offs[i - 1]).abs()
+            } else {
+                0.0
+            };
+            let w1 = if i + 1 < taps {
+                (offs[i] - offs[i + 1]).abs()
+            } else {
+                0.0
+            };
             let area = 0.5 * (w0 + w1);
             (offs[i], profile(offs[i], falloff).map(|p| area * p))
         })
@@ -62,7 +79,12 @@ mod tests {
         for (i, (o, w)) in golden.iter().enumerate() {
             assert!((k[i].0 - o).abs() < 1e-12, "offset {i}: {} vs {o}", k[i].0);
             for c in 0..3 {
-                assert!((k[i].1[c] - w[c]).abs() <= 1e-5 * w[c], "tap {i} channel {c}: {} vs {}", k[i].1[c], w[c]);
+                assert!(
+                    (k[i].1[c] - w[c]).abs() <= 1e-5 * w[c],
+                    "tap {i} channel {c}: {} vs {}",
+                    k[i].1[c],
+                    w[c]
+                );
             }
         }
         // Symmetric, and the weights of a channel sum to 1 (the strength lerp keeps the sum).

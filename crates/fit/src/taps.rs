@@ -63,7 +63,11 @@ fn integrate(a: &[f64], h: f64, x0: f64, x1: f64) -> f64 {
         let t = x / h + half;
         if t <= 0.0 || t >= (a.len() - 1) as f64 {
             let i = t.round().clamp(0.0, (a.len() - 1) as f64) as usize;
-            return if (t - i as f64).abs() <= 0.5 { a[i] / h } else { 0.0 };
+            return if (t - i as f64).abs() <= 0.5 {
+                a[i] / h
+            } else {
+                0.0
+            };
         }
         let i = t.floor() as usize;
         let w = t - i as f64;
@@ -95,10 +99,20 @@ pub fn range_of(a: &[f64], h: f64, coverage: f64) -> f64 {
 
 impl ShaderKernel {
     /// Builds taps for RGB separable models (one per channel, the same number of terms each).
-    pub fn from_separable(model: &str, material: &str, channels: [&Separable; 3], taps: usize, coverage: f64, jitter: f64) -> Self {
+    pub fn from_separable(
+        model: &str,
+        material: &str,
+        channels: [&Separable; 3],
+        taps: usize,
+        coverage: f64,
+        jitter: f64,
+    ) -> Self {
         let h = channels[0].h;
         let passes = channels.iter().map(|s| s.terms.len()).max().unwrap_or(0);
-        let range = channels.iter().flat_map(|s| s.terms.iter().map(|t| range_of(&t.a, h, coverage))).fold(h, f64::max);
+        let range = channels
+            .iter()
+            .flat_map(|s| s.terms.iter().map(|t| range_of(&t.a, h, coverage)))
+            .fold(h, f64::max);
         let offs = offsets(taps, range);
         let end = channels[0].half() as f64 * h + h;
         // Cells: midpoints between offsets, outer cells to the kernel's end.
@@ -107,16 +121,34 @@ impl ShaderKernel {
         bounds.push(end);
         let pass = (0..passes)
             .map(|p| {
-                let sign = [0, 1, 2].map(|c| channels[c].terms.get(p).map(|t| t.sign).unwrap_or(1.0));
+                let sign =
+                    [0, 1, 2].map(|c| channels[c].terms.get(p).map(|t| t.sign).unwrap_or(1.0));
                 let tap = offs
                     .iter()
                     .enumerate()
-                    .map(|(i, &o)| Tap { offset: o, weight: [0, 1, 2].map(|c| channels[c].terms.get(p).map(|t| integrate(&t.a, h, bounds[i], bounds[i + 1])).unwrap_or(0.0)) })
+                    .map(|(i, &o)| Tap {
+                        offset: o,
+                        weight: [0, 1, 2].map(|c| {
+                            channels[c]
+                                .terms
+                                .get(p)
+                                .map(|t| integrate(&t.a, h, bounds[i], bounds[i + 1]))
+                                .unwrap_or(0.0)
+                        }),
+                    })
                     .collect();
                 Pass { sign, tap }
             })
             .collect();
-        ShaderKernel { model: model.into(), material: material.into(), unit: "cm".into(), taps, range, jitter, pass }
+        ShaderKernel {
+            model: model.into(),
+            material: material.into(),
+            unit: "cm".into(),
+            taps,
+            range,
+            jitter,
+            pass,
+        }
     }
 
     /// The 1D functions of channel `c` on a fine grid (spacing `h`, half-width `half`), each tap's
@@ -132,7 +164,7 @@ impl ShaderKernel {
                     let i = x.floor().clamp(0.0, (2 * half) as f64) as usize;
                     let w = (x - i as f64).clamp(0.0, 1.0);
                     a[i] += t.weight[c] * (1.0 - w);
-                    if i + 1 <= 2 * half {
+                    if i < 2 * half {
                         a[i + 1] += t.weight[c] * w;
                     }
                 }
@@ -147,6 +179,13 @@ impl ShaderKernel {
     }
 
     pub fn from_toml(text: &str, source_name: &str) -> crate::Result<Self> {
-        toml::from_str(text).map_err(|e| crate::FitError::Parse { source_name: source_name.into(), line: e.span().map(|s| text[..s.start].lines().count().max(1)).unwrap_or(0), message: e.message().to_string() })
+        toml::from_str(text).map_err(|e| crate::FitError::Parse {
+            source_name: source_name.into(),
+            line: e
+                .span()
+                .map(|s| text[..s.start].lines().count().max(1))
+                .unwrap_or(0),
+            message: e.message().to_string(),
+        })
     }
 }

@@ -1,0 +1,315 @@
+//! Comparison plots as PNG (plotters, bitmap backend, an embedded DejaVu Sans so output does not
+//! depend on system fonts): profiles (thesis Fig. 6.1), kernel slices against the ground truth
+//! (Fig. 6.2), singular-value decay (Fig. 5.1), and convolution/difference sheets (Fig. 6.3–6.10).
+
+use std::path::Path;
+use std::sync::Once;
+
+use plotters::prelude::*;
+use plotters::style::{FontStyle, register_font};
+
+use crate::error::{FitError, Result};
+use crate::evaluate::Evaluation;
+use crate::profile::Profile;
+use crate::signals::Signal;
+
+static FONT: Once = Once::new();
+const CHANNEL_COLORS: [RGBColor; 3] = [
+    RGBColor(220, 40, 40),
+    RGBColor(30, 160, 60),
+    RGBColor(40, 80, 220),
+];
+const MODEL_COLORS: [RGBColor; 6] = [
+    RGBColor(0, 0, 0),
+    RGBColor(230, 120, 0),
+    RGBColor(0, 150, 200),
+    RGBColor(160, 0, 160),
+    RGBColor(120, 120, 0),
+    RGBColor(0, 160, 100),
+];
+
+fn font() {
+    FONT.call_once(|| {
+        let _ = register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            include_bytes!("../../../assets/DejaVuSans.ttf"),
+        );
+    });
+}
+
+fn err(path: &Path, e: impl std::fmt::Display) -> FitError {
+    FitError::Plot {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
+}
+
+/// Rd(r) per channel: linear near 0 (left) and logarithmic over the whole range (right).
+pub fn profile(p: &Profile, title: &str, path: &Path) -> Result<()> {
+    font();
+    let root = BitMapBackend::new(path, (1200, 480)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(path, e))?;
+    let (left, right) = root.split_horizontally(600);
+    let r_end = *p.r.last().unwrap_or(&1.0);
+    let near = r_end / 8.0;
+    let max =
+        p.rd.iter()
+            .flat_map(|c| c.iter())
+            .fold(0.0f64, |a, &b| a.max(b));
+    {
+        let mut ch = ChartBuilder::on(&left)
+            .caption(format!("{title}: Rd(r) near 0"), ("sans-serif", 18))
+            .margin(10)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0.0..near, 0.0..max * 1.05)
+            .map_err(|e| err(path, e))?;
+        ch.configure_mesh()
+            .x_desc("r [cm]")
+            .y_desc("Rd [1/cm²]")
+            .draw()
+            .map_err(|e| err(path, e))?;
+        for c in 0..3 {
+            ch.draw_series(LineSeries::new(
+                p.r.iter()
+                    .zip(&p.rd[c])
+                    .filter(|(r, _)| **r <= near)
+                    .map(|(&r, &v)| (r, v)),
+                CHANNEL_COLORS[c].stroke_width(2),
+            ))
+            .map_err(|e| err(path, e))?;
+        }
+    }
+    let min_pos =
+        p.rd.iter()
+            .flat_map(|c| c.iter())
+            .filter(|&&v| v > 0.0)
+            .fold(f64::INFINITY, |a, &b| a.min(b));
+    let mut ch = ChartBuilder::on(&right)
+        .caption(format!("{title}: Rd(r), log scale"), ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(
+            0.0..r_end,
+            (min_pos.max(max * 1e-12)..max * 2.0).log_scale(),
+        )
+        .map_err(|e| err(path, e))?;
+    ch.configure_mesh()
+        .x_desc("r [cm]")
+        .y_desc("Rd [1/cm²]")
+        .draw()
+        .map_err(|e| err(path, e))?;
+    for c in 0..3 {
+        ch.draw_series(LineSeries::new(
+            p.r.iter()
+                .zip(&p.rd[c])
+                .filter(|(_, v)| **v > 0.0)
+                .map(|(&r, &v)| (r, v)),
+            CHANNEL_COLORS[c].stroke_width(2),
+        ))
+        .map_err(|e| err(path, e))?;
+    }
+    root.present().map_err(|e| err(path, e))
+}
+
+/// Slices along the main axis (top row) and the diagonal (bottom row) of the models named in
+/// `labels` against the ground truth (dotted), per channel, out to `extent` of the kernel.
+pub fn slices(ev: &Evaluation, labels: &[&str], title: &str, path: &Path) -> Result<()> {
+    font();
+    let root = BitMapBackend::new(path, (1500, 800)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(path, e))?;
+    let cells = root.split_evenly((2, 3));
+    for (idx, cell) in cells.iter().enumerate() {
+        let (row, c) = (idx / 3, idx % 3);
+        let truth = if row == 0 {
+            &ev.truth_axis[c]
+        } else {
+            &ev.truth_diagonal[c]
+        };
+        // Zoom on the central part: 4× the distance at which the ground truth falls to 1% of its peak.
+        let fall = truth
+            .iter()
+            .position(|&v| v < 0.01 * truth[0])
+            .unwrap_or(truth.len());
+        let n = (4 * fall).clamp(10, truth.len());
+        let step = if row == 0 {
+            ev.h
+        } else {
+            ev.h * std::f64::consts::SQRT_2
+        };
+        let max = truth[0].max(1e-300) * 1.15;
+        let mut ch = ChartBuilder::on(cell)
+            .caption(
+                format!(
+                    "{title} {} {}",
+                    ["R", "G", "B"][c],
+                    if row == 0 { "axis" } else { "diagonal" }
+                ),
+                ("sans-serif", 16),
+            )
+            .margin(8)
+            .x_label_area_size(30)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..n as f64 * step, 0.0..max)
+            .map_err(|e| err(path, e))?;
+        ch.configure_mesh()
+            .x_desc("distance [cm]")
+            .draw()
+            .map_err(|e| err(path, e))?;
+        ch.draw_series(
+            truth[..n]
+                .iter()
+                .enumerate()
+                .step_by((n / 60).max(1))
+                .map(|(i, &v)| Circle::new((i as f64 * step, v), 2, BLACK.filled())),
+        )
+        .map_err(|e| err(path, e))?
+        .label("ground truth")
+        .legend(|(x, y)| Circle::new((x + 10, y), 3, BLACK.filled()));
+        for (m, label) in labels.iter().enumerate() {
+            if let Some(r) = ev
+                .rows
+                .iter()
+                .find(|r| r.channel == c && r.label().starts_with(label))
+            {
+                let s = if row == 0 { &r.axis } else { &r.diagonal };
+                let color = MODEL_COLORS[(m + 1) % MODEL_COLORS.len()];
+                ch.draw_series(LineSeries::new(
+                    s[..n]
+                        .iter()
+                        .enumerate()
+                        .map(|(i, &v)| (i as f64 * step, v)),
+                    color.stroke_width(2),
+                ))
+                .map_err(|e| err(path, e))?
+                .label(label.to_string())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+            }
+        }
+        if idx == 0 {
+            ch.configure_series_labels()
+                .border_style(BLACK)
+                .background_style(WHITE.mix(0.8))
+                .draw()
+                .map_err(|e| err(path, e))?;
+        }
+    }
+    root.present().map_err(|e| err(path, e))
+}
+
+/// The first 30 singular values per channel, log scale (thesis Fig. 5.1).
+pub fn singular_values(ev: &Evaluation, title: &str, path: &Path) -> Result<()> {
+    font();
+    let root = BitMapBackend::new(path, (700, 480)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(path, e))?;
+    let all = ev
+        .singular_values
+        .iter()
+        .flat_map(|v| v.iter())
+        .filter(|&&x| x > 0.0);
+    let (lo, hi) = all.fold((f64::INFINITY, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+    let mut ch = ChartBuilder::on(&root)
+        .caption(format!("{title}: singular values"), ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.5..30.5, (lo.max(hi * 1e-16)..hi * 2.0).log_scale())
+        .map_err(|e| err(path, e))?;
+    ch.configure_mesh()
+        .x_desc("index")
+        .y_desc("σ")
+        .draw()
+        .map_err(|e| err(path, e))?;
+    for c in 0..3 {
+        let pts: Vec<(f64, f64)> = ev.singular_values[c]
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| **v > 0.0)
+            .map(|(i, &v)| ((i + 1) as f64, v))
+            .collect();
+        ch.draw_series(LineSeries::new(
+            pts.clone(),
+            CHANNEL_COLORS[c].stroke_width(2),
+        ))
+        .map_err(|e| err(path, e))?;
+        ch.draw_series(
+            pts.into_iter()
+                .map(|p| Circle::new(p, 3, CHANNEL_COLORS[c].filled())),
+        )
+        .map_err(|e| err(path, e))?;
+    }
+    root.present().map_err(|e| err(path, e))
+}
+
+/// A sheet for one test signal: the input and ground-truth convolution (RGB) on the first row;
+/// each rank-1 model's convolution (second row) and its absolute difference to the ground truth,
+/// scaled ×`gain` (third row), in the order svd1, preint, guided k=1, manual.
+pub fn convolutions(ev: &Evaluation, signal: Signal, gain: f64, path: &Path) -> Result<()> {
+    let size = ev.images[0].size;
+    let labels: Vec<String> = ev
+        .rank1
+        .iter()
+        .filter(|(_, c, _)| *c == 0)
+        .map(|(l, _, _)| l.clone())
+        .collect();
+    let cols = labels.len().max(2);
+    let root = BitMapBackend::new(
+        path,
+        ((cols * (size + 10)) as u32, (3 * (size + 10)) as u32),
+    )
+    .into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(path, e))?;
+    let put = |x0: usize, y0: usize, rgb: &dyn Fn(usize, usize) -> [f64; 3]| -> Result<()> {
+        for y in 0..size {
+            for x in 0..size {
+                let v = rgb(x, y).map(|c| (c.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0) as u8);
+                root.draw_pixel(
+                    ((x0 + x) as i32, (y0 + y) as i32),
+                    &RGBColor(v[0], v[1], v[2]),
+                )
+                .map_err(|e| err(path, e))?;
+            }
+        }
+        Ok(())
+    };
+    let per_channel: Vec<_> = (0..3)
+        .map(|c| {
+            ev.images[c].images(
+                signal,
+                &ev.rank1
+                    .iter()
+                    .find(|(_, ch, _)| *ch == c)
+                    .expect("a model per channel")
+                    .2,
+            )
+        })
+        .collect();
+    put(0, 0, &|x, y| [0, 1, 2].map(|c| per_channel[c].0.at(x, y)))?;
+    put(size + 10, 0, &|x, y| {
+        [0, 1, 2].map(|c| per_channel[c].1.at(x, y))
+    })?;
+    for (i, label) in labels.iter().enumerate() {
+        let imgs: Vec<_> = (0..3)
+            .map(|c| {
+                let model = &ev
+                    .rank1
+                    .iter()
+                    .find(|(l, ch, _)| l == label && *ch == c)
+                    .expect("each model on each channel")
+                    .2;
+                ev.images[c].images(signal, model)
+            })
+            .collect();
+        put(i * (size + 10), size + 10, &|x, y| {
+            [0, 1, 2].map(|c| imgs[c].2.at(x, y))
+        })?;
+        put(i * (size + 10), 2 * (size + 10), &|x, y| {
+            [0, 1, 2].map(|c| gain * (imgs[c].2.at(x, y) - imgs[c].1.at(x, y)).abs())
+        })?;
+    }
+    root.present().map_err(|e| err(path, e))
+}
