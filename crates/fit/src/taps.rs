@@ -5,8 +5,8 @@
 //! R·sign(oᵢ)·oᵢ²/R², dense near the centre where kernels peak. Unlike the public SSSS shader, R is
 //! the kernel's own range (the radius holding `coverage` of the widest channel's 1D mass), not a
 //! fixed constant. Each tap's weight is ∫ a(x) dx over its cell (midpoints between neighbouring
-//! offsets; the outer cells extend to the end of the kernel so no energy is lost), with a(x) the
-//! model's 1D function as a density (samples / h, linearly interpolated).
+//! offsets; the outer cells extend to the end of the kernel so no energy is lost), with each of
+//! the model's samples spread uniformly over its own grid cell.
 
 use serde::{Deserialize, Serialize};
 
@@ -56,31 +56,19 @@ pub fn offsets(n: usize, range: f64) -> Vec<f64> {
         .collect()
 }
 
-/// ∫ from x0 to x1 of the piecewise-linear density through samples a[i]/h at x = (i − half)·h.
+/// ∫ from x0 to x1 of the model's 1D function as a density: sample a[i] spread uniformly over
+/// its cell [(i − half − ½)h, (i − half + ½)h]. Cells of the taps partition the line, so the
+/// weights of a pass sum to Σa exactly.
 fn integrate(a: &[f64], h: f64, x0: f64, x1: f64) -> f64 {
     let half = (a.len() / 2) as f64;
-    let f = |x: f64| {
-        let t = x / h + half;
-        if t <= 0.0 || t >= (a.len() - 1) as f64 {
-            let i = t.round().clamp(0.0, (a.len() - 1) as f64) as usize;
-            return if (t - i as f64).abs() <= 0.5 {
-                a[i] / h
-            } else {
-                0.0
-            };
-        }
-        let i = t.floor() as usize;
-        let w = t - i as f64;
-        (a[i] * (1.0 - w) + a[i + 1] * w) / h
-    };
-    // Composite Simpson on sub-intervals no wider than h/4: exact enough for linear pieces.
-    let steps = (((x1 - x0) / (0.25 * h)).ceil() as usize).max(2) & !1;
-    let dx = (x1 - x0) / steps as f64;
-    let mut s = f(x0) + f(x1);
-    for k in 1..steps {
-        s += f(x0 + k as f64 * dx) * if k % 2 == 1 { 4.0 } else { 2.0 };
-    }
-    s * dx / 3.0
+    let (t0, t1) = (x0 / h + half + 0.5, x1 / h + half + 0.5); // in cell units, cell i = [i, i+1)
+    let (first, last) = (
+        t0.floor().max(0.0) as usize,
+        (t1.ceil().max(0.0) as usize).min(a.len()),
+    );
+    (first..last)
+        .map(|i| a[i] * ((t1.min(i as f64 + 1.0) - t0.max(i as f64)).max(0.0)))
+        .sum()
 }
 
 /// The radius holding `coverage` of the L1 mass of a centred 1D function.
@@ -114,7 +102,7 @@ impl ShaderKernel {
             .flat_map(|s| s.terms.iter().map(|t| range_of(&t.a, h, coverage)))
             .fold(h, f64::max);
         let offs = offsets(taps, range);
-        let end = channels[0].half() as f64 * h + h;
+        let end = (channels[0].half() as f64 + 0.5) * h;
         // Cells: midpoints between offsets, outer cells to the kernel's end.
         let mut bounds = vec![-end];
         bounds.extend(offs.windows(2).map(|w| 0.5 * (w[0] + w[1])));

@@ -90,9 +90,9 @@ fn random_image(w: usize, seed: u64, f: impl Fn(usize, usize, f64, f64) -> f64) 
     let e1: Vec<f64> = (0..w).map(|_| next()).collect();
     let e2: Vec<f64> = (0..w).map(|_| next()).collect();
     let mut img = Image::new(w, w);
-    for y in 0..w {
-        for x in 0..w {
-            img.v[y * w + x] = f(x, y, e1[x], e2[y]);
+    for (y, &b) in e2.iter().enumerate() {
+        for (x, &a) in e1.iter().enumerate() {
+            img.v[y * w + x] = f(x, y, a, b);
         }
     }
     img

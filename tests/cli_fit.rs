@@ -1,0 +1,186 @@
+//! End-to-end tests of `sss fit` and `sss eval` on a small simulated profile.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn sss(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sss"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("sss runs")
+}
+
+/// A coarse grid (dr = min MFP / 6, 10 max MFP) keeps the kernels small.
+const SMALL: &str = "photons = 30000\nseed = 2\nthickness_cm = 1e8\nn_above = 1.0\nn_below = 1.0\n[grid]\ndr_per_min_mfp = 6.0\nr_max_mfp = 10.0\nz_max_mfp = 10.0\nnz = 10\nna = 5\n";
+
+fn profile(dir: &Path) {
+    std::fs::write(dir.join("small.toml"), SMALL).unwrap();
+    let o = sss(
+        &[
+            "simulate",
+            "skin1",
+            "--config",
+            "small.toml",
+            "--profile-only",
+            "--out",
+            "profiles",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn fit_writes_shader_kernels_for_every_model() {
+    let dir = tempfile::tempdir().unwrap();
+    profile(dir.path());
+    for (model, extra, passes) in [
+        ("preint", vec![], 1),
+        ("svd", vec!["--rank", "3"], 3),
+        ("guided", vec!["--k", "1", "--b", "50"], 1),
+        ("manual", vec![], 1),
+        ("deon", vec!["--rank", "2"], 2),
+        ("skin", vec![], 1),
+        ("burley", vec![], 1),
+    ] {
+        let out = format!("{model}.toml");
+        let mut args = vec![
+            "fit",
+            "profiles/skin1.profile.csv",
+            "--model",
+            model,
+            "--taps",
+            "17",
+            "--out",
+            &out,
+        ];
+        args.extend(extra);
+        let o = sss(&args, dir.path());
+        assert!(
+            o.status.success(),
+            "{model}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let text = std::fs::read_to_string(dir.path().join(&out)).unwrap();
+        let k = fit::taps::ShaderKernel::from_toml(&text, &out).unwrap();
+        assert_eq!(k.pass.len(), passes, "{model}");
+        for p in &k.pass {
+            assert_eq!(p.tap.len(), 17);
+            assert!(
+                p.tap
+                    .iter()
+                    .all(|t| t.offset.is_finite() && t.weight.iter().all(|w| w.is_finite()))
+            );
+            // Offsets are symmetric about 0 and increasing.
+            assert!(
+                p.tap.windows(2).all(|w| w[0].offset < w[1].offset),
+                "{model}"
+            );
+            assert!(
+                (p.tap[0].offset + p.tap[16].offset).abs() < 1e-12,
+                "{model}"
+            );
+        }
+        // Energy: the passes' weights reproduce the kernel's L1 norm of 1 (normalized ground truth)
+        // for the energy-conserving models; weights are integrated over cells, so nothing is lost.
+        if ["preint", "guided", "manual", "deon", "skin"].contains(&model) {
+            for c in 0..3 {
+                let l1: f64 = k
+                    .pass
+                    .iter()
+                    .map(|p| p.sign[c] * p.tap.iter().map(|t| t.weight[c]).sum::<f64>().powi(2))
+                    .sum();
+                assert!((l1 - 1.0).abs() < 1e-6, "{model} channel {c}: Σ = {l1}");
+            }
+        }
+    }
+    // Bad options are refused with exit code 2 and nothing written.
+    let o = sss(
+        &[
+            "fit",
+            "profiles/skin1.profile.csv",
+            "--model",
+            "svd",
+            "--rank",
+            "0",
+            "--out",
+            "never.toml",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    std::fs::write(
+        dir.path().join("bad.csv"),
+        "r_cm,R,G,B,R_se,G_se,B_se\n0.1,1,1,1,0,0,0\n",
+    )
+    .unwrap();
+    let o = sss(
+        &["fit", "bad.csv", "--model", "preint", "--out", "never.toml"],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("bins"));
+    assert!(!dir.path().join("never.toml").exists());
+}
+
+#[test]
+fn eval_reports_every_model_and_writes_plots() {
+    let dir = tempfile::tempdir().unwrap();
+    profile(dir.path());
+    let o = sss(
+        &[
+            "eval",
+            "skin1",
+            "--profiles",
+            "profiles",
+            "--plots",
+            "plots",
+            "--json",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let m = &v["materials"][0];
+    assert_eq!(m["name"], "skin1");
+    let rows = m["models"].as_array().unwrap();
+    let count = |model: &str| rows.iter().filter(|r| r["model"] == model).count();
+    assert_eq!(count("svd"), 18, "ranks 1–6 × 3 channels");
+    assert_eq!(count("deon"), 18);
+    assert_eq!(count("guided"), 9, "k = 0, 1, 2 × 3 channels");
+    for model in ["preint", "manual", "skin"] {
+        assert_eq!(count(model), 3, "{model}");
+    }
+    assert_eq!(count("burley"), 6, "radial and projected");
+    for r in rows {
+        for key in [
+            "kernel_rms",
+            "kernel_rms_normalized",
+            "l1_error",
+            "fit_seconds",
+        ] {
+            assert!(r[key].as_f64().is_some_and(f64::is_finite), "{key} in {r}");
+        }
+        for s in ["edge", "circle_squares", "dot", "shaded", "uniform"] {
+            assert!(
+                r["image_rms"][s].as_f64().is_some_and(f64::is_finite),
+                "{s} in {r}"
+            );
+        }
+    }
+    // Pre-integration is exact on the edge, through the whole evaluation path.
+    for r in rows.iter().filter(|r| r["model"] == "preint") {
+        assert!(r["image_rms"]["edge"].as_f64().unwrap() < 1e-12, "{r}");
+    }
+    for f in [
+        "skin1.profile.png",
+        "skin1.slices_rank1.png",
+        "skin1.singular_values.png",
+        "skin1.conv_edge.png",
+        "skin1.conv_circle_squares.png",
+    ] {
+        let bytes = std::fs::read(dir.path().join("plots").join(f)).unwrap();
+        assert_eq!(&bytes[..4], b"\x89PNG", "{f}");
+    }
+}
