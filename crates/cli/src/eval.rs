@@ -92,7 +92,7 @@ pub fn run(a: EvalArgs) -> Result<()> {
     let mut materials = Vec::new();
     for n in &named {
         let p = pool.install(|| profile_for(n, &a.profiles, a.photons, a.seed))?;
-        let ev = pool.install(|| evaluate(&p, &n.slug));
+        let ev = pool.install(|| evaluate(&p, &n.slug, fit::evaluate::ImageSize::default()));
         if let Some(dir) = &a.plots {
             write_plots(&p, &ev, &n.slug, dir)?;
         }
@@ -112,7 +112,12 @@ pub fn run(a: EvalArgs) -> Result<()> {
     Ok(())
 }
 
-fn write_plots(p: &Profile, ev: &fit::evaluate::Evaluation, slug: &str, dir: &Path) -> Result<()> {
+pub fn write_plots(
+    p: &Profile,
+    ev: &fit::evaluate::Evaluation,
+    slug: &str,
+    dir: &Path,
+) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     // Render to temporary names, then rename: no half-written PNG is ever visible.
     let render = |name: String, f: &dyn Fn(&Path) -> fit::Result<()>| -> Result<()> {

@@ -10,6 +10,7 @@ mod fit;
 mod library;
 mod materials;
 mod progress;
+mod reproduce;
 mod simulate;
 
 use std::path::PathBuf;
@@ -32,6 +33,8 @@ enum Command {
     Fit(fit::FitArgs),
     /// Evaluate every kernel model against the ground truth (kernel and image space), with plots
     Eval(eval::EvalArgs),
+    /// Regenerate the thesis's tables and figures as an HTML report (use --quick for a CI-sized run)
+    Reproduce(reproduce::ReproduceArgs),
     /// Merge shard files of one `simulate --shard I/N` run into its outputs
     Merge(simulate::MergeArgs),
     /// List the built-in materials with σa, σs, g, η, albedo and mean free path per channel
@@ -47,6 +50,7 @@ fn main() -> ExitCode {
         Command::Merge(a) => simulate::merge(a),
         Command::Fit(a) => fit::run(a),
         Command::Eval(a) => eval::run(a),
+        Command::Reproduce(a) => reproduce::run(a),
         Command::Materials(a) => materials::list(a),
         Command::Bench(a) => bench::run(a),
     };

@@ -101,8 +101,25 @@ fn skin_separable(c: usize, half: usize, h: f64) -> Separable {
     Separable::rank1(h, a)
 }
 
+/// Size of the image-space evaluation: test signals of `size` pixels, kernels binned to a
+/// half-width of at most `max_half` pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ImageSize {
+    pub size: usize,
+    pub max_half: usize,
+}
+
+impl Default for ImageSize {
+    fn default() -> Self {
+        ImageSize {
+            size: 256,
+            max_half: 128,
+        }
+    }
+}
+
 /// Evaluates every model on every channel of a profile. `material` selects Table A.1 rows.
-pub fn evaluate(p: &Profile, material: &str) -> Evaluation {
+pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Evaluation {
     let mut rows = Vec::new();
     let mut singular_values: [Vec<f64>; 3] = Default::default();
     let mut truth_axis: [Vec<f64>; 3] = Default::default();
@@ -115,7 +132,7 @@ pub fn evaluate(p: &Profile, material: &str) -> Evaluation {
         let k = ground_truth(p, c, None);
         h = k.h;
         (truth_axis[c], truth_diagonal[c]) = dense_slices(&k);
-        let eval = ImageEval::new(&k, 256, 128);
+        let eval = ImageEval::new(&k, image.size, image.max_half);
         let push = |model: &'static str,
                     variant: Option<&'static str>,
                     rank: Option<usize>,

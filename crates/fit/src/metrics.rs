@@ -4,7 +4,9 @@
 //! Image-space evaluation runs on a coarser grid when the kernel is large: both the ground truth
 //! and each model are block-summed by an odd factor f around the centre, which keeps every
 //! separable model separable (a block sum of a(x)a(y) is A(X)A(Y)) and every L1 norm unchanged.
-//! Models are applied with ‖A‖₁ = ‖R_d‖₁ (eq. 5.12), as SSSS normalizes kernels before use.
+//! Models are applied scaled to conserve energy, Σ A = Σ R_d, as SSSS normalizes its weights
+//! before use (the same as eq. 5.12's ‖A‖₁ = ‖R_d‖₁ for non-negative kernels; for kernels with
+//! negative lobes, e.g. SVD rank ≥ 2, the sum is what conserves energy).
 
 use crate::convolve::{Image, convolve_2d, convolve_separable};
 use crate::kernel2d::Kernel2;
@@ -113,7 +115,8 @@ impl ImageEval {
 
     /// Image RMS per signal of a model (renormalized to the ground truth's L1 norm).
     pub fn rms(&self, model: &Separable) -> Vec<(Signal, f64)> {
-        let binned = bin_separable(model, self.factor).renormalized(self.ground_truth.l1());
+        let binned =
+            bin_separable(model, self.factor).rescaled_to_sum(self.ground_truth.v.iter().sum());
         self.references
             .iter()
             .map(|(s, e, m)| (*s, convolve_separable(e, &binned).rms_diff(m)))
@@ -122,7 +125,8 @@ impl ImageEval {
 
     /// The convolution of a signal with a model and the ground-truth reference (for plots).
     pub fn images(&self, signal: Signal, model: &Separable) -> (Image, Image, Image) {
-        let binned = bin_separable(model, self.factor).renormalized(self.ground_truth.l1());
+        let binned =
+            bin_separable(model, self.factor).rescaled_to_sum(self.ground_truth.v.iter().sum());
         let (_, e, m) = self
             .references
             .iter()

@@ -20,9 +20,18 @@ pub struct Profile {
 }
 
 impl Profile {
-    /// Reads the CSV written by `sss simulate` (`r_cm,R,G,B,R_se,G_se,B_se`). The last bin (MCML's
-    /// overflow bin) is dropped. `source_name` is used in error messages.
+    /// Reads the CSV written by `sss simulate` (`r_cm,R,G,B,R_se,G_se,B_se`) and checks it can be
+    /// fitted ([`Profile::validate`]). The last bin (MCML's overflow bin) is dropped.
+    /// `source_name` is used in error messages.
     pub fn from_csv(text: &str, source_name: &str) -> Result<Self> {
+        let p = Self::parse_csv(text, source_name)?;
+        p.validate()?;
+        Ok(p)
+    }
+
+    /// Reads the CSV without checking that every channel can be fitted (for plots of any
+    /// profile, e.g. a channel that does not scatter at all).
+    pub fn parse_csv(text: &str, source_name: &str) -> Result<Self> {
         let perr = |line: usize, m: String| FitError::Parse {
             source_name: source_name.into(),
             line,
@@ -74,9 +83,7 @@ impl Profile {
             rd[c].pop();
             se[c].pop();
         }
-        let p = Profile { dr, r, rd, se };
-        p.validate()?;
-        Ok(p)
+        Ok(Profile { dr, r, rd, se })
     }
 
     /// An analytic profile sampled at bin centres (i+½)·dr, i < n.

@@ -70,6 +70,19 @@ impl Separable {
         self
     }
 
+    /// Scales the kernel so its samples sum to `target` (energy conservation, what SSSS's weight
+    /// normalization does; equals eq. 5.12 for non-negative kernels).
+    pub fn rescaled_to_sum(mut self, target: f64) -> Self {
+        let s = self.sum();
+        if s > 0.0 {
+            let f = (target / s).sqrt();
+            for t in &mut self.terms {
+                t.a.iter_mut().for_each(|x| *x *= f);
+            }
+        }
+        self
+    }
+
     /// The kernel's samples sum Σ A(x, y) (= its integral over the grid).
     pub fn sum(&self) -> f64 {
         self.terms

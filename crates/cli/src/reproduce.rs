@@ -1,0 +1,517 @@
+//! `sss reproduce`: the thesis's tables and figures regenerated from scratch, written as a
+//! self-contained HTML report (tables inline, PNG plots beside it) and a JSON file with every
+//! number. Each result sits beside the published one; the "what agrees" section is generated
+//! from the numbers.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use fit::Profile;
+use fit::evaluate::{Evaluation, ImageSize, Row, evaluate};
+use serde::Deserialize;
+use serde_json::{Value, json};
+
+use crate::files::write_atomic;
+use crate::{eval, library, parse_count, progress, simulate};
+
+#[derive(Args)]
+pub struct ReproduceArgs {
+    /// Output folder (index.html, report.json, PNG plots, profiles/)
+    #[arg(long, default_value = "report")]
+    out: PathBuf,
+
+    /// CI-sized run: 2·10⁴ photons per channel, a coarser grid (dr = min MFP/6, 10 max MFP) and
+    /// 128-pixel test images; minutes on 2 cores
+    #[arg(long)]
+    quick: bool,
+
+    /// Photons per channel [default: 1e7, or 2e4 with --quick]
+    #[arg(long, value_parser = parse_count)]
+    photons: Option<u64>,
+
+    /// Worker threads [default: all cores]
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
+/// The five materials of the thesis's main results.
+const MAIN: [&str; 5] = ["apple", "marble", "ketchup", "skin1", "wholemilk"];
+const RANK1: [(&str, &str); 4] = [
+    ("svd1", "SVD rank-1"),
+    ("preint", "Pre-integration"),
+    ("guided k=1", "Guided k=1"),
+    ("manual", "Manual"),
+];
+
+#[derive(Deserialize)]
+struct Published {
+    table_6_3: std::collections::BTreeMap<String, Published63>,
+    table_6_5: Published65,
+}
+
+#[derive(Deserialize)]
+struct Published63 {
+    svd1: [f64; 3],
+    preint: [f64; 3],
+    guided_k1: [f64; 3],
+    manual: [f64; 3],
+}
+
+#[derive(Deserialize)]
+struct Published65 {
+    svd: Vec<[f64; 3]>,
+    deon: Vec<[f64; 3]>,
+}
+
+const PUBLISHED: &str = include_str!("../../../configs/thesis_published.toml");
+
+fn find<'a>(ev: &'a Evaluation, label: &str, c: usize) -> &'a Row {
+    ev.rows
+        .iter()
+        .find(|r| r.channel == c && r.label().starts_with(label))
+        .expect("every model is evaluated on every channel")
+}
+
+/// RMS over the five test signals of a row's image-space errors.
+fn image_rms(r: &Row) -> f64 {
+    (r.image_rms.iter().map(|(_, e)| e * e).sum::<f64>() / r.image_rms.len() as f64).sqrt()
+}
+
+pub fn run(a: ReproduceArgs) -> Result<()> {
+    let start = Instant::now();
+    let published: Published = toml::from_str(PUBLISHED).expect("published tables parse");
+    let pool = simulate::thread_pool(a.threads)?;
+    let mut config = library::config(None)?;
+    let image = if a.quick {
+        config.grid.dr_per_min_mfp = 6.0;
+        config.grid.r_max_mfp = 10.0;
+        ImageSize {
+            size: 128,
+            max_half: 48,
+        }
+    } else {
+        ImageSize::default()
+    };
+    let photons = a
+        .photons
+        .unwrap_or(if a.quick { 20_000 } else { config.photons });
+    std::fs::create_dir_all(&a.out)
+        .with_context(|| format!("cannot create {}", a.out.display()))?;
+
+    // 1. Profiles of the whole library, one batch.
+    let all = library::all()?;
+    let spec = simulate::batch_spec(&all, &config, photons, config.seed, true)?;
+    let bar = progress::photons(
+        photons * spec.groups().len() as u64,
+        "simulating the library",
+    );
+    let t = Instant::now();
+    let outputs = pool.install(|| mc::run_batch(&spec, &|k| bar.inc(k)))?;
+    bar.finish_and_clear();
+    let simulate_seconds = t.elapsed().as_secs_f64();
+    let mut profiles = Vec::new();
+    for (i, n) in all.iter().enumerate() {
+        let csv = simulate::profile_csv(&outputs[3 * i..3 * i + 3].iter().collect::<Vec<_>>());
+        let path = a
+            .out
+            .join("profiles")
+            .join(format!("{}.profile.csv", n.slug));
+        write_atomic(&path, csv.as_bytes())?;
+        let p = Profile::parse_csv(&csv, &path.display().to_string())?;
+        let png = a.out.join(format!("{}.profile.png", n.slug));
+        fit::plot::profile(&p, &n.slug, &png)?;
+        profiles.push(p);
+    }
+
+    // 2. Every model on the five main materials, with their plots.
+    let mut evals = Vec::new();
+    for name in MAIN {
+        let i = all
+            .iter()
+            .position(|n| n.slug == name)
+            .expect("main materials are built in");
+        eprintln!("fitting and evaluating every model for {name} …");
+        let ev = pool.install(|| evaluate(&profiles[i], name, image));
+        eval::write_plots(&profiles[i], &ev, name, &a.out)?;
+        evals.push(ev);
+    }
+
+    let report = build(&all, &evals, &published, photons, simulate_seconds, a.quick);
+    write_atomic(
+        &a.out.join("report.json"),
+        serde_json::to_string_pretty(&report)?.as_bytes(),
+    )?;
+    write_atomic(&a.out.join("index.html"), html(&report, &all).as_bytes())?;
+    eprintln!(
+        "wrote {} in {:.0} s",
+        a.out.join("index.html").display(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+fn build(
+    all: &[library::Named],
+    evals: &[Evaluation],
+    published: &Published,
+    photons: u64,
+    simulate_seconds: f64,
+    quick: bool,
+) -> Value {
+    // Table 6.2.
+    let t62: Vec<Value> = all
+        .iter()
+        .map(|n| {
+            let m = &n.material;
+            json!({ "material": n.slug, "name": m.name, "eta": m.eta, "sigma_a": m.sigma_a, "sigma_s": m.sigma_s, "g": m.g,
+                    "albedo": ([0, 1, 2].map(|c| m.albedo(c))), "mfp_cm": ([0, 1, 2].map(|c| m.mfp(c))), "source": m.source })
+        })
+        .collect();
+
+    // Table 6.3: raw kernel RMS, and normalized by the table's largest entry (the thesis's way).
+    let raw: Vec<Vec<[f64; 3]>> = evals
+        .iter()
+        .map(|ev| {
+            RANK1
+                .iter()
+                .map(|(l, _)| [0, 1, 2].map(|c| find(ev, l, c).kernel_rms))
+                .collect()
+        })
+        .collect();
+    let max = raw
+        .iter()
+        .flatten()
+        .flatten()
+        .fold(0.0f64, |a, &b| a.max(b));
+    let t63: Vec<Value> = MAIN
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let p = &published.table_6_3[*m];
+            let pubs = [p.svd1, p.preint, p.guided_k1, p.manual];
+            json!({ "material": m, "models": RANK1.iter().enumerate().map(|(j, (l, name))| json!({
+                "model": l, "name": name, "raw": raw[i][j], "normalized": raw[i][j].map(|x| x / max), "published": pubs[j],
+            })).collect::<Vec<_>>() })
+        })
+        .collect();
+
+    // Table 6.5: SVD rank-N vs d'Eon N, Skin1, image-space RMS over the five test signals.
+    let skin = &evals[MAIN
+        .iter()
+        .position(|m| *m == "skin1")
+        .expect("skin1 is a main material")];
+    let ours = |model: &str| -> Vec<[f64; 3]> {
+        (1..=6)
+            .map(|n| [0, 1, 2].map(|c| image_rms(find(skin, &format!("{model}{n}"), c))))
+            .collect()
+    };
+    let (svd, deon) = (ours("svd"), ours("deon"));
+    let max65 = svd
+        .iter()
+        .chain(&deon)
+        .flatten()
+        .fold(0.0f64, |a, &b| a.max(b));
+    let norm =
+        |v: &[[f64; 3]]| -> Vec<[f64; 3]> { v.iter().map(|r| r.map(|x| x / max65)).collect() };
+    let t65 = json!({ "svd": norm(&svd), "deon": norm(&deon), "svd_raw": svd, "deon_raw": deon, "published_svd": published.table_6_5.svd, "published_deon": published.table_6_5.deon });
+
+    // Table 5.1: properties, and our mean fit time per channel over the five materials.
+    let fit_time = |label: &str| {
+        let v: Vec<f64> = evals
+            .iter()
+            .flat_map(|ev| (0..3).map(move |c| find(ev, label, c).fit_seconds))
+            .collect();
+        v.iter().sum::<f64>() / v.len() as f64
+    };
+    let t51: Vec<Value> = [
+        ("d'Eon 1 Gaussian", "deon1", "low", "2", true, false),
+        ("d'Eon 2+ Gaussians", "deon6", "high", "2 per Gaussian", false, false),
+        ("SVD rank-1", "svd1", "low", "2", true, true),
+        ("SVD rank-2+", "svd6", "excellent", "2 per rank", false, true),
+        ("Kernel pre-integration", "preint", "high", "2", true, true),
+        ("Guided optimization", "guided k=1", "controllable", "2", true, false),
+        ("Manual approximation", "manual", "controllable", "2", true, true),
+    ]
+    .iter()
+    .map(|&(name, label, q, passes, sep, closed)| json!({ "model": name, "visual_quality": q, "convolutions_1d": passes, "separable": sep, "closed_form": closed, "fit_seconds_per_channel": fit_time(label) }))
+    .collect();
+
+    json!({
+        "mode": if quick { "quick" } else { "full" },
+        "photons_per_channel": photons,
+        "simulate_seconds": simulate_seconds,
+        "table_6_2": t62,
+        "table_6_3": t63,
+        "table_6_5": t65,
+        "table_5_1": t51,
+        "claims": claims(&raw, &svd, &deon, published),
+    })
+}
+
+/// The qualitative claims of Tables 6.3 and 6.5, checked on our numbers and on the published ones.
+fn claims(
+    raw: &[Vec<[f64; 3]>],
+    svd: &[[f64; 3]],
+    deon: &[[f64; 3]],
+    published: &Published,
+) -> Vec<Value> {
+    let cases = |f: &dyn Fn(&[[f64; 3]]) -> [bool; 3]| -> usize {
+        raw.iter()
+            .map(|m| f(m).iter().filter(|&&b| b).count())
+            .sum()
+    };
+    let pub_rows: Vec<Vec<[f64; 3]>> = MAIN
+        .iter()
+        .map(|m| {
+            let p = &published.table_6_3[*m];
+            vec![p.svd1, p.preint, p.guided_k1, p.manual]
+        })
+        .collect();
+    let pub_cases = |f: &dyn Fn(&[[f64; 3]]) -> [bool; 3]| -> usize {
+        pub_rows
+            .iter()
+            .map(|m| f(m).iter().filter(|&&b| b).count())
+            .sum()
+    };
+    let agree = raw
+        .iter()
+        .zip(&pub_rows)
+        .map(|(o, p)| {
+            (0..3)
+                .filter(|&c| (o[1][c] < o[2][c]) == (p[1][c] < p[2][c]))
+                .count()
+        })
+        .sum::<usize>();
+    let svd_lowest = |m: &[[f64; 3]]| {
+        [0, 1, 2].map(|c| m[0][c] < m[1][c] && m[0][c] < m[2][c] && m[0][c] < m[3][c])
+    };
+    let preint_below_guided = |m: &[[f64; 3]]| [0, 1, 2].map(|c| m[1][c] < m[2][c]);
+    let ratio = |rows: &[Vec<[f64; 3]>]| {
+        let r: Vec<f64> = rows
+            .iter()
+            .flat_map(|m| (0..3).map(move |c| m[1][c] / m[0][c]))
+            .collect();
+        r.iter().sum::<f64>() / r.len() as f64
+    };
+    let n65 = |s: &[[f64; 3]], d: &[[f64; 3]], f: &dyn Fn(usize, usize) -> bool| {
+        (0..6)
+            .flat_map(|n| (0..3).map(move |c| (n, c)))
+            .filter(|&(n, c)| f(n, c) && s[n][c].is_finite() && d[n][c].is_finite())
+            .count()
+    };
+    let (ps, pd) = (&published.table_6_5.svd, &published.table_6_5.deon);
+    let svd_wins = n65(svd, deon, &|n, c| svd[n][c] < deon[n][c]);
+    let pub_svd_wins = n65(ps, pd, &|n, c| ps[n][c] < pd[n][c]);
+    let saving = (0..5)
+        .flat_map(|n| (0..3).map(move |c| (n, c)))
+        .filter(|&(n, c)| svd[n][c] <= deon[n + 1][c])
+        .count();
+    let pub_saving = (0..5)
+        .flat_map(|n| (0..3).map(move |c| (n, c)))
+        .filter(|&(n, c)| ps[n][c] <= pd[n + 1][c])
+        .count();
+    let decreasing = |v: &[[f64; 3]]| {
+        (0..3).all(|c| v.windows(2).all(|w| w[1][c] <= 1.01 * w[0][c]) && v[5][c] * 5.0 <= v[0][c])
+    };
+    vec![
+        json!({ "claim": "Table 6.3: SVD rank-1 (not renormalized) has the lowest kernel-space RMS of the four rank-1 models", "ours": format!("{} of 15", cases(&svd_lowest)), "published": format!("{} of 15", pub_cases(&svd_lowest)), "holds": cases(&svd_lowest) == 15,
+                "why": "Eckart–Young: the truncated SVD is the best rank-1 approximation in the Frobenius norm, whatever the profile." }),
+        json!({ "claim": "Table 6.3: pre-integration's kernel RMS is roughly twice SVD rank-1's", "ours": format!("mean ratio {:.2}", ratio(raw)), "published": format!("mean ratio {:.2}", ratio(&pub_rows)), "holds": (1.5..3.0).contains(&ratio(raw)),
+                "why": "Pre-integration matches projections, not point values: it spreads the peak, which costs kernel-space error but not edge fidelity." }),
+        json!({ "claim": "Table 6.3: which of pre-integration and guided k = 1 has the lower kernel RMS, case by case", "ours": format!("same as the thesis in {agree} of 15"), "published": format!("pre-integration lower in {} of 15", pub_cases(&preint_below_guided)), "holds": agree >= 12,
+                "why": "Guided k = 1 weights errors by radius, trading the centre for the falloff; which wins in plain kernel RMS depends on the profile (the thesis's Ketchup G/B are exceptions). Our guided fit meets its L1 constraint exactly; the thesis's was off by up to 25%." }),
+        json!({ "claim": "Table 6.5: at equal pass count SVD rank-N has lower image-space RMS than d'Eon with N Gaussians", "ours": format!("{svd_wins} of 18"), "published": format!("{pub_svd_wins} of 18"), "holds": svd_wins >= 15,
+                "why": "A sum of N separable Gaussians is itself a rank-N kernel, and SVD's rank-N is the best one in kernel space. Image space need not follow: every SVD term of a radially symmetric kernel is even, and some have Σa = 0, so their pass adds nothing to an edge's image and little to other near-symmetric signals; SVD then plateaus for one rank while d'Eon keeps improving." }),
+        json!({ "claim": "Table 6.5: SVD saves about one rank: SVD rank-N is at least as good as d'Eon N+1", "ours": format!("{saving} of 15"), "published": format!("{pub_saving} of 15"), "holds": saving >= 10, "why": "Same argument, with a margin." }),
+        json!({ "claim": "Table 6.5: both converge to the ground truth as N grows (no step increases the error by more than 1%, and N = 6 is at least 5× better than N = 1)", "ours": format!("SVD {}, d'Eon {}", decreasing(svd), decreasing(deon)), "published": format!("SVD {}, d'Eon {}", decreasing(ps), decreasing(pd)), "holds": decreasing(svd) && decreasing(deon),
+                "why": "Each added term can only reduce the best achievable kernel-space error (nested fits); image-space error follows up to plateaus (see above)." }),
+    ]
+}
+
+fn html(r: &Value, all: &[library::Named]) -> String {
+    let f = |v: &Value| {
+        v.as_f64()
+            .map(|x| format!("{x:.3}"))
+            .unwrap_or_else(|| "–".into())
+    };
+    let e = |v: &Value| {
+        v.as_f64()
+            .map(|x| format!("{x:.3e}"))
+            .unwrap_or_else(|| "–".into())
+    };
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<!doctype html><html><head><meta charset=\"utf-8\"><title>sss reproduce</title><style>body{{font-family:sans-serif;max-width:1400px;margin:auto;padding:1em}}table{{border-collapse:collapse;margin:1em 0}}td,th{{border:1px solid #bbb;padding:3px 7px;text-align:right}}th{{background:#eee}}.pub{{color:#777}}.ok{{color:#070}}.bad{{color:#b00}}img{{max-width:100%}}</style></head><body>"
+    );
+    let _ = write!(
+        h,
+        "<h1>Separable SSS for arbitrary materials — reproduction</h1><p>Mode: <b>{}</b>, {} photons per channel (library simulated in {:.0} s). Published values from Freude 2014 in <span class=\"pub\">grey</span>.</p>",
+        r["mode"].as_str().unwrap_or(""),
+        r["photons_per_channel"],
+        r["simulate_seconds"].as_f64().unwrap_or(0.0)
+    );
+
+    h += "<h2>What agrees, what differs and why</h2><table><tr><th>claim</th><th>ours</th><th>published</th><th>holds</th><th>why</th></tr>";
+    for c in r["claims"].as_array().into_iter().flatten() {
+        let ok = c["holds"].as_bool().unwrap_or(false);
+        let _ = write!(
+            h,
+            "<tr><td style=\"text-align:left\">{}</td><td>{}</td><td class=\"pub\">{}</td><td class=\"{}\">{}</td><td style=\"text-align:left\">{}</td></tr>",
+            c["claim"].as_str().unwrap_or(""),
+            c["ours"].as_str().unwrap_or(""),
+            c["published"].as_str().unwrap_or(""),
+            if ok { "ok" } else { "bad" },
+            if ok { "yes" } else { "no" },
+            c["why"].as_str().unwrap_or("")
+        );
+    }
+    h += "</table>";
+
+    h += "<h2>Table 6.2 — materials (cm⁻¹) with derived albedo and MFP</h2><table><tr><th>material</th><th>σa R G B</th><th>σs R G B</th><th>g</th><th>η</th><th>albedo R G B</th><th>MFP [cm] R G B</th></tr>";
+    for m in r["table_6_2"].as_array().into_iter().flatten() {
+        let v3 = |k: &str, p: usize| {
+            m[k].as_array()
+                .map(|a| {
+                    a.iter()
+                        .map(|x| format!("{:.*}", p, x.as_f64().unwrap_or(f64::NAN)))
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                })
+                .unwrap_or_default()
+        };
+        let _ = write!(
+            h,
+            "<tr><td style=\"text-align:left\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            m["material"].as_str().unwrap_or(""),
+            v3("sigma_a", 4),
+            v3("sigma_s", 3),
+            v3("g", 3),
+            m["eta"],
+            v3("albedo", 5),
+            v3("mfp_cm", 4)
+        );
+    }
+    h += "</table>";
+
+    h += "<h2>Table 6.3 — kernel-space RMS of the rank-1 models (normalized: largest entry = 1)</h2><table><tr><th>material</th>";
+    for (_, name) in RANK1 {
+        let _ = write!(h, "<th colspan=3>{name} R G B</th><th>Σ</th>");
+    }
+    h += "</tr>";
+    for m in r["table_6_3"].as_array().into_iter().flatten() {
+        let _ = write!(
+            h,
+            "<tr><td style=\"text-align:left\">{}</td>",
+            m["material"].as_str().unwrap_or("")
+        );
+        for model in m["models"].as_array().into_iter().flatten() {
+            let mut sum = (0.0, 0.0);
+            for c in 0..3 {
+                let (o, p) = (
+                    model["normalized"][c].as_f64().unwrap_or(f64::NAN),
+                    model["published"][c].as_f64().unwrap_or(f64::NAN),
+                );
+                sum = (sum.0 + o, sum.1 + p);
+                let _ = write!(h, "<td>{o:.3}<br><span class=\"pub\">{p:.3}</span></td>");
+            }
+            let _ = write!(
+                h,
+                "<td>{:.3}<br><span class=\"pub\">{:.3}</span></td>",
+                sum.0, sum.1
+            );
+        }
+        h += "</tr>";
+    }
+    h += "</table><p>Raw (unnormalized) values:</p><table><tr><th>material</th>";
+    for (_, name) in RANK1 {
+        let _ = write!(h, "<th colspan=3>{name}</th>");
+    }
+    h += "</tr>";
+    for m in r["table_6_3"].as_array().into_iter().flatten() {
+        let _ = write!(
+            h,
+            "<tr><td style=\"text-align:left\">{}</td>",
+            m["material"].as_str().unwrap_or("")
+        );
+        for model in m["models"].as_array().into_iter().flatten() {
+            for c in 0..3 {
+                let _ = write!(h, "<td>{}</td>", e(&model["raw"][c]));
+            }
+        }
+        h += "</tr>";
+    }
+    h += "</table>";
+
+    h += "<h2>Table 6.5 — image-space RMS, Skin1, SVD rank-N vs d'Eon N Gaussians (normalized: max = 1)</h2><p>Ours: RMS over our five test signals; published: the Head scene.</p><table><tr><th>N</th><th colspan=3>SVD R G B</th><th>Σ</th><th colspan=3>d'Eon R G B</th><th>Σ</th></tr>";
+    let t = &r["table_6_5"];
+    for n in 0..6 {
+        let _ = write!(h, "<tr><td>{}</td>", n + 1);
+        for (o, p) in [("svd", "published_svd"), ("deon", "published_deon")] {
+            let (mut so, mut sp) = (0.0, 0.0);
+            for c in 0..3 {
+                so += t[o][n][c].as_f64().unwrap_or(f64::NAN);
+                sp += t[p][n][c].as_f64().unwrap_or(f64::NAN);
+                let _ = write!(
+                    h,
+                    "<td>{}<br><span class=\"pub\">{}</span></td>",
+                    f(&t[o][n][c]),
+                    f(&t[p][n][c])
+                );
+            }
+            let _ = write!(h, "<td>{so:.3}<br><span class=\"pub\">{sp:.3}</span></td>");
+        }
+        h += "</tr>";
+    }
+    h += "</table>";
+
+    h += "<h2>Table 5.1 — model properties, with our measured fit time</h2><table><tr><th>model</th><th>visual quality (thesis)</th><th>1D convolutions</th><th>separable</th><th>closed form</th><th>our fit time per channel [s]</th></tr>";
+    for m in r["table_5_1"].as_array().into_iter().flatten() {
+        let yn = |k: &str| {
+            if m[k].as_bool().unwrap_or(false) {
+                "✓"
+            } else {
+                "✗"
+            }
+        };
+        let _ = write!(
+            h,
+            "<tr><td style=\"text-align:left\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td></tr>",
+            m["model"].as_str().unwrap_or(""),
+            m["visual_quality"].as_str().unwrap_or(""),
+            m["convolutions_1d"].as_str().unwrap_or(""),
+            yn("separable"),
+            yn("closed_form"),
+            m["fit_seconds_per_channel"].as_f64().unwrap_or(f64::NAN)
+        );
+    }
+    h += "</table>";
+
+    h += "<h2>Fig. 5.1 — singular values of the main materials</h2>";
+    for m in MAIN {
+        let _ = write!(h, "<img src=\"{m}.singular_values.png\" width=\"45%\">");
+    }
+    h += "<h2>Fig. 6.2 / A.12–A.64 — kernel slices (main axis, diagonal) against the ground truth</h2>";
+    for m in MAIN {
+        let _ = write!(
+            h,
+            "<h3>{m}</h3><img src=\"{m}.slices_rank1.png\"><img src=\"{m}.slices_multipass.png\">"
+        );
+    }
+    h += "<h2>Fig. 6.3–6.10 — test-signal convolutions (rows: input and ground truth; svd1, preint, guided k=1, manual; |difference| × 10)</h2>";
+    for m in MAIN {
+        let _ = write!(
+            h,
+            "<h3>{m}</h3><img src=\"{m}.conv_edge.png\" width=\"49%\"> <img src=\"{m}.conv_circle_squares.png\" width=\"49%\">"
+        );
+    }
+    h += "<h2>Fig. 6.1 / A.1–A.11 — simulated profiles</h2>";
+    for n in all {
+        let _ = write!(h, "<img src=\"{}.profile.png\" width=\"49%\">", n.slug);
+    }
+    h += "<h2>Rendered scenes</h2><p>Not yet available: the GPU renderer (<code>sss render</code>) is not built.</p></body></html>\n";
+    h
+}
