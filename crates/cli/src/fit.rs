@@ -153,6 +153,7 @@ pub fn run(a: FitArgs) -> Result<()> {
     });
     let start = std::time::Instant::now();
     let name = format!("{:?}", a.model).to_lowercase();
+    let mut tap_rms = Vec::new();
     let kernel = if a.model == ModelName::Skin {
         // The demo's own taps, offsets converted from mm to cm.
         let k = fit::skin::kernel(a.taps, fit::skin::FALLOFF, fit::skin::STRENGTH);
@@ -187,7 +188,6 @@ pub fn run(a: FitArgs) -> Result<()> {
             a.jitter,
         );
         // How far the sparse taps are from the full-resolution kernel, on the test signals.
-        let mut tap_rms = Vec::new();
         for (c, full) in chans.iter().enumerate() {
             let gt = ground_truth(&p, c, None);
             let eval = ImageEval::new(&gt, 256, 128);
@@ -213,7 +213,7 @@ pub fn run(a: FitArgs) -> Result<()> {
         a.profile.display()
     );
     write_atomic(&a.out, (header + &kernel.to_toml()).as_bytes())?;
-    let summary = json!({ "model": name, "material": material, "out": a.out, "taps": a.taps, "passes": kernel.pass.len(), "range_cm": kernel.range, "seconds": start.elapsed().as_secs_f64() });
+    let summary = json!({ "model": name, "material": material, "out": a.out, "taps": a.taps, "passes": kernel.pass.len(), "range_cm": kernel.range, "taps_vs_full_image_rms": tap_rms, "seconds": start.elapsed().as_secs_f64() });
     if a.json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
     } else {

@@ -35,6 +35,10 @@ pub struct ReproduceArgs {
     /// Worker threads [default: all cores]
     #[arg(long)]
     threads: Option<usize>,
+
+    /// Also print the report's numbers (report.json) on stdout
+    #[arg(long)]
+    json: bool,
 }
 
 /// The five materials of the thesis's main results.
@@ -145,6 +149,9 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
         serde_json::to_string_pretty(&report)?.as_bytes(),
     )?;
     write_atomic(&a.out.join("index.html"), html(&report, &all).as_bytes())?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    }
     eprintln!(
         "wrote {} in {:.0} s",
         a.out.join("index.html").display(),

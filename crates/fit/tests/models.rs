@@ -286,3 +286,31 @@ fn unusable_profiles_are_refused() {
     assert_eq!(p.len(), 3, "the overflow bin is dropped");
     assert!((p.dr - 0.01 / (0.5 + 1.0 / 6.0)).abs() < 1e-15);
 }
+
+/// The manual model's automatic fit minimizes the image-space error: it never ends worse than
+/// where it started, and from a deliberately poor start it improves a lot.
+#[test]
+fn manual_image_space_fit_improves_on_its_start() {
+    let k = ground_truth(&dipole(0.02, 40), 0, None);
+    let eval = fit::metrics::ImageEval::new(&k, 128, 48);
+    let cost = |m: &fit::Manual| {
+        eval.rms(&m.separable(k.half, k.h))
+            .iter()
+            .map(|(_, e)| e * e)
+            .sum::<f64>()
+    };
+    let start = fit::Manual {
+        w: 0.9,
+        tau_near: (0.5 * k.h).powi(2),
+        tau_far: (0.3 * k.h).powi(2).max((4.0 * k.h).powi(2)),
+    };
+    let fitted = fit::Manual::fit_image_space(&k, start);
+    assert!(cost(&fitted) <= cost(&start));
+    assert!(
+        cost(&fitted) < 0.5 * cost(&start),
+        "{} vs {}",
+        cost(&fitted),
+        cost(&start)
+    );
+    assert!(fitted.tau_near <= fitted.tau_far && (0.0..=1.0).contains(&fitted.w));
+}

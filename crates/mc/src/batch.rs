@@ -32,23 +32,31 @@ pub const QUASI_INFINITE_MFP: f64 = 1.0e6;
 /// One channel to simulate: a single homogeneous layer (cm, cm⁻¹) and its own tally grid.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ChannelSpec {
+    /// The homogeneous layer (cm, cm⁻¹).
     pub layer: Layer,
+    /// This channel's tally grid [cm].
     pub grid: Grid,
 }
 
 /// Many single-layer channels between the same ambient media, simulated together.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BatchSpec {
+    /// Refractive index of the medium above [-].
     pub n_above: f64,
+    /// Refractive index of the medium below [-].
     pub n_below: f64,
+    /// The channels, in output order.
     pub channels: Vec<ChannelSpec>,
     /// Photon packets per channel.
     pub photons: u64,
+    /// Seed of every random stream.
     pub seed: u64,
+    /// Which optional tallies to record.
     pub tallies: TallySet,
 }
 
 impl BatchSpec {
+    /// Checks every channel and count; errors name the channel and field.
     pub fn validate(&self) -> Result<()> {
         if self.channels.is_empty() {
             return Err(McError::invalid(

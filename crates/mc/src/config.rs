@@ -24,12 +24,17 @@ use crate::material::Material;
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SimConfig {
+    /// Photon packets per channel.
     pub photons: u64,
+    /// Seed of every random stream.
     pub seed: u64,
     /// Layer thickness when the material sets none [cm].
     pub thickness_cm: f64,
+    /// Refractive index above the sample [-].
     pub n_above: f64,
+    /// Refractive index below the sample [-].
     pub n_below: f64,
+    /// The grid rule.
     pub grid: GridRule,
 }
 
@@ -43,11 +48,14 @@ pub struct GridRule {
     pub r_max_mfp: f64,
     /// dz = z_max_mfp · max(MFP_rgb) / nz.
     pub z_max_mfp: f64,
+    /// Depth bins of A(r, z).
     pub nz: usize,
+    /// Exit-angle bins over [0, π/2].
     pub na: usize,
 }
 
 impl SimConfig {
+    /// Parses and validates a config TOML; `source_name` is used in error messages.
     pub fn from_toml(text: &str, source_name: &str) -> Result<Self> {
         let c: SimConfig = toml::from_str(text).map_err(|e| {
             let line = e

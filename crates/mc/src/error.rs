@@ -1,32 +1,29 @@
 //! Typed errors of the `mc` crate. Every variant names the offending field and value so the
 //! CLI can print a one-line message without guessing.
 
-use std::path::PathBuf;
-
 /// Everything that can go wrong while building inputs or reading/writing MCML files.
 #[derive(Debug, thiserror::Error)]
 pub enum McError {
     /// A numeric input is outside its physical range (negative coefficient, η ≤ 0, …).
     #[error("invalid {field} = {value}: {reason}")]
     InvalidValue {
+        /// The field, e.g. `layer 2 mu_s` or `sigma_a[G]`.
         field: String,
+        /// The offending value as given.
         value: String,
+        /// What the value must satisfy.
         reason: &'static str,
     },
 
     /// A text input (`.mci`, material TOML, config TOML, shard file) could not be parsed.
     #[error("{source_name}:{line}: {message}")]
     Parse {
+        /// File name (or other label) of the input.
         source_name: String,
+        /// 1-based line, 0 when unknown.
         line: usize,
+        /// What is wrong there.
         message: String,
-    },
-
-    /// A file could not be read or written.
-    #[error("{path}: {source}")]
-    Io {
-        path: PathBuf,
-        source: std::io::Error,
     },
 
     /// Shards to merge do not belong to the same run.
@@ -60,4 +57,5 @@ impl McError {
     }
 }
 
+/// Result with [`McError`].
 pub type Result<T> = std::result::Result<T, McError>;

@@ -26,6 +26,8 @@
 //! assert!((out.rd.value - 0.09739).abs() < 5.0 * out.rd.se);
 //! ```
 
+#![warn(missing_docs)]
+
 mod batch;
 mod cfmt;
 mod config;

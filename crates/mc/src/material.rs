@@ -22,7 +22,9 @@ pub const CHANNELS: [&str; 3] = ["R", "G", "B"];
 /// A named homogeneous material, coefficients in cm⁻¹.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
+    /// Display name.
     pub name: String,
+    /// Where the coefficients come from.
     pub source: String,
     /// Absorption coefficient σa per channel [cm⁻¹].
     pub sigma_a: [f64; 3],

@@ -26,6 +26,7 @@ use crate::tally::TallySet;
 pub struct MciRun {
     /// Output file name as written in the `.mci` (relative to the `.mci`'s folder).
     pub out_name: String,
+    /// The run (sample, grid, photons, seed).
     pub spec: RunSpec,
 }
 

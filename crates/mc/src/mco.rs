@@ -136,18 +136,31 @@ fn table(s: &mut String, header: [&str; 6], v: &[Estimate]) {
 /// The totals and 1D arrays of an `.mco` file, as read back (values only).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct McoData {
+    /// Photons traced.
     pub photons: u64,
+    /// Depth bin width [cm].
     pub dz: f64,
+    /// Radial bin width [cm].
     pub dr: f64,
+    /// Specular reflectance [-].
     pub rsp: f64,
+    /// Diffuse reflectance [-].
     pub rd: f64,
+    /// Absorbed fraction [-].
     pub a: f64,
+    /// Transmittance [-].
     pub tt: f64,
+    /// Absorption per layer [-].
     pub a_l: Vec<f64>,
+    /// Absorption per depth [cm⁻¹].
     pub a_z: Vec<f64>,
+    /// Diffuse reflectance per area [cm⁻²].
     pub rd_r: Vec<f64>,
+    /// Diffuse reflectance per solid angle [sr⁻¹].
     pub rd_a: Vec<f64>,
+    /// Transmittance per area [cm⁻²].
     pub tt_r: Vec<f64>,
+    /// Transmittance per solid angle [sr⁻¹].
     pub tt_a: Vec<f64>,
 }
 

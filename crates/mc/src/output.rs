@@ -20,13 +20,16 @@ use crate::tally::Accumulator;
 /// A Monte Carlo estimate and its standard error (same unit).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Estimate {
+    /// The mean.
     pub value: f64,
+    /// Its standard error.
     pub se: f64,
 }
 
 /// Everything MCML reports for one run (one channel), normalized.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Output {
+    /// The grid this channel was tallied on [cm].
     pub grid: Grid,
     /// Photons traced.
     pub photons: u64,
@@ -52,8 +55,11 @@ pub struct Output {
     pub rd_a: Vec<Estimate>,
     /// [cm⁻² sr⁻¹], [ir][ia] row-major.
     pub rd_ra: Vec<Estimate>,
+    /// Transmittance per unit area [cm⁻²].
     pub tt_r: Vec<Estimate>,
+    /// Transmittance per solid angle [sr⁻¹].
     pub tt_a: Vec<Estimate>,
+    /// [cm⁻² sr⁻¹], [ir][ia] row-major.
     pub tt_ra: Vec<Estimate>,
 }
 

@@ -14,10 +14,13 @@ use crate::tally::Accumulator;
 /// A shard: which chunks, of which run, and their sums (one accumulator per batch group).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shard {
+    /// The whole run's specification.
     pub spec: BatchSpec,
     /// Free-form labels for the channels (material and channel names), kept with the data.
     pub labels: Vec<String>,
+    /// The chunks this shard traced.
     pub chunks: Range<u64>,
+    /// Exact sums, one per walk group.
     pub groups: Vec<Accumulator>,
 }
 
@@ -48,6 +51,7 @@ pub fn shard_chunks(photons: u64, i: u64, n: u64) -> Range<u64> {
 }
 
 impl Shard {
+    /// The shard file's text.
     pub fn to_json(&self) -> String {
         let groups = self
             .groups
@@ -72,6 +76,7 @@ impl Shard {
         serde_json::to_string(&f).expect("shard data is always serializable")
     }
 
+    /// Reads a shard file; `source_name` is used in error messages.
     pub fn from_json(text: &str, source_name: &str) -> Result<Self> {
         let bad = |m: String| McError::parse(source_name, 0, m);
         let f: ShardFile = serde_json::from_str(text)

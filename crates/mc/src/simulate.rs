@@ -36,16 +36,20 @@ pub(crate) trait Job: Sync {
 /// One single-channel simulation of a layered sample: what MCML calls a run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RunSpec {
+    /// The layered sample (cm, cm⁻¹).
     pub sample: Sample,
+    /// The tally grid [cm].
     pub grid: Grid,
     /// Number of photon packets.
     pub photons: u64,
     /// Seed of every random stream of the run.
     pub seed: u64,
+    /// Which optional tallies to record.
     pub tallies: TallySet,
 }
 
 impl RunSpec {
+    /// Checks the sample, grid and photon count.
     pub fn validate(&self) -> Result<()> {
         self.sample.validate()?;
         self.grid.validate()?;

@@ -31,10 +31,15 @@ impl Default for TallySet {
 /// Offsets of each quantity in the flat tally vectors.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Layout {
+    /// Radial bins (stride).
     pub nr: usize,
+    /// Depth bins (stride).
     pub nz: usize,
+    /// Exit-angle bins (stride).
     pub na: usize,
+    /// Layers.
     pub layers: usize,
+    /// Whether A(r, z) and A(z) are recorded.
     pub rz: bool,
     /// Number of channels tallied side by side (1 except for batch runs).
     pub channels: usize,
@@ -56,15 +61,19 @@ impl Layout {
     pub fn entries(&self) -> usize {
         self.per_channel() * self.channels
     }
+    /// Offset of channel `c`'s Rd(r, α), stored [ir][ia].
     pub fn rd_ra(&self, c: usize) -> usize {
         c * self.per_channel()
     }
+    /// Offset of channel `c`'s Tt(r, α), stored [ir][ia].
     pub fn tt_ra(&self, c: usize) -> usize {
         self.rd_ra(c) + self.nr * self.na
     }
+    /// Offset of channel `c`'s absorption per layer.
     pub fn a_l(&self, c: usize) -> usize {
         self.tt_ra(c) + self.nr * self.na
     }
+    /// Offset of channel `c`'s total absorption.
     pub fn a_total(&self, c: usize) -> usize {
         self.a_l(c) + self.layers
     }
@@ -72,6 +81,7 @@ impl Layout {
     pub fn a_rz(&self, c: usize) -> usize {
         self.a_total(c) + 1
     }
+    /// Offset of channel `c`'s A(z); only when `rz`.
     pub fn a_z(&self, c: usize) -> usize {
         self.a_rz(c) + self.nr * self.nz
     }
@@ -132,8 +142,11 @@ fn to_fixed(x: f64) -> i128 {
 /// (a chunk's sums are bounded by its photon count times the largest weight).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Accumulator {
+    /// What each entry is.
     pub layout: Layout,
+    /// Σw per entry, in units of 2⁻⁶⁴.
     pub sum: Vec<i128>,
+    /// Σ(per-photon w)² per entry, in units of 2⁻⁶⁴.
     pub sum_sq: Vec<i128>,
     /// Photons traced (u64: 10⁹ photons and far beyond fit).
     pub photons: u64,
@@ -142,6 +155,7 @@ pub struct Accumulator {
 }
 
 impl Accumulator {
+    /// All zero.
     pub fn new(layout: Layout) -> Self {
         Accumulator {
             layout,
