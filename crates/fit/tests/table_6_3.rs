@@ -68,12 +68,12 @@ fn svd_rank_1_has_the_lowest_kernel_rms_of_the_rank_1_models() {
             se: [0, 1, 2].map(|c| out[3 * i + c].rd_r[..n].iter().map(|e| e.se).collect()),
         };
         let manual = table_a1(name).expect("Table A.1 has the five main materials");
-        for c in 0..3 {
+        for (c, m) in manual.iter().enumerate() {
             let k = ground_truth(&p, c, None);
             let e_svd = kernel_rms(&k, &svd(&k, 1).0);
             let e_pre = kernel_rms(&k, &preint(&k));
             let e_guided = kernel_rms(&k, &Guided::default().fit(&k).kernel);
-            let e_manual = kernel_rms(&k, &manual[c].separable(k.half, k.h));
+            let e_manual = kernel_rms(&k, &m.separable(k.half, k.h));
             assert!(
                 e_svd < e_pre && e_svd < e_guided && e_svd < e_manual,
                 "{name} {c}: svd {e_svd:e} pre {e_pre:e} guided {e_guided:e} manual {e_manual:e}"
