@@ -92,7 +92,11 @@ pub fn run(a: EvalArgs) -> Result<()> {
     let mut materials = Vec::new();
     for n in &named {
         let p = pool.install(|| profile_for(n, &a.profiles, a.photons, a.seed))?;
-        eprintln!("fitting and evaluating every model for {} (kernel side {} samples) …", n.slug, 2 * p.len() + 1);
+        eprintln!(
+            "fitting and evaluating every model for {} (kernel side {} samples) …",
+            n.slug,
+            2 * p.len() + 1
+        );
         let ev = pool.install(|| evaluate(&p, &n.slug, fit::evaluate::ImageSize::default()));
         if let Some(dir) = &a.plots {
             write_plots(&p, &ev, &n.slug, dir)?;

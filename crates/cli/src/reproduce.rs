@@ -216,6 +216,13 @@ fn build(
             .collect()
     };
     let (svd, deon) = (ours("svd"), ours("deon"));
+    let kernel_wins = (1..=6)
+        .flat_map(|n| (0..3).map(move |c| (n, c)))
+        .filter(|&(n, c)| {
+            find(skin, &format!("svd{n}"), c).kernel_rms
+                < find(skin, &format!("deon{n}"), c).kernel_rms
+        })
+        .count();
     let max65 = svd
         .iter()
         .chain(&deon)
@@ -254,7 +261,7 @@ fn build(
         "table_6_3": t63,
         "table_6_5": t65,
         "table_5_1": t51,
-        "claims": claims(&raw, &svd, &deon, published),
+        "claims": claims(&raw, &svd, &deon, kernel_wins, published),
     })
 }
 
@@ -263,6 +270,7 @@ fn claims(
     raw: &[Vec<[f64; 3]>],
     svd: &[[f64; 3]],
     deon: &[[f64; 3]],
+    kernel_wins: usize,
     published: &Published,
 ) -> Vec<Value> {
     let cases = |f: &dyn Fn(&[[f64; 3]]) -> [bool; 3]| -> usize {
@@ -330,7 +338,9 @@ fn claims(
                 "why": "Pre-integration matches projections, not point values: it spreads the peak, which costs kernel-space error but not edge fidelity." }),
         json!({ "claim": "Table 6.3: which of pre-integration and guided k = 1 has the lower kernel RMS, case by case", "ours": format!("same as the thesis in {agree} of 15"), "published": format!("pre-integration lower in {} of 15", pub_cases(&preint_below_guided)), "holds": agree >= 12,
                 "why": "Guided k = 1 weights errors by radius, trading the centre for the falloff; which wins in plain kernel RMS depends on the profile (the thesis's Ketchup G/B are exceptions). Our guided fit meets its L1 constraint exactly; the thesis's was off by up to 25%." }),
-        json!({ "claim": "Table 6.5: at equal pass count SVD rank-N has lower image-space RMS than d'Eon with N Gaussians", "ours": format!("{svd_wins} of 18"), "published": format!("{pub_svd_wins} of 18"), "holds": svd_wins >= 15,
+        json!({ "claim": "Table 6.5 (kernel space): at equal pass count SVD rank-N has lower kernel-space RMS than d'Eon with N Gaussians", "ours": format!("{kernel_wins} of 18"), "published": "not tabulated", "holds": kernel_wins == 18,
+                "why": "Eckart–Young: a sum of N separable Gaussians is a rank-N kernel, and the truncated SVD is the best rank-N kernel in the Frobenius norm." }),
+        json!({ "claim": "Table 6.5 (image space): at equal pass count SVD rank-N has lower image-space RMS than d'Eon with N Gaussians", "ours": format!("{svd_wins} of 18"), "published": format!("{pub_svd_wins} of 18"), "holds": svd_wins == 18,
                 "why": "A sum of N separable Gaussians is itself a rank-N kernel, and SVD's rank-N is the best one in kernel space. Image space need not follow: every SVD term of a radially symmetric kernel is even, and some have Σa = 0, so their pass adds nothing to an edge's image and little to other near-symmetric signals; SVD then plateaus for one rank while d'Eon keeps improving." }),
         json!({ "claim": "Table 6.5: SVD saves about one rank: SVD rank-N is at least as good as d'Eon N+1", "ours": format!("{saving} of 15"), "published": format!("{pub_saving} of 15"), "holds": saving >= 10, "why": "Same argument, with a margin." }),
         json!({ "claim": "Table 6.5: both converge to the ground truth as N grows (no step increases the error by more than 1%, and N = 6 is at least 5× better than N = 1)", "ours": format!("SVD {}, d'Eon {}", decreasing(svd), decreasing(deon)), "published": format!("SVD {}, d'Eon {}", decreasing(ps), decreasing(pd)), "holds": decreasing(svd) && decreasing(deon),

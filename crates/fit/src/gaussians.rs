@@ -7,7 +7,7 @@
 //! non-negative least-squares problem exactly (equality by a Lagrange multiplier, non-negativity
 //! by an active set). The objective is the kernel-space squared error over the plane,
 //! Σ_r 2πr·dr·(R(r) − A(r))² on the profile's radii. N+1 starts from the N solution plus one new
-//! variance, so the error never grows with N.
+//! variance at the best gap midpoint, so the error never grows with N.
 
 use argmin::core::{CostFunction, Error, Executor};
 use argmin::solver::neldermead::NelderMead;
@@ -133,10 +133,27 @@ impl Gaussians {
         let mut out: Vec<Gaussians> = Vec::new();
         let mut prev: Vec<f64> = Vec::new();
         for count in 1..=n {
-            // Start: the previous variances plus one more in the widest log-gap (or at the ends).
-            let mut logs: Vec<f64> = prev.iter().map(|v| v.ln()).collect();
-            logs.push(Self::new_variance(&logs, v_min.ln(), v_max.ln()));
-            logs.sort_by(f64::total_cmp);
+            // Start: the previous variances plus one more, at whichever gap midpoint (between them
+            // or beyond either end) gives the lowest error once the weights are re-solved.
+            let prev_logs: Vec<f64> = prev.iter().map(|v| v.ln()).collect();
+            let cost_of = |logs: &Vec<f64>| {
+                Cost {
+                    radial: &radial,
+                    total,
+                }
+                .cost(logs)
+                .unwrap_or(f64::INFINITY)
+            };
+            let logs = Self::candidates(&prev_logs, v_min.ln(), v_max.ln())
+                .into_iter()
+                .map(|l| {
+                    let mut c = prev_logs.clone();
+                    c.push(l);
+                    c.sort_by(f64::total_cmp);
+                    c
+                })
+                .min_by(|a, b| cost_of(a).total_cmp(&cost_of(b)))
+                .expect("at least one candidate");
             let problem = Cost {
                 radial: &radial,
                 total,
@@ -180,20 +197,14 @@ impl Gaussians {
         out
     }
 
-    fn new_variance(logs: &[f64], lo: f64, hi: f64) -> f64 {
-        if logs.is_empty() {
-            return 0.5 * (lo + hi);
-        }
+    /// Candidate log-variances for one more Gaussian: the midpoints of the gaps between the
+    /// current ones and the ends of [lo, hi].
+    fn candidates(logs: &[f64], lo: f64, hi: f64) -> Vec<f64> {
         let mut pts = vec![lo];
         pts.extend(logs.iter().copied());
         pts.push(hi);
         pts.sort_by(f64::total_cmp);
-        let (i, _) = pts
-            .windows(2)
-            .enumerate()
-            .map(|(i, w)| (i, w[1] - w[0]))
-            .fold((0, f64::MIN), |a, b| if b.1 > a.1 { b } else { a });
-        0.5 * (pts[i] + pts[i + 1])
+        pts.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect()
     }
 
     /// The separable pairs on the kernel's grid: aᵢ(x) ∝ g(x; vᵢ) with Σₓ aᵢ = √wᵢ, so each pair's
