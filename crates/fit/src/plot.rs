@@ -99,6 +99,7 @@ pub fn profile(p: &Profile, title: &str, path: &Path) -> Result<()> {
     ch.configure_mesh()
         .x_desc("r [cm]")
         .y_desc("Rd [1/cm²]")
+        .y_label_formatter(&|v| format!("{v:.0e}"))
         .draw()
         .map_err(|e| err(path, e))?;
     for c in 0..3 {
@@ -222,6 +223,7 @@ pub fn singular_values(ev: &Evaluation, title: &str, path: &Path) -> Result<()> 
     ch.configure_mesh()
         .x_desc("index")
         .y_desc("σ")
+        .y_label_formatter(&|v| format!("{v:.0e}"))
         .draw()
         .map_err(|e| err(path, e))?;
     for c in 0..3 {
