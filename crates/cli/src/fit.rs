@@ -50,6 +50,10 @@ pub struct FitArgs {
     #[arg(long, default_value_t = 0.0)]
     b: f64,
 
+    /// SVD: rescale to ‖A‖₁ = ‖R_d‖₁ (thesis eq. 5.12)
+    #[arg(long)]
+    renormalize: bool,
+
     /// Taps per 1D pass (odd numbers include the centre)
     #[arg(long, default_value_t = 17)]
     taps: usize,
@@ -58,8 +62,9 @@ pub struct FitArgs {
     #[arg(long, default_value_t = 0.0)]
     jitter: f64,
 
-    /// Fraction of the 1D kernel's mass inside the tap range
-    #[arg(long, default_value_t = 0.99)]
+    /// Fraction of the widest channel's 1D mass inside the tap range (0.95 balances the channels
+    /// at 17 taps; the tail beyond still goes into the outer taps' weights)
+    #[arg(long, default_value_t = 0.95)]
     coverage: f64,
 
     /// Material name (for Table A.1 lookup and the file's header) [default: from the file name]
@@ -76,18 +81,20 @@ pub struct FitArgs {
 }
 
 /// Fits one model to every channel's normalized ground truth.
-pub fn fit_channels(
+fn fit_channels(
     p: &Profile,
     model: ModelName,
     rank: usize,
     k: f64,
     b: f64,
+    renormalize: bool,
     material: &str,
 ) -> Result<Vec<Separable>> {
     (0..3)
         .map(|c| {
             let gt = ground_truth(p, c, None);
             Ok(match model {
+                ModelName::Svd if renormalize => svd(&gt, rank).0.renormalized(gt.l1()),
                 ModelName::Svd => svd(&gt, rank).0,
                 ModelName::Preint => preint(&gt),
                 ModelName::Guided => {
@@ -178,7 +185,7 @@ pub fn run(a: FitArgs) -> Result<()> {
             }],
         }
     } else {
-        let chans = fit_channels(&p, a.model, a.rank, a.k, a.b, &material)?;
+        let chans = fit_channels(&p, a.model, a.rank, a.k, a.b, a.renormalize, &material)?;
         let shader = ShaderKernel::from_separable(
             &name,
             &material,

@@ -48,7 +48,7 @@ pub use gaussians::Gaussians;
 pub use guided::{Guided, GuidedFit, GuidedStop};
 pub use kernel2d::{Kernel2, ground_truth};
 pub use manual::{Manual, table_a1};
-pub use preint::{preint, projection};
+pub use preint::{preint, preint_continuous, projection};
 pub use profile::Profile;
 pub use separable::{Separable, Term};
 pub use svd::{Eigen, Stop, svd, top_eigen};

@@ -18,6 +18,41 @@ pub fn preint(k: &Kernel2) -> Separable {
     Separable::rank1(k.h, a_p.into_iter().map(|x| x / norm).collect())
 }
 
+/// Pre-integration from the continuous profile: on a grid of half-width `half` and spacing `h`
+/// [cm], sample i holds ∫ P(x) dx over its cell (4-point Gauss–Legendre per cell on the Abel
+/// projection [`projection`]), scaled so the 2D kernel a(x)a(y) sums to 1. Used for shader taps,
+/// where cell integrals of the continuous projection are more accurate near r = 0 than row sums of
+/// the sampled 2D kernel.
+pub fn preint_continuous(p: &Profile, c: usize, half: usize, h: f64) -> Separable {
+    let (x, w) = (
+        [
+            -0.861_136_311_594_053,
+            -0.339_981_043_584_856,
+            0.339_981_043_584_856,
+            0.861_136_311_594_053,
+        ],
+        [
+            0.347_854_845_137_454,
+            0.652_145_154_862_546,
+            0.652_145_154_862_546,
+            0.347_854_845_137_454,
+        ],
+    );
+    let cell = |i: usize| -> f64 {
+        let centre = i as f64 * h;
+        x.iter()
+            .zip(&w)
+            .map(|(t, wt)| 0.5 * h * wt * projection(p, c, centre + 0.5 * h * t))
+            .sum()
+    };
+    let right: Vec<f64> = (0..=half).map(cell).collect();
+    let a: Vec<f64> = (0..2 * half + 1)
+        .map(|i| right[(i as isize - half as isize).unsigned_abs()])
+        .collect();
+    let total: f64 = a.iter().sum();
+    Separable::rank1(h, a.into_iter().map(|v| v / total).collect())
+}
+
 /// The Abel projection P(x) = ∫ Rd(√(x²+y²)) dy of channel `c` [cm⁻¹] at |x| [cm], by the
 /// substitution y = √(r² − x²) over each linear segment of the interpolated profile, which removes
 /// the 1/√(r²−x²) singularity: P(x) = 2 ∫_{|x|}^{∞} Rd(r) r / √(r² − x²) dr, evaluated with

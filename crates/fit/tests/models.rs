@@ -314,3 +314,22 @@ fn manual_image_space_fit_improves_on_its_start() {
     );
     assert!(fitted.tau_near <= fitted.tau_far && (0.0..=1.0).contains(&fitted.w));
 }
+
+/// The continuous pre-integration agrees with the discrete row sums away from the centre (where
+/// the interpolated profile is smooth) and sums to 1.
+#[test]
+fn continuous_preint_matches_row_sums_and_is_normalized() {
+    let p = dipole(0.01, 80);
+    let k = ground_truth(&p, 0, None);
+    let discrete = preint(&k).renormalized(1.0);
+    let cont = fit::preint_continuous(&p, 0, k.half, k.h);
+    assert!((cont.terms[0].a.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+    let n = k.half;
+    for d in [10, 20, 40] {
+        let (x, y) = (discrete.terms[0].a[n + d], cont.terms[0].a[n + d]);
+        assert!(
+            (x - y).abs() < 0.05 * x,
+            "offset {d}: row sum {x:e} vs projection {y:e}"
+        );
+    }
+}
