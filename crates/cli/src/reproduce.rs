@@ -36,6 +36,11 @@ pub struct ReproduceArgs {
     #[arg(long)]
     threads: Option<usize>,
 
+    /// Read the 16 profiles from this folder (NAME.profile.csv, e.g. a previous report's
+    /// profiles/) instead of simulating them
+    #[arg(long, value_name = "DIR")]
+    profiles: Option<PathBuf>,
+
     /// Also print the report's numbers (report.json) on stdout
     #[arg(long)]
     json: bool,
@@ -107,24 +112,40 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
 
     // 1. Profiles of the whole library, one batch.
     let all = library::all()?;
-    let spec = simulate::batch_spec(&all, &config, photons, config.seed, true)?;
-    let bar = progress::photons(
-        photons * spec.groups().len() as u64,
-        "simulating the library",
-    );
     let t = Instant::now();
-    let outputs = pool.install(|| mc::run_batch(&spec, &|k| bar.inc(k)))?;
-    bar.finish_and_clear();
+    let csvs: Vec<String> = match &a.profiles {
+        Some(dir) => all
+            .iter()
+            .map(|n| {
+                let path = dir.join(format!("{}.profile.csv", n.slug));
+                std::fs::read_to_string(&path)
+                    .with_context(|| format!("cannot read {}", path.display()))
+            })
+            .collect::<Result<_>>()?,
+        None => {
+            let spec = simulate::batch_spec(&all, &config, photons, config.seed, true)?;
+            let bar = progress::photons(
+                photons * spec.groups().len() as u64,
+                "simulating the library",
+            );
+            let outputs = pool.install(|| mc::run_batch(&spec, &|k| bar.inc(k)))?;
+            bar.finish_and_clear();
+            (0..all.len())
+                .map(|i| {
+                    simulate::profile_csv(&outputs[3 * i..3 * i + 3].iter().collect::<Vec<_>>())
+                })
+                .collect()
+        }
+    };
     let simulate_seconds = t.elapsed().as_secs_f64();
     let mut profiles = Vec::new();
-    for (i, n) in all.iter().enumerate() {
-        let csv = simulate::profile_csv(&outputs[3 * i..3 * i + 3].iter().collect::<Vec<_>>());
+    for (n, csv) in all.iter().zip(&csvs) {
         let path = a
             .out
             .join("profiles")
             .join(format!("{}.profile.csv", n.slug));
         write_atomic(&path, csv.as_bytes())?;
-        let p = Profile::parse_csv(&csv, &path.display().to_string())?;
+        let p = Profile::parse_csv(csv, &path.display().to_string())?;
         let png = a.out.join(format!("{}.profile.png", n.slug));
         fit::plot::profile(&p, &n.slug, &png)?;
         profiles.push(p);

@@ -14,7 +14,7 @@ use crate::kernel2d::{Kernel2, ground_truth};
 use crate::metrics::{ImageEval, bin_kernel, kernel_rms, l1_error};
 use crate::separable::Separable;
 use crate::signals::Signal;
-use crate::{Burley, Gaussians, Guided, Manual, Profile, preint, svd, top_eigen};
+use crate::{Burley, Gaussians, Guided, Manual, Profile, preint, svd, top_eigen_to};
 
 /// One model on one channel.
 #[derive(Clone, Debug)]
@@ -160,7 +160,11 @@ pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Evaluation {
         let t = Instant::now();
         let (svd6, _) = svd(&k, 6);
         let svd_seconds = t.elapsed().as_secs_f64();
-        singular_values[c] = top_eigen(&k, 30).values.iter().map(|v| v.abs()).collect();
+        singular_values[c] = top_eigen_to(&k, 30, 1e-6, 200)
+            .values
+            .iter()
+            .map(|v| v.abs())
+            .collect();
         for n in 1..=6 {
             let a = Separable {
                 h: k.h,

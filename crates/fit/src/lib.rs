@@ -51,4 +51,4 @@ pub use manual::{Manual, table_a1};
 pub use preint::{preint, preint_continuous, projection};
 pub use profile::Profile;
 pub use separable::{Separable, Term};
-pub use svd::{Eigen, Stop, svd, top_eigen};
+pub use svd::{Eigen, Stop, svd, top_eigen, top_eigen_to};
