@@ -70,6 +70,15 @@ pub struct GuidedFit {
 }
 
 impl Guided {
+    /// The axis-suppression factor 1 − e^{−b x̂²} (1 when b = 0).
+    fn axis(&self, x: f64) -> f64 {
+        if self.b == 0.0 {
+            1.0
+        } else {
+            1.0 - (-self.b * x * x).exp()
+        }
+    }
+
     /// The weight Γ at scaled coordinates (x̂, ŷ) ∈ [−1, 1]².
     pub fn weight(&self, x: f64, y: f64) -> f64 {
         let radial = if self.k == 0.0 {
@@ -77,12 +86,7 @@ impl Guided {
         } else {
             (x * x + y * y).powf(self.k / 2.0)
         };
-        let axes = if self.b == 0.0 {
-            1.0
-        } else {
-            (1.0 - (-self.b * x * x).exp()) * (1.0 - (-self.b * y * y).exp())
-        };
-        radial * axes
+        radial * self.axis(x) * self.axis(y)
     }
 
     pub fn fit(&self, k: &Kernel2) -> GuidedFit {
@@ -90,18 +94,13 @@ impl Guided {
         let m = k.side();
         let n = k.half as f64;
         let scaled = |i: usize| if n > 0.0 { (i as f64 - n) / n } else { 0.0 };
-        let gamma: Vec<f64> = (0..m * m)
-            .into_par_iter()
-            .map(|ij| self.weight(scaled(ij % m), scaled(ij / m)))
-            .collect();
-        let gk: Vec<f64> = gamma.par_iter().zip(&k.v).map(|(g, x)| g * x).collect();
-        let row_weight: Vec<f64> = (0..m)
-            .map(|i| {
-                gamma[i * m..(i + 1) * m]
-                    .iter()
-                    .fold(0.0f64, |a, &b| a.max(b))
-            })
-            .collect();
+        // Γ is never stored (it would double the memory traffic of every pass): it is evaluated
+        // from per-index factors, Γᵢⱼ = radial(x̂ᵢ² + x̂ⱼ²)·sᵢ·sⱼ.
+        let w = Weights {
+            q: (0..m).map(|i| scaled(i).powi(2)).collect(),
+            s: (0..m).map(|i| self.axis(scaled(i))).collect(),
+            k: self.k,
+        };
         let target = k.l1().sqrt();
 
         // Start from the pre-integrated kernel: positive, meets the constraint.
@@ -114,20 +113,16 @@ impl Guided {
             (0..m)
                 .into_par_iter()
                 .map(|i| {
-                    let (g, kv) = (&gamma[i * m..(i + 1) * m], &k.v[i * m..(i + 1) * m]);
-                    g.iter()
-                        .zip(kv)
-                        .zip(x)
-                        .map(|((g, kv), xj)| g * (kv - x[i] * xj).powi(2))
-                        .sum::<f64>()
+                    let row = &k.v[i * m..(i + 1) * m];
+                    w.row2(i, |j| ((row[j] - x[i] * x[j]).powi(2), 0.0)).0
                 })
                 .sum()
         };
         for it in 1..=self.max_iterations {
             iterations = it;
             let b_old = b.clone();
-            let mut a_new = self.half_step(&gamma, &gk, &b, &row_weight, target, m);
-            let mut b_new = self.half_step(&gamma, &gk, &a_new, &row_weight, target, m);
+            let mut a_new = self.half_step(&w, &k.v, &b, target, m);
+            let mut b_new = self.half_step(&w, &k.v, &a_new, target, m);
             if !self.constrained {
                 // Without the constraint only the product a bᵀ is determined: balance the norms.
                 let (na, nb) = (
@@ -215,27 +210,17 @@ impl Guided {
     }
 
     /// The exact minimizer over `a` for fixed `b` (see the module docs).
-    fn half_step(
-        &self,
-        gamma: &[f64],
-        gk: &[f64],
-        b: &[f64],
-        row_weight: &[f64],
-        target: f64,
-        m: usize,
-    ) -> Vec<f64> {
+    fn half_step(&self, w: &Weights, kv: &[f64], b: &[f64], target: f64, m: usize) -> Vec<f64> {
         let b2: Vec<f64> = b.iter().map(|x| x * x).collect();
         let (num, den): (Vec<f64>, Vec<f64>) = (0..m)
             .into_par_iter()
             .map(|i| {
-                let (g, w) = (&gk[i * m..(i + 1) * m], &gamma[i * m..(i + 1) * m]);
-                (
-                    g.iter().zip(b).map(|(x, y)| x * y).sum::<f64>(),
-                    w.iter().zip(&b2).map(|(x, y)| x * y).sum::<f64>(),
-                )
+                let row = &kv[i * m..(i + 1) * m];
+                w.row2(i, |j| (row[j] * b[j], b2[j]))
             })
             .unzip();
-        let free: Vec<bool> = row_weight.iter().map(|&w| w == 0.0).collect();
+        // Rows whose weight is identically zero are not determined by the objective.
+        let free: Vec<bool> = w.s.iter().map(|&s| s == 0.0).collect();
         let solve = |mu: f64| -> Vec<f64> {
             let mut a: Vec<f64> = (0..m)
                 .map(|i| {
@@ -289,5 +274,58 @@ impl Guided {
             a.iter_mut().for_each(|x| *x *= target / s);
         }
         a
+    }
+}
+
+/// Γ in factored form: Γᵢⱼ = radial(qᵢ + qⱼ)·sᵢ·sⱼ with qᵢ = x̂ᵢ² and sᵢ the axis factor.
+struct Weights {
+    q: Vec<f64>,
+    s: Vec<f64>,
+    k: f64,
+}
+
+impl Weights {
+    /// (x̂² + ŷ²)^{k/2}, with the common exponents special-cased.
+    #[inline(always)]
+    fn radial(&self, r2: f64) -> f64 {
+        if self.k == 0.0 {
+            1.0
+        } else if self.k == 1.0 {
+            r2.sqrt()
+        } else if self.k == 2.0 {
+            r2
+        } else {
+            r2.powf(0.5 * self.k)
+        }
+    }
+
+    /// (Σⱼ Γᵢⱼ·f(j).0, Σⱼ Γᵢⱼ·f(j).1) over row i, with four independent accumulators so the loop
+    /// pipelines.
+    #[inline(always)]
+    fn row2<F: Fn(usize) -> (f64, f64)>(&self, i: usize, f: F) -> (f64, f64) {
+        let (qi, m) = (self.q[i], self.q.len());
+        let (mut a, mut b) = ([0.0; 4], [0.0; 4]);
+        let mut j = 0;
+        while j + 4 <= m {
+            for l in 0..4 {
+                let g = self.radial(qi + self.q[j + l]) * self.s[j + l];
+                let (x, y) = f(j + l);
+                a[l] += g * x;
+                b[l] += g * y;
+            }
+            j += 4;
+        }
+        let (mut ta, mut tb) = (0.0, 0.0);
+        while j < m {
+            let g = self.radial(qi + self.q[j]) * self.s[j];
+            let (x, y) = f(j);
+            ta += g * x;
+            tb += g * y;
+            j += 1;
+        }
+        (
+            self.s[i] * (a.iter().sum::<f64>() + ta),
+            self.s[i] * (b.iter().sum::<f64>() + tb),
+        )
     }
 }
