@@ -104,26 +104,7 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
     let config = library::config(args.config.as_deref())?;
     let photons = args.photons.unwrap_or(config.photons);
     let seed = args.seed.unwrap_or(config.seed);
-    let mut channels = Vec::new();
-    for n in &named {
-        let grid = config.grid_for(&n.material)?;
-        let thickness = n.material.thickness.unwrap_or(config.thickness_cm);
-        channels.extend((0..3).map(|c| ChannelSpec {
-            layer: n.material.layer(c, thickness),
-            grid,
-        }));
-    }
-    let spec = BatchSpec {
-        n_above: config.n_above,
-        n_below: config.n_below,
-        channels,
-        photons,
-        seed,
-        tallies: TallySet {
-            absorption_rz: !args.profile_only,
-        },
-    };
-    spec.validate()?;
+    let spec = batch_spec(&named, &config, photons, seed, args.profile_only)?;
     let labels: Vec<String> = named
         .iter()
         .flat_map(|n| CHANNELS.iter().map(move |c| format!("{}:{c}", n.slug)))

@@ -57,13 +57,7 @@ pub struct GridRule {
 impl SimConfig {
     /// Parses and validates a config TOML; `source_name` is used in error messages.
     pub fn from_toml(text: &str, source_name: &str) -> Result<Self> {
-        let c: SimConfig = toml::from_str(text).map_err(|e| {
-            let line = e
-                .span()
-                .map(|s| text[..s.start].lines().count().max(1))
-                .unwrap_or(0);
-            McError::parse(source_name, line, e.message().to_string())
-        })?;
+        let c: SimConfig = toml::from_str(text).map_err(|e| McError::toml(text, source_name, e))?;
         for (field, v) in [
             ("grid.dr_per_min_mfp", c.grid.dr_per_min_mfp),
             ("grid.r_max_mfp", c.grid.r_max_mfp),

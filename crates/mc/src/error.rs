@@ -44,6 +44,15 @@ impl McError {
         }
     }
 
+    /// A TOML error with the line it points at.
+    pub(crate) fn toml(text: &str, source_name: &str, e: toml::de::Error) -> Self {
+        let line = e
+            .span()
+            .map(|s| text[..s.start].lines().count().max(1))
+            .unwrap_or(0);
+        McError::parse(source_name, line, e.message().to_string())
+    }
+
     pub(crate) fn parse(
         source_name: impl Into<String>,
         line: usize,

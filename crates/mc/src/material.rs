@@ -62,13 +62,8 @@ enum OneOrThree {
 impl Material {
     /// Parses and validates a material TOML; `source_name` is used in error messages.
     pub fn from_toml(text: &str, source_name: &str) -> Result<Self> {
-        let f: MaterialFile = toml::from_str(text).map_err(|e| {
-            let line = e
-                .span()
-                .map(|s| text[..s.start].lines().count().max(1))
-                .unwrap_or(0);
-            McError::parse(source_name, line, e.message().to_string())
-        })?;
+        let f: MaterialFile =
+            toml::from_str(text).map_err(|e| McError::toml(text, source_name, e))?;
         let to_cm = match f.unit.as_str() {
             "cm" => 1.0,
             "mm" => 0.1,

@@ -149,24 +149,7 @@ pub fn write(runs: &[MciRun]) -> String {
         s += &format!("{}\t\t\t\t\t# No. of photons\n", r.spec.photons);
         s += &format!("{}\t{}\t\t\t\t# dz, dr [cm]\n", c_g(g.dz, 6), c_g(g.dr, 6));
         s += &format!("{}\t{}\t{}\t\t\t# No. of dz, dr, da.\n\n", g.nz, g.nr, g.na);
-        s += &format!("{}\t\t\t\t\t\t# Number of layers\n", smp.layers.len());
-        s += "#n\tmua\tmus\tg\td\t\t# One line for each layer\n";
-        s += &format!("{}\t\t\t\t\t\t# n for medium above\n", c_g(smp.n_above, 6));
-        for (i, l) in smp.layers.iter().enumerate() {
-            s += &format!(
-                "{}\t{}\t{}\t{}\t{}\t# layer {}\n",
-                c_g(l.n, 6),
-                c_g(l.mu_a, 6),
-                c_g(l.mu_s, 6),
-                c_g(l.g, 6),
-                c_g(l.thickness, 6),
-                i + 1
-            );
-        }
-        s += &format!(
-            "{}\t\t\t\t\t\t# n for medium below\n\n",
-            c_g(smp.n_below, 6)
-        );
+        s += &crate::mco::layers(smp);
     }
     s
 }

@@ -7,6 +7,27 @@ use crate::error::{McError, Result};
 use crate::output::{Estimate, Output};
 use crate::simulate::RunSpec;
 
+/// The layer block of MCML's `InParm` (count, ambient indices, one line per layer), as MCML
+/// writes it; `.mci` files use the same lines.
+pub(crate) fn layers(smp: &crate::layer::Sample) -> String {
+    let mut s = format!("{}\t\t\t\t\t# Number of layers\n", smp.layers.len());
+    s += "#n\tmua\tmus\tg\td\t# One line for each layer\n";
+    s += &format!("{}\t\t\t\t\t# n for medium above\n", c_g(smp.n_above, 6));
+    for (i, l) in smp.layers.iter().enumerate() {
+        s += &format!(
+            "{}\t{}\t{}\t{}\t{}\t# layer {}\n",
+            c_g(l.n, 6),
+            c_g(l.mu_a, 6),
+            c_g(l.mu_s, 6),
+            c_g(l.g, 6),
+            c_g(l.thickness, 6),
+            i + 1
+        );
+    }
+    s += &format!("{}\t\t\t\t\t# n for medium below\n\n", c_g(smp.n_below, 6));
+    s
+}
+
 /// Renders a run as MCML would write it. Needs the (r, z) absorption tallies.
 pub fn write(out_name: &str, spec: &RunSpec, out: &Output, seconds: f64) -> Result<String> {
     if out.a_rz.is_empty() {
@@ -32,22 +53,7 @@ pub fn write(out_name: &str, spec: &RunSpec, out: &Output, seconds: f64) -> Resu
     s += &format!("{} \t\t\t# No. of photons\n", out.photons);
     s += &format!("{}\t{}\t\t# dz, dr [cm]\n", c_g(g.dz, 6), c_g(g.dr, 6));
     s += &format!("{nz}\t{nr}\t{na}\t# No. of dz, dr, da.\n\n");
-    let smp = &spec.sample;
-    s += &format!("{}\t\t\t\t\t# Number of layers\n", smp.layers.len());
-    s += "#n\tmua\tmus\tg\td\t# One line for each layer\n";
-    s += &format!("{}\t\t\t\t\t# n for medium above\n", c_g(smp.n_above, 6));
-    for (i, l) in smp.layers.iter().enumerate() {
-        s += &format!(
-            "{}\t{}\t{}\t{}\t{}\t# layer {}\n",
-            c_g(l.n, 6),
-            c_g(l.mu_a, 6),
-            c_g(l.mu_s, 6),
-            c_g(l.g, 6),
-            c_g(l.thickness, 6),
-            i + 1
-        );
-    }
-    s += &format!("{}\t\t\t\t\t# n for medium below\n\n", c_g(smp.n_below, 6));
+    s += &layers(&spec.sample);
 
     s += "RAT #Reflectance, absorption, transmission. \n";
     for (v, what) in [
