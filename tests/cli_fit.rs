@@ -1,15 +1,9 @@
 //! End-to-end tests of `sss fit` and `sss eval` on a small simulated profile.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn sss(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sss"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("sss runs")
-}
+mod common;
+use common::sss;
 
 /// A coarse grid (dr = min MFP / 6, 10 max MFP) keeps the kernels small.
 const SMALL: &str = "photons = 30000\nseed = 2\nthickness_cm = 1e8\nn_above = 1.0\nn_below = 1.0\n[grid]\ndr_per_min_mfp = 6.0\nr_max_mfp = 10.0\nz_max_mfp = 10.0\nnz = 10\nna = 5\n";

@@ -1,15 +1,10 @@
 //! End-to-end tests of `sss simulate`, `sss merge` and `sss materials`.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn sss(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sss"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("sss runs")
-}
+mod common;
+use common::sss;
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

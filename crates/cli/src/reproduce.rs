@@ -369,12 +369,12 @@ fn claims(
     ]
 }
 
+/// A table cell with our value above the published one (grey).
+fn cell(ours: f64, published: f64) -> String {
+    format!("<td>{ours:.3}<br><span class=\"pub\">{published:.3}</span></td>")
+}
+
 fn html(r: &Value, all: &[library::Named]) -> String {
-    let f = |v: &Value| {
-        v.as_f64()
-            .map(|x| format!("{x:.3}"))
-            .unwrap_or_else(|| "–".into())
-    };
     let e = |v: &Value| {
         v.as_f64()
             .map(|x| format!("{x:.3e}"))
@@ -454,13 +454,9 @@ fn html(r: &Value, all: &[library::Named]) -> String {
                     model["published"][c].as_f64().unwrap_or(f64::NAN),
                 );
                 sum = (sum.0 + o, sum.1 + p);
-                let _ = write!(h, "<td>{o:.3}<br><span class=\"pub\">{p:.3}</span></td>");
+                h += &cell(o, p);
             }
-            let _ = write!(
-                h,
-                "<td>{:.3}<br><span class=\"pub\">{:.3}</span></td>",
-                sum.0, sum.1
-            );
+            h += &cell(sum.0, sum.1);
         }
         h += "</tr>";
     }
@@ -491,16 +487,15 @@ fn html(r: &Value, all: &[library::Named]) -> String {
         for (o, p) in [("svd", "published_svd"), ("deon", "published_deon")] {
             let (mut so, mut sp) = (0.0, 0.0);
             for c in 0..3 {
-                so += t[o][n][c].as_f64().unwrap_or(f64::NAN);
-                sp += t[p][n][c].as_f64().unwrap_or(f64::NAN);
-                let _ = write!(
-                    h,
-                    "<td>{}<br><span class=\"pub\">{}</span></td>",
-                    f(&t[o][n][c]),
-                    f(&t[p][n][c])
+                let (x, y) = (
+                    t[o][n][c].as_f64().unwrap_or(f64::NAN),
+                    t[p][n][c].as_f64().unwrap_or(f64::NAN),
                 );
+                so += x;
+                sp += y;
+                h += &cell(x, y);
             }
-            let _ = write!(h, "<td>{so:.3}<br><span class=\"pub\">{sp:.3}</span></td>");
+            h += &cell(so, sp);
         }
         h += "</tr>";
     }

@@ -46,31 +46,39 @@ proptest! {
     }
 }
 
+/// A half-space of `layer` on a small grid, traced with `photons` photons.
+fn half_space(layer: Layer, photons: u64) -> Output {
+    let grid = Grid {
+        dr: 0.01,
+        dz: 0.01,
+        nr: 50,
+        nz: 10,
+        na: 10,
+    };
+    let spec = RunSpec {
+        sample: Sample::single(layer),
+        grid,
+        photons,
+        seed: 4,
+        tallies: TallySet::default(),
+    };
+    mc::run(&spec, &|_| {}).unwrap()
+}
+
 /// Albedo exactly 1 in a half-space: no weight is ever lost, every photon eventually leaves, and
 /// the path-length roulette keeps the walk finite. Everything that enters is reflected.
 #[test]
 fn conservative_half_space_reflects_everything() {
-    let layer = Layer {
-        n: 1.0,
-        mu_a: 0.0,
-        mu_s: 10.0,
-        g: 0.0,
-        thickness: 1.0e8,
-    };
-    let spec = RunSpec {
-        sample: Sample::single(layer),
-        grid: Grid {
-            dr: 0.01,
-            dz: 0.01,
-            nr: 50,
-            nz: 10,
-            na: 10,
+    let o = half_space(
+        Layer {
+            n: 1.0,
+            mu_a: 0.0,
+            mu_s: 10.0,
+            g: 0.0,
+            thickness: 1.0e8,
         },
-        photons: 20_000,
-        seed: 4,
-        tallies: TallySet::default(),
-    };
-    let o = mc::run(&spec, &|_| {}).unwrap();
+        20_000,
+    );
     assert_eq!(o.a.value, 0.0);
     assert!(
         (o.rd.value - 1.0).abs() <= 4.0 * o.rd.se + 1e-12,
@@ -82,27 +90,16 @@ fn conservative_half_space_reflects_everything() {
 /// Non-scattering media (wine and beer are nearly so): a pure absorber reflects nothing diffusely.
 #[test]
 fn pure_absorber_has_no_diffuse_reflectance() {
-    let layer = Layer {
-        n: 1.3,
-        mu_a: 5.0,
-        mu_s: 0.0,
-        g: 0.0,
-        thickness: 1.0e8,
-    };
-    let spec = RunSpec {
-        sample: Sample::single(layer),
-        grid: Grid {
-            dr: 0.01,
-            dz: 0.01,
-            nr: 50,
-            nz: 10,
-            na: 10,
+    let o = half_space(
+        Layer {
+            n: 1.3,
+            mu_a: 5.0,
+            mu_s: 0.0,
+            g: 0.0,
+            thickness: 1.0e8,
         },
-        photons: 5000,
-        seed: 4,
-        tallies: TallySet::default(),
-    };
-    let o = mc::run(&spec, &|_| {}).unwrap();
+        5000,
+    );
     assert_eq!(o.rd.value, 0.0);
     assert!((o.a.value + o.rsp - 1.0).abs() < 1e-12);
 }
