@@ -3,12 +3,14 @@
 //! Thin glue over the library crates: argument parsing, progress bars, files and exit codes.
 //! Every error is printed as one line on stderr and exits with code 2; nothing is written then.
 
+mod area_table;
 mod bench;
 mod eval;
 mod files;
 mod fit;
 mod library;
 mod materials;
+mod profile;
 mod progress;
 mod reproduce;
 mod simulate;
@@ -35,6 +37,12 @@ enum Command {
     Eval(eval::EvalArgs),
     /// Regenerate the thesis's tables and figures as an HTML report (use --quick for a CI-sized run)
     Reproduce(reproduce::ReproduceArgs),
+    /// Write an analytic profile (dipole, better-dipole, directional-dipole, pbd, burley) as a profile CSV
+    Profile(profile::ProfileArgs),
+    /// Compare every analytic profile with the Monte Carlo profile: table, JSON and a plot per material
+    CompareProfiles(profile::CompareArgs),
+    /// Tabulate a kernel averaged over circular areas R′(r, A) for screen-space lookups (Maisch & Ropinski 2020)
+    AreaTable(area_table::AreaTableArgs),
     /// Merge shard files of one `simulate --shard I/N` run into its outputs
     Merge(simulate::MergeArgs),
     /// List the built-in materials with σa, σs, g, η, albedo and mean free path per channel
@@ -48,6 +56,9 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Simulate(a) => simulate::simulate(a),
         Command::Merge(a) => simulate::merge(a),
+        Command::Profile(a) => profile::profile(a),
+        Command::CompareProfiles(a) => profile::compare_profiles(a),
+        Command::AreaTable(a) => area_table::run(a),
         Command::Fit(a) => fit::run(a),
         Command::Eval(a) => eval::run(a),
         Command::Reproduce(a) => reproduce::run(a),

@@ -303,23 +303,19 @@ fn finish(
     Ok(())
 }
 
-/// `r_cm,R,G,B,R_se,G_se,B_se`: Rd(r) [cm⁻²] at MCML's optimal bin radii, with standard errors.
+/// `r_cm,R,G,B,R_se,G_se,B_se`: Rd(r) [cm⁻²] at MCML's optimal bin radii, with standard errors;
+/// the last row is MCML's overflow bin.
 pub fn profile_csv(chans: &[&Output]) -> String {
     let g = chans[0].grid;
-    let mut s = String::from("r_cm,R,G,B,R_se,G_se,B_se\n");
-    for i in 0..g.nr {
-        s += &format!(
-            "{},{},{},{},{},{},{}\n",
-            g.r_optimal(i),
-            chans[0].rd_r[i].value,
-            chans[1].rd_r[i].value,
-            chans[2].rd_r[i].value,
-            chans[0].rd_r[i].se,
-            chans[1].rd_r[i].se,
-            chans[2].rd_r[i].se
-        );
-    }
-    s
+    let n = g.nr - 1;
+    let est = |c: usize, i: usize| chans[c].rd_r[i];
+    let p = fit::Profile {
+        dr: g.dr,
+        r: (0..n).map(|i| g.r_optimal(i)).collect(),
+        rd: [0, 1, 2].map(|c| (0..n).map(|i| est(c, i).value).collect()),
+        se: [0, 1, 2].map(|c| (0..n).map(|i| est(c, i).se).collect()),
+    };
+    p.to_csv([0, 1, 2].map(|c| (est(c, n).value, est(c, n).se)))
 }
 
 fn summary_json(

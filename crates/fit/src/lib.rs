@@ -24,6 +24,8 @@
 // Per-channel loops index parallel [_; 3] arrays (profile, kernels, colours) by channel.
 #![allow(clippy::needless_range_loop)]
 
+pub mod analytic;
+pub mod area_table;
 mod burley;
 pub mod convolve;
 mod error;
@@ -36,6 +38,7 @@ pub mod metrics;
 pub mod plot;
 mod preint;
 mod profile;
+pub mod profile_compare;
 mod separable;
 pub mod signals;
 pub mod skin;

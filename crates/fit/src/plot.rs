@@ -315,3 +315,172 @@ pub fn convolutions(ev: &Evaluation, signal: Signal, gain: f64, path: &Path) -> 
     }
     root.present().map_err(|e| err(path, e))
 }
+
+/// Analytic profiles against MC, per channel: r·Rd(r) on a log scale (top) and the relative error
+/// model/MC − 1 (bottom), against r in transport mean free paths `mfp` [cm] of each channel.
+pub fn profile_comparison(
+    mc: &Profile,
+    models: &[(&str, &Profile)],
+    mfp: [f64; 3],
+    title: &str,
+    path: &Path,
+) -> Result<()> {
+    font();
+    let root = BitMapBackend::new(path, (1500, 850)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(path, e))?;
+    let (top, bottom) = root.split_vertically(480);
+    let x_max = 10.0;
+    for (c, (up, down)) in top
+        .split_evenly((1, 3))
+        .iter()
+        .zip(bottom.split_evenly((1, 3)).iter())
+        .enumerate()
+    {
+        let pts = |p: &Profile| -> Vec<(f64, f64)> {
+            p.r.iter()
+                .zip(&p.rd[c])
+                .map(|(&r, &v)| (r / mfp[c], r * v))
+                .filter(|&(x, v)| x <= x_max && v > 0.0)
+                .collect()
+        };
+        let mc_pts = pts(mc);
+        let hi = mc_pts.iter().fold(0.0f64, |a, p| a.max(p.1));
+        let lo = mc_pts.iter().fold(f64::INFINITY, |a, p| a.min(p.1));
+        let mut ch = ChartBuilder::on(up)
+            .caption(
+                format!("{title} {}: r·Rd(r)", ["R", "G", "B"][c]),
+                ("sans-serif", 16),
+            )
+            .margin(8)
+            .x_label_area_size(30)
+            .y_label_area_size(60)
+            .build_cartesian_2d(
+                0.0..x_max,
+                (lo.max(hi * 1e-8).max(1e-300)..hi * 3.0).log_scale(),
+            )
+            .map_err(|e| err(path, e))?;
+        ch.configure_mesh()
+            .x_desc("r [transport MFP]")
+            .y_desc("r·Rd [1/cm]")
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .draw()
+            .map_err(|e| err(path, e))?;
+        ch.draw_series(
+            mc_pts
+                .iter()
+                .step_by((mc_pts.len() / 80).max(1))
+                .map(|&p| Circle::new(p, 2, BLACK.filled())),
+        )
+        .map_err(|e| err(path, e))?
+        .label("Monte Carlo")
+        .legend(|(x, y)| Circle::new((x + 10, y), 3, BLACK.filled()));
+        for (m, (name, p)) in models.iter().enumerate() {
+            let color = MODEL_COLORS[(m + 1) % MODEL_COLORS.len()];
+            ch.draw_series(LineSeries::new(
+                pts(p).into_iter().filter(|&(_, v)| v >= lo.max(hi * 1e-8)),
+                color.stroke_width(2),
+            ))
+            .map_err(|e| err(path, e))?
+            .label(name.to_string())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
+        }
+        if c == 0 {
+            ch.configure_series_labels()
+                .border_style(BLACK)
+                .background_style(WHITE.mix(0.8))
+                .draw()
+                .map_err(|e| err(path, e))?;
+        }
+        let mut ch = ChartBuilder::on(down)
+            .caption("model / MC − 1", ("sans-serif", 14))
+            .margin(8)
+            .x_label_area_size(30)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..x_max, -1.0..1.0)
+            .map_err(|e| err(path, e))?;
+        ch.configure_mesh()
+            .x_desc("r [transport MFP]")
+            .draw()
+            .map_err(|e| err(path, e))?;
+        ch.draw_series(LineSeries::new([(0.0, 0.0), (x_max, 0.0)], BLACK))
+            .map_err(|e| err(path, e))?;
+        for (m, (_, p)) in models.iter().enumerate() {
+            let color = MODEL_COLORS[(m + 1) % MODEL_COLORS.len()];
+            ch.draw_series(LineSeries::new(
+                (0..mc.len().min(p.len()))
+                    .filter(|&i| mc.rd[c][i] > 0.0 && mc.se[c][i] < 0.05 * mc.rd[c][i])
+                    .map(|i| {
+                        (
+                            mc.r[i] / mfp[c],
+                            (p.rd[c][i] / mc.rd[c][i] - 1.0).clamp(-1.0, 1.0),
+                        )
+                    })
+                    .filter(|&(x, _)| x <= x_max),
+                color.stroke_width(2),
+            ))
+            .map_err(|e| err(path, e))?;
+        }
+    }
+    root.present().map_err(|e| err(path, e))
+}
+
+/// Maisch & Ropinski's Fig. 2 effect: the energy a screen-space gather collects from a beam's
+/// profile, relative to the profile's total, against the pixel pitch [cm] (log-log). Point
+/// sampling (thin, light) drifts with the pitch, differently per channel — a brightness and colour
+/// shift when zooming; area pre-integration (thick) stays at 1. `curves[c]` holds (pitch, point, area) triples.
+pub fn area_effect(curves: &[Vec<(f64, f64, f64)>; 3], title: &str, path: &Path) -> Result<()> {
+    font();
+    let root = BitMapBackend::new(path, (900, 560)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(path, e))?;
+    let all = curves.iter().flatten();
+    let (x0, x1) = all.clone().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
+        (a.min(p.0), b.max(p.0))
+    });
+    let y1 = all
+        .clone()
+        .fold(1.2f64, |a, p| a.max(p.1).max(p.2))
+        .min(4.0);
+    let y0 = all.fold(0.8f64, |a, p| a.min(p.1).min(p.2)).max(0.0);
+    let mut ch = ChartBuilder::on(&root)
+        .caption(
+            format!("{title}: energy a pixel grid gathers / profile total"),
+            ("sans-serif", 18),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .map_err(|e| err(path, e))?;
+    ch.configure_mesh()
+        .x_desc("pixel pitch [cm] (camera zooming out →)")
+        .y_desc("gathered / total")
+        .y_label_formatter(&|v| format!("{v:.2}"))
+        .x_label_formatter(&|v| format!("{v:.0e}"))
+        .draw()
+        .map_err(|e| err(path, e))?;
+    for c in 0..3 {
+        let color = CHANNEL_COLORS[c];
+        ch.draw_series(LineSeries::new(
+            curves[c].iter().map(|p| (p.0, p.1)),
+            color.mix(0.5).stroke_width(1),
+        ))
+        .map_err(|e| err(path, e))?
+        .label(format!("{} point-sampled", ["R", "G", "B"][c]))
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.mix(0.5)));
+        ch.draw_series(LineSeries::new(
+            curves[c].iter().map(|p| (p.0, p.2)),
+            color.stroke_width(3),
+        ))
+        .map_err(|e| err(path, e))?
+        .label(format!("{} area pre-integrated", ["R", "G", "B"][c]))
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3)));
+    }
+    ch.configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.8))
+        .draw()
+        .map_err(|e| err(path, e))?;
+    root.present().map_err(|e| err(path, e))
+}

@@ -141,6 +141,30 @@ impl Profile {
         Ok(())
     }
 
+    /// The CSV `sss simulate` writes (`r_cm,R,G,B,R_se,G_se,B_se`): one row per bin, then the
+    /// overflow bin with `overflow` (Rd [cm⁻²] of everything beyond the grid spread over the
+    /// last annulus, as MCML does, standard error 0 when not known) at MCML's optimal coordinate
+    /// [(n+½) + 1/(12(n+½))]·dr. [`Profile::parse_csv`] reads it back and drops that row.
+    pub fn to_csv(&self, overflow: [(f64, f64); 3]) -> String {
+        let mut s = String::from("r_cm,R,G,B,R_se,G_se,B_se\n");
+        let row = |s: &mut String, r: f64, v: [(f64, f64); 3]| {
+            *s += &format!(
+                "{r},{},{},{},{},{},{}\n",
+                v[0].0, v[1].0, v[2].0, v[0].1, v[1].1, v[2].1
+            );
+        };
+        for i in 0..self.len() {
+            row(
+                &mut s,
+                self.r[i],
+                [0, 1, 2].map(|c| (self.rd[c][i], self.se[c][i])),
+            );
+        }
+        let c = self.len() as f64 + 0.5;
+        row(&mut s, (c + 1.0 / (12.0 * c)) * self.dr, overflow);
+        s
+    }
+
     /// Number of radial bins.
     pub fn len(&self) -> usize {
         self.r.len()

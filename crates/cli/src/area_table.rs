@@ -1,0 +1,144 @@
+//! `sss area-table`: a kernel averaged over circular areas, R′(r, A), for screen-space lookups
+//! (Maisch & Ropinski 2020 §3.2, §7.2), with a plot of the zoom-dependent shift it removes.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use fit::Profile;
+use fit::analytic::{Medium, Model, Radial};
+use fit::area_table::{AreaTable, RadialTable, cutoff_radius, gathered_energy};
+use serde_json::json;
+
+use crate::files::write_atomic;
+use crate::library;
+
+#[derive(Args)]
+pub struct AreaTableArgs {
+    /// Material (built-in name or material .toml path); sets r_max and the analytic model's inputs
+    material: String,
+
+    /// Analytic profile: dipole, better-dipole, directional-dipole, pbd, burley
+    #[arg(long, default_value = "pbd", value_parser = |s: &str| Model::parse(s).map_err(|e| e.to_string()))]
+    model: Model,
+
+    /// Use this profile CSV (e.g. from `sss simulate`) instead of an analytic model
+    #[arg(long, value_name = "CSV", conflicts_with = "model")]
+    profile: Option<PathBuf>,
+
+    /// Texels along r and along the disc radius
+    #[arg(long, default_value_t = 512)]
+    size: usize,
+
+    /// Cut-off of the source term Q(r) = α′σt′e^{−σt′r} [1/cm] that sets r_max
+    #[arg(long, default_value_t = 1e-7)]
+    q_min: f64,
+
+    /// Output folder: NAME.area.f32, NAME.area.json, NAME.area_effect.png
+    #[arg(long, default_value = "out")]
+    out: PathBuf,
+}
+
+/// Rd [1/cm²] at r [cm] of one channel.
+type RadialFn = Box<dyn Fn(f64) -> f64 + Sync>;
+
+pub fn run(a: AreaTableArgs) -> Result<()> {
+    if !(2..=8192).contains(&a.size) {
+        bail!("invalid --size = {}: must lie in 2..=8192", a.size);
+    }
+    if !(a.q_min.is_finite() && a.q_min > 0.0) {
+        bail!("invalid --q-min = {}: must be positive", a.q_min);
+    }
+    let n = library::material(&a.material)?;
+    let media = [0, 1, 2].map(|c| Medium::channel(&n.material, c));
+    let r_max = media
+        .iter()
+        .map(|m| cutoff_radius(m, a.q_min))
+        .fold(0.0, f64::max);
+    if r_max <= 0.0 {
+        bail!(
+            "invalid --q-min = {}: the source term of {} never exceeds it",
+            a.q_min,
+            n.slug
+        );
+    }
+    let (source, rd): (String, [RadialFn; 3]) = match &a.profile {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("cannot read {}", path.display()))?;
+            let p = std::sync::Arc::new(Profile::from_csv(&text, &path.display().to_string())?);
+            let f = |c: usize| -> RadialFn {
+                let p = p.clone();
+                Box::new(move |r| p.at(c, r))
+            };
+            (path.display().to_string(), [f(0), f(1), f(2)])
+        }
+        None => {
+            let radial: Vec<Radial> = media
+                .iter()
+                .map(|m| a.model.radial(m))
+                .collect::<fit::Result<_>>()?;
+            let f = |r: Radial| -> RadialFn { Box::new(move |x| r.rd(x.max(1e-12))) };
+            let mut it = radial.into_iter();
+            let mut next = || f(it.next().expect("three channels"));
+            (a.model.name().to_string(), [next(), next(), next()])
+        }
+    };
+    let start = std::time::Instant::now();
+    let table = AreaTable::build([&*rd[0], &*rd[1], &*rd[2]], r_max, a.size, a.size);
+    let seconds = start.elapsed().as_secs_f64();
+
+    // The zoom effect: pitches from a tenth of the shortest transport MFP to r_max/8.
+    let l_min = media
+        .iter()
+        .map(|m| m.transport_mfp())
+        .fold(f64::INFINITY, f64::min);
+    let (p0, p1) = (0.1 * l_min, r_max / 8.0);
+    let curves = [0, 1, 2].map(|c| {
+        let radial = RadialTable::new(&*rd[c], r_max);
+        (0..24)
+            .map(|k| {
+                let pitch = p0 * (p1 / p0).powf(k as f64 / 23.0);
+                let (point, area) = gathered_energy(&table, &radial, c, pitch);
+                (pitch, point, area)
+            })
+            .collect::<Vec<_>>()
+    });
+
+    std::fs::create_dir_all(&a.out)
+        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let mut bytes = Vec::with_capacity(a.size * a.size * 12);
+    for k in 0..a.size * a.size {
+        for c in 0..3 {
+            bytes.extend_from_slice(&(table.values[c][k] as f32).to_le_bytes());
+        }
+    }
+    let table_path = a.out.join(format!("{}.area.f32", n.slug));
+    let header_path = a.out.join(format!("{}.area.json", n.slug));
+    let header = json!({
+        "material": n.slug, "source": source, "unit": "1/cm^2",
+        "layout": "little-endian f32, RGB interleaved, row-major: row j = disc radius r_A = (j+0.5)*r_max/rows, column i = distance r = (i+0.5)*r_max/columns",
+        "columns": a.size, "rows": a.size, "r_max_cm": r_max, "a_max_cm2": table.a_max(),
+        "q_min_per_cm": a.q_min, "build_seconds": seconds,
+        "zoom_effect": curves.iter().enumerate().map(|(c, v)| (mc::CHANNELS[c].to_string(), json!(v.iter().map(|&(p, point, area)| json!({"pitch_cm": p, "point_sampled": point, "area_preintegrated": area})).collect::<Vec<_>>()))).collect::<serde_json::Map<_, _>>(),
+    });
+    let plot = a.out.join(format!("{}.area_effect.png", n.slug));
+    let tmp = a.out.join(format!(".{}.area_effect.tmp.png", n.slug));
+    fit::plot::area_effect(&curves, &n.slug, &tmp)?;
+    write_atomic(&table_path, &bytes)?;
+    write_atomic(
+        &header_path,
+        serde_json::to_string_pretty(&header)?.as_bytes(),
+    )?;
+    std::fs::rename(&tmp, &plot)?;
+    eprintln!(
+        "{}×{} area table of {} ({source}, r_max {r_max:.3} cm) built in {seconds:.2} s → {}, {}, {}",
+        a.size,
+        a.size,
+        n.slug,
+        table_path.display(),
+        header_path.display(),
+        plot.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,185 @@
+//! `sss profile` (an analytic model's Rd(r) as the CSV `simulate` writes) and
+//! `sss compare-profiles` (every analytic model against the Monte Carlo profile).
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use fit::analytic::{Medium, Model};
+use fit::profile_compare::{BANDS, compare};
+use serde_json::{Value, json};
+
+use crate::eval::profile_for;
+use crate::files::write_atomic;
+use crate::library::{self, Named};
+use crate::{parse_count, simulate};
+
+fn parse_model(s: &str) -> Result<Model, String> {
+    Model::parse(s).map_err(|e| e.to_string())
+}
+
+#[derive(Args)]
+pub struct ProfileArgs {
+    /// Material (built-in name or material .toml path)
+    material: String,
+
+    /// Analytic model: dipole, better-dipole, directional-dipole, pbd, burley
+    #[arg(long, value_parser = parse_model)]
+    model: Model,
+
+    /// Output CSV [default: out/NAME.MODEL.profile.csv]
+    #[arg(long)]
+    out: Option<PathBuf>,
+
+    /// Run settings TOML for the grid rule [default: the thesis's]
+    #[arg(long)]
+    config: Option<PathBuf>,
+}
+
+/// Writes one analytic profile on the material's thesis grid.
+pub fn profile(a: ProfileArgs) -> Result<()> {
+    let n = library::material(&a.material)?;
+    let config = library::config(a.config.as_deref())?;
+    let grid = config.grid_for(&n.material)?;
+    let nr = grid.nr - 1;
+    let p = fit::analytic::profile(a.model, &n.material, grid.dr, nr)?;
+    // MCML's last bin holds everything beyond the grid, spread over the last annulus.
+    let overflow = [0, 1, 2].map(|c| {
+        let radial = a
+            .model
+            .radial(&Medium::channel(&n.material, c))
+            .expect("validated by profile()");
+        let (edge, far) = (nr as f64 * grid.dr, 1e4 * grid.dr * grid.nr as f64);
+        let tail = radial.total(far) - radial.total(edge);
+        let area = std::f64::consts::PI * (2 * nr + 1) as f64 * grid.dr * grid.dr;
+        ((tail / area).max(0.0), 0.0)
+    });
+    let out = a.out.unwrap_or_else(|| {
+        crate::default_out().join(format!("{}.{}.profile.csv", n.slug, a.model.name()))
+    });
+    write_atomic(&out, p.to_csv(overflow).as_bytes())?;
+    eprintln!(
+        "{} profile of {} ({} bins of {:.4e} cm) → {}",
+        a.model.name(),
+        n.slug,
+        nr + 1,
+        grid.dr,
+        out.display()
+    );
+    Ok(())
+}
+
+#[derive(Args)]
+pub struct CompareArgs {
+    /// Materials (built-in names or material .toml paths)
+    #[arg(required = true, value_name = "MATERIAL")]
+    materials: Vec<String>,
+
+    /// Folder of MC profiles NAME.profile.csv; missing ones are simulated and written there
+    #[arg(long, default_value = "out")]
+    profiles: PathBuf,
+
+    /// Photons per channel for profiles simulated on demand [default: the thesis's 1e7]
+    #[arg(long, value_parser = parse_count)]
+    photons: Option<u64>,
+
+    /// Seed for profiles simulated on demand
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+
+    /// Worker threads [default: all cores]
+    #[arg(long)]
+    threads: Option<usize>,
+
+    /// Folder for the plots NAME.compare_profiles.png
+    #[arg(long, default_value = "out/plots")]
+    plots: PathBuf,
+
+    /// Print the measurements as JSON on stdout
+    #[arg(long)]
+    json: bool,
+}
+
+fn band_name(b: usize) -> String {
+    format!("{}-{}", BANDS[b].0, BANDS[b].1)
+}
+
+/// Tabulates and plots every analytic model against each material's MC profile.
+pub fn compare_profiles(a: CompareArgs) -> Result<()> {
+    let named: Vec<Named> = a
+        .materials
+        .iter()
+        .map(|m| library::material(m))
+        .collect::<Result<_>>()?;
+    let pool = simulate::thread_pool(a.threads)?;
+    std::fs::create_dir_all(&a.plots)
+        .with_context(|| format!("cannot create {}", a.plots.display()))?;
+    let mut out = Vec::new();
+    for n in &named {
+        let mc = pool.install(|| profile_for(n, &a.profiles, a.photons, a.seed))?;
+        let models = pool.install(|| compare(&mc, &n.material))?;
+        let mfp = [0, 1, 2].map(|c| Medium::channel(&n.material, c).transport_mfp());
+        let plot = a.plots.join(format!("{}.compare_profiles.png", n.slug));
+        let tmp = a
+            .plots
+            .join(format!(".{}.compare_profiles.tmp.png", n.slug));
+        let labelled: Vec<(&str, &fit::Profile)> = models
+            .iter()
+            .map(|m| (m.model.name(), &m.profile))
+            .collect();
+        fit::plot::profile_comparison(&mc, &labelled, mfp, &n.slug, &tmp)?;
+        std::fs::rename(&tmp, &plot)?;
+        if !a.json {
+            println!(
+                "{}: analytic models against Monte Carlo (r in transport MFP ℓ = 1/σt′)",
+                n.slug
+            );
+            println!(
+                "  {:<19} {:>2} {:>8} {:>8} {:>8} {:>9} {:>9} {:>9} {:>9}",
+                "model", "ch", "Rd MC", "Rd", "ΔRd/Rd", "rms rRd", "max|e|<½ℓ", "½–3ℓ", "3–10ℓ"
+            );
+            for m in &models {
+                for (c, ch) in m.channels.iter().enumerate() {
+                    let band = |b: usize| {
+                        ch.band_max_rel_err[b]
+                            .map_or("-".to_string(), |e| format!("{:.1}%", 100.0 * e))
+                    };
+                    println!(
+                        "  {:<19} {:>2} {:>8.4} {:>8.4} {:>7.1}% {:>8.1}% {:>9} {:>9} {:>9}",
+                        m.model.name(),
+                        mc::CHANNELS[c],
+                        ch.total_mc,
+                        ch.total_model,
+                        100.0 * ch.total_rel_err,
+                        100.0 * ch.rms_r_rd_3mfp,
+                        band(0),
+                        band(1),
+                        band(2)
+                    );
+                }
+            }
+            eprintln!("plot → {}", plot.display());
+        }
+        let models_json: Vec<Value> = models
+            .iter()
+            .map(|m| {
+                json!({
+                    "model": m.model.name(),
+                    "channels": m.channels.iter().enumerate().map(|(c, ch)| (mc::CHANNELS[c].to_string(), json!({
+                        "total_mc": ch.total_mc, "total_mc_se": ch.total_mc_se, "total_model": ch.total_model,
+                        "total_rel_err": ch.total_rel_err, "rms_r_rd_3mfp": ch.rms_r_rd_3mfp,
+                        "max_rel_err_by_band_mfp": (0..3).map(|b| (band_name(b), json!(ch.band_max_rel_err[b]))).collect::<serde_json::Map<_, _>>(),
+                    }))).collect::<serde_json::Map<_, _>>(),
+                })
+            })
+            .collect();
+        out.push(json!({ "material": n.slug, "plot": plot.display().to_string(), "models": models_json }));
+    }
+    if a.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&json!({ "materials": out }))?
+        );
+    }
+    Ok(())
+}
