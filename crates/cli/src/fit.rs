@@ -131,6 +131,60 @@ fn fit_channels(
         .collect()
 }
 
+/// What a kernel is built from, besides the profile.
+pub struct KernelSpec<'a> {
+    pub model: ModelName,
+    pub rank: usize,
+    pub k: f64,
+    pub b: f64,
+    pub renormalize: bool,
+    pub material: &'a str,
+    pub taps: usize,
+    pub coverage: f64,
+    pub jitter: f64,
+}
+
+/// The shader kernel of one model, and each channel's full-resolution separable fit (empty for
+/// the skin kernel, which is not fitted).
+pub fn build_kernel(p: &Profile, s: &KernelSpec) -> Result<(ShaderKernel, Vec<Separable>)> {
+    let name = format!("{:?}", s.model).to_lowercase();
+    if s.model == ModelName::Skin {
+        // The demo's own taps, offsets converted from mm to cm.
+        let k = fit::skin::kernel(s.taps, fit::skin::FALLOFF, fit::skin::STRENGTH);
+        let mut tap: Vec<Tap> = k
+            .iter()
+            .map(|&(o, w)| Tap {
+                offset: 0.1 * o,
+                weight: w,
+            })
+            .collect();
+        tap.sort_by(|x, y| x.offset.total_cmp(&y.offset));
+        let kernel = ShaderKernel {
+            model: name,
+            material: s.material.to_string(),
+            unit: "cm".into(),
+            taps: s.taps,
+            range: if s.taps > 20 { 0.3 } else { 0.2 },
+            jitter: s.jitter,
+            pass: vec![Pass {
+                sign: [1.0; 3],
+                tap,
+            }],
+        };
+        return Ok((kernel, Vec::new()));
+    }
+    let chans = fit_channels(p, s.model, s.rank, s.k, s.b, s.renormalize, s.material)?;
+    let shader = ShaderKernel::from_separable(
+        &name,
+        s.material,
+        [&chans[0], &chans[1], &chans[2]],
+        s.taps,
+        s.coverage,
+        s.jitter,
+    );
+    Ok((shader, chans))
+}
+
 pub fn run(a: FitArgs) -> Result<()> {
     if a.taps == 0 || a.taps > 1025 {
         bail!("invalid --taps {}: must be in 1..=1025", a.taps);
@@ -161,60 +215,41 @@ pub fn run(a: FitArgs) -> Result<()> {
     let start = std::time::Instant::now();
     let name = format!("{:?}", a.model).to_lowercase();
     let mut tap_rms = Vec::new();
-    let kernel = if a.model == ModelName::Skin {
-        // The demo's own taps, offsets converted from mm to cm.
-        let k = fit::skin::kernel(a.taps, fit::skin::FALLOFF, fit::skin::STRENGTH);
-        let mut tap: Vec<Tap> = k
-            .iter()
-            .map(|&(o, w)| Tap {
-                offset: 0.1 * o,
-                weight: w,
-            })
-            .collect();
-        tap.sort_by(|x, y| x.offset.total_cmp(&y.offset));
-        ShaderKernel {
-            model: name.clone(),
-            material: material.clone(),
-            unit: "cm".into(),
+    let (kernel, chans) = build_kernel(
+        &p,
+        &KernelSpec {
+            model: a.model,
+            rank: a.rank,
+            k: a.k,
+            b: a.b,
+            renormalize: a.renormalize,
+            material: &material,
             taps: a.taps,
-            range: if a.taps > 20 { 0.3 } else { 0.2 },
+            coverage: a.coverage,
             jitter: a.jitter,
-            pass: vec![Pass {
-                sign: [1.0; 3],
-                tap,
-            }],
-        }
-    } else {
-        let chans = fit_channels(&p, a.model, a.rank, a.k, a.b, a.renormalize, &material)?;
-        let shader = ShaderKernel::from_separable(
-            &name,
-            &material,
-            [&chans[0], &chans[1], &chans[2]],
-            a.taps,
-            a.coverage,
-            a.jitter,
-        );
-        // How far the sparse taps are from the full-resolution kernel, on the test signals.
-        for (c, full) in chans.iter().enumerate() {
-            let gt = ground_truth(&p, c, None);
-            let eval = ImageEval::new(&gt, 256, 128);
-            let sparse = shader.to_separable(c, gt.h, gt.half);
-            let worst = fit::signals::Signal::ALL
-                .iter()
-                .map(|&s| {
-                    let (_, _, f) = eval.images(s, full);
-                    let (_, _, t) = eval.images(s, &sparse);
-                    f.rms_diff(&t)
-                })
-                .fold(0.0, f64::max);
-            tap_rms.push(worst);
-        }
+        },
+    )?;
+    // How far the sparse taps are from the full-resolution kernel, on the test signals.
+    for (c, full) in chans.iter().enumerate() {
+        let gt = ground_truth(&p, c, None);
+        let eval = ImageEval::new(&gt, 256, 128);
+        let sparse = kernel.to_separable(c, gt.h, gt.half);
+        let worst = fit::signals::Signal::ALL
+            .iter()
+            .map(|&s| {
+                let (_, _, f) = eval.images(s, full);
+                let (_, _, t) = eval.images(s, &sparse);
+                f.rms_diff(&t)
+            })
+            .fold(0.0, f64::max);
+        tap_rms.push(worst);
+    }
+    if !chans.is_empty() {
         eprintln!(
             "taps vs full-resolution kernel, worst image RMS over the test signals: R {:.2e}  G {:.2e}  B {:.2e} (images in [0, 1])",
             tap_rms[0], tap_rms[1], tap_rms[2]
         );
-        shader
-    };
+    }
     let header = format!(
         "# sss fit: model {name}, material {material}, profile {}\n# offsets in cm; each [[pass]] is one horizontal + one vertical 1D convolution; sum the passes' results\n",
         a.profile.display()

@@ -12,6 +12,7 @@ mod library;
 mod materials;
 mod profile;
 mod progress;
+mod render;
 mod reproduce;
 mod simulate;
 
@@ -43,6 +44,8 @@ enum Command {
     CompareProfiles(profile::CompareArgs),
     /// Tabulate a kernel averaged over circular areas R′(r, A) for screen-space lookups (Maisch & Ropinski 2020)
     AreaTable(area_table::AreaTableArgs),
+    /// Apply a kernel in wgpu screen-space passes on a scene (PNG + linear PFM); --compare-models, --bench
+    Render(render::RenderArgs),
     /// Merge shard files of one `simulate --shard I/N` run into its outputs
     Merge(simulate::MergeArgs),
     /// List the built-in materials with σa, σs, g, η, albedo and mean free path per channel
@@ -56,6 +59,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Simulate(a) => simulate::simulate(a),
         Command::Merge(a) => simulate::merge(a),
+        Command::Render(a) => render::run(a),
         Command::Profile(a) => profile::profile(a),
         Command::CompareProfiles(a) => profile::compare_profiles(a),
         Command::AreaTable(a) => area_table::run(a),

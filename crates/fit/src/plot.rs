@@ -484,3 +484,53 @@ pub fn area_effect(curves: &[Vec<(f64, f64, f64)>; 3], title: &str, path: &Path)
         .map_err(|e| err(path, e))?;
     root.present().map_err(|e| err(path, e))
 }
+
+/// One labelled picture of a [`image_sheet`]: RGB8, row-major.
+pub struct SheetCell {
+    pub label: String,
+    pub width: u32,
+    pub height: u32,
+    pub rgb: Vec<u8>,
+}
+
+/// Pictures in a grid of `columns`, each with its label above it (comparison sheets of
+/// renderings, cut-outs and difference images).
+pub fn image_sheet(cells: &[SheetCell], columns: usize, path: &Path) -> Result<()> {
+    font();
+    let columns = columns.max(1);
+    let (cw, ch) = cells
+        .iter()
+        .fold((1, 1), |(w, h), c| (w.max(c.width), h.max(c.height)));
+    let rows = cells.len().div_ceil(columns) as u32;
+    let (pad, label) = (8u32, 22u32);
+    let size = (
+        columns as u32 * (cw + pad) + pad,
+        rows * (ch + label + pad) + pad,
+    );
+    let root = BitMapBackend::new(path, size).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| err(path, e))?;
+    for (i, c) in cells.iter().enumerate() {
+        let (col, row) = ((i % columns) as u32, (i / columns) as u32);
+        let x = (pad + col * (cw + pad)) as i32;
+        let y = (pad + row * (ch + label + pad)) as i32;
+        root.draw(&Text::new(
+            c.label.clone(),
+            (x, y),
+            ("sans-serif", 16).into_font(),
+        ))
+        .map_err(|e| err(path, e))?;
+        let elem = BitMapElement::with_owned_buffer(
+            (x, y + label as i32),
+            (c.width, c.height),
+            c.rgb.clone(),
+        )
+        .ok_or_else(|| {
+            err(
+                path,
+                format!("cell {i}: buffer does not match {}×{}", c.width, c.height),
+            )
+        })?;
+        root.draw(&elem).map_err(|e| err(path, e))?;
+    }
+    root.present().map_err(|e| err(path, e))
+}

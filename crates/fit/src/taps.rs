@@ -139,6 +139,48 @@ impl ShaderKernel {
         }
     }
 
+    /// One tap per grid sample (offset (i − half)·h, weight aᵢ): the separable model exactly, for
+    /// renderers that can afford the taps and for checking a GPU path against the CPU.
+    pub fn dense(model: &str, material: &str, channels: [&Separable; 3]) -> Self {
+        let h = channels[0].h;
+        let passes = channels.iter().map(|s| s.terms.len()).max().unwrap_or(0);
+        let n = channels
+            .iter()
+            .flat_map(|s| s.terms.iter().map(|t| t.a.len()))
+            .max()
+            .unwrap_or(1);
+        let half = n / 2;
+        let pass = (0..passes)
+            .map(|p| Pass {
+                sign: [0, 1, 2].map(|c| channels[c].terms.get(p).map_or(1.0, |t| t.sign)),
+                tap: (0..n)
+                    .map(|i| Tap {
+                        offset: (i as f64 - half as f64) * h,
+                        weight: [0, 1, 2].map(|c| {
+                            channels[c].terms.get(p).map_or(0.0, |t| {
+                                let off = (t.a.len() / 2) as isize + i as isize - half as isize;
+                                if off >= 0 && (off as usize) < t.a.len() {
+                                    t.a[off as usize]
+                                } else {
+                                    0.0
+                                }
+                            })
+                        }),
+                    })
+                    .collect(),
+            })
+            .collect();
+        ShaderKernel {
+            model: model.into(),
+            material: material.into(),
+            unit: "cm".into(),
+            taps: n,
+            range: half as f64 * h,
+            jitter: 0.0,
+            pass,
+        }
+    }
+
     /// The 1D functions of channel `c` on a fine grid (spacing `h`, half-width `half`), each tap's
     /// weight deposited at its offset by linear splitting: what the shader's sparse taps amount to.
     pub fn to_separable(&self, c: usize, h: f64, half: usize) -> Separable {

@@ -1,0 +1,655 @@
+//! `sss render`: the kernels applied in wgpu screen-space passes on a scene, written as PNG (and
+//! linear PFM); `--compare-models` renders every kernel model beside the CPU 2D ground-truth
+//! convolution; `--bench` times the SSS passes.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, ValueEnum};
+use fit::Profile;
+use fit::convolve::{Image, convolve_2d};
+use fit::metrics::bin_kernel;
+use fit::taps::ShaderKernel;
+use glam::Vec3;
+use gpu::{AlbedoMode, DepthMode, Gpu, GpuKernel, Light, RenderParams, Scene};
+use serde_json::json;
+
+use crate::eval::profile_for;
+use crate::files::write_atomic;
+use crate::fit::{KernelSpec, ModelName, build_kernel};
+use crate::library;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Albedo {
+    /// Albedo applied before scattering (blurs texture detail)
+    Pre,
+    /// Albedo applied after scattering (keeps texture detail sharp)
+    Post,
+    /// √albedo before and after (SSSS's default)
+    PrePost,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DepthTest {
+    /// Lerp towards the centre sample as the depth difference grows (thesis eq. 4.12)
+    Lerp,
+    /// Reject samples across depth discontinuities and renormalize per channel
+    Reject,
+    /// No depth test (light bleeds across silhouettes)
+    None,
+}
+
+#[derive(Args)]
+pub struct RenderArgs {
+    /// Scene: sphere (sphere on a floor), fin (sphere with two thin fins) or a Wavefront .obj path
+    #[arg(long, default_value = "sphere")]
+    scene: String,
+
+    /// Material whose profile the default kernel (and --compare-models) is fitted to
+    #[arg(long, default_value = "skin1")]
+    material: String,
+
+    /// Kernel file from `sss fit` [default: pre-integration with --taps taps fitted to the material]
+    #[arg(long, value_name = "KERNEL.toml")]
+    kernel: Option<PathBuf>,
+
+    /// Taps per 1D pass for kernels fitted here
+    #[arg(long, default_value_t = 17)]
+    taps: usize,
+
+    /// Image width [px]
+    #[arg(long, default_value_t = 1920)]
+    width: u32,
+
+    /// Image height [px]
+    #[arg(long, default_value_t = 1080)]
+    height: u32,
+
+    /// Where the albedo is applied relative to the scattering
+    #[arg(long, value_enum, default_value_t = Albedo::PrePost)]
+    albedo: Albedo,
+
+    /// Depth-discontinuity handling
+    #[arg(long, value_enum, default_value_t = DepthTest::Lerp)]
+    depth_test: DepthTest,
+
+    /// Depth difference [cm] at which a sample is fully replaced/rejected [default: the kernel's range]
+    #[arg(long)]
+    tolerance: Option<f32>,
+
+    /// Per-pixel jitter of the tap offsets, 0–1 (trades banding for noise)
+    #[arg(long, default_value_t = 0.0)]
+    jitter: f32,
+
+    /// Kernel width multiplier (1 = the material's physical scale)
+    #[arg(long, default_value_t = 1.0)]
+    sss_width: f32,
+
+    /// Exposure before tone mapping
+    #[arg(long, default_value_t = 1.0)]
+    exposure: f32,
+
+    /// Camera position X,Y,Z [cm]
+    #[arg(long, value_parser = parse_vec3)]
+    camera: Option<Vec3>,
+
+    /// Camera target X,Y,Z [cm]
+    #[arg(long, value_parser = parse_vec3)]
+    target: Option<Vec3>,
+
+    /// Vertical field of view [degrees]
+    #[arg(long)]
+    fov: Option<f32>,
+
+    /// Lights (repeatable, up to 4): dir:X,Y,Z[:IRRADIANCE] (towards the light) or
+    /// point:X,Y,Z[:INTENSITY] (position [cm], intensity = irradiance × cm²); all cast shadows
+    #[arg(long = "light", value_parser = parse_light)]
+    lights: Vec<Light>,
+
+    /// Render every kernel model and compare with the CPU 2D ground-truth convolution
+    #[arg(long)]
+    compare_models: bool,
+
+    /// Time the SSS passes at 1920×1080 (17/33 taps, rank 1/3) instead of rendering
+    #[arg(long)]
+    bench: bool,
+
+    /// Folder of profiles NAME.profile.csv; missing ones are simulated there
+    #[arg(long, default_value = "out")]
+    profiles: PathBuf,
+
+    /// Photons per channel for profiles simulated on demand [default: the thesis's 1e7]
+    #[arg(long, value_parser = crate::parse_count)]
+    photons: Option<u64>,
+
+    /// Output folder
+    #[arg(long, default_value = "out/render")]
+    out: PathBuf,
+
+    /// Print a machine-readable summary on stdout
+    #[arg(long)]
+    json: bool,
+}
+
+fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|x| {
+            x.trim()
+                .parse::<f32>()
+                .map_err(|_| format!("{s:?}: expected X,Y,Z"))
+        })
+        .collect::<Result<_, _>>()?;
+    match v[..] {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(x, y, z)),
+        _ => Err(format!("{s:?}: expected three finite numbers X,Y,Z")),
+    }
+}
+
+fn parse_light(s: &str) -> Result<Light, String> {
+    let parts: Vec<&str> = s.split(':').collect();
+    if parts.len() < 2 || parts.len() > 3 {
+        return Err(format!("{s:?}: expected dir:X,Y,Z[:I] or point:X,Y,Z[:I]"));
+    }
+    let v = parse_vec3(parts[1])?;
+    let default = if parts[0] == "dir" { 1.2 } else { 1200.0 };
+    let i: f32 = match parts.get(2) {
+        Some(t) => t
+            .parse()
+            .map_err(|_| format!("{s:?}: intensity {t:?} is not a number"))?,
+        None => default,
+    };
+    if !(i.is_finite() && i >= 0.0) {
+        return Err(format!("{s:?}: intensity must be finite and ≥ 0"));
+    }
+    match parts[0] {
+        "dir" if v.length() > 0.0 => Ok(Light::Directional {
+            towards: v.normalize(),
+            irradiance: Vec3::splat(i),
+            shadow: true,
+        }),
+        "point" => Ok(Light::Point {
+            position: v,
+            intensity: Vec3::splat(i),
+            shadow: true,
+        }),
+        _ => Err(format!("{s:?}: expected dir (non-zero direction) or point")),
+    }
+}
+
+/// The kernels compared by --compare-models and timed by --bench: (label, model, rank).
+const MODELS: [(&str, ModelName, usize); 8] = [
+    ("preint", ModelName::Preint, 1),
+    ("svd1", ModelName::Svd, 1),
+    ("svd3", ModelName::Svd, 3),
+    ("deon3", ModelName::Deon, 3),
+    ("guided", ModelName::Guided, 1),
+    ("manual", ModelName::Manual, 1),
+    ("skin", ModelName::Skin, 1),
+    ("burley", ModelName::Burley, 1),
+];
+
+fn kernel_of(
+    p: &Profile,
+    slug: &str,
+    model: ModelName,
+    rank: usize,
+    taps: usize,
+) -> Result<ShaderKernel> {
+    Ok(build_kernel(
+        p,
+        // SVD is rescaled to the kernel's energy (‖A‖₁ = ‖R_d‖₁) for images, as `eval` does.
+        &KernelSpec {
+            model,
+            rank,
+            k: 1.0,
+            b: 0.0,
+            renormalize: model == ModelName::Svd,
+            material: slug,
+            taps,
+            coverage: 0.95,
+            jitter: 0.0,
+        },
+    )?
+    .0)
+}
+
+fn png_rgba(width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>> {
+    let mut out = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut out, width, height);
+        enc.set_color(png::ColorType::Rgba);
+        enc.set_depth(png::BitDepth::Eight);
+        enc.write_header()?.write_image_data(rgba)?;
+    }
+    Ok(out)
+}
+
+/// Portable float map (little-endian, bottom row first), the linear image for comparisons.
+fn pfm(width: u32, height: u32, rgba: &[[f32; 4]]) -> Vec<u8> {
+    let mut out = format!("PF\n{width} {height}\n-1.0\n").into_bytes();
+    for y in (0..height as usize).rev() {
+        for p in &rgba[y * width as usize..(y + 1) * width as usize] {
+            for c in &p[..3] {
+                out.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+    }
+    out
+}
+
+pub fn run(a: RenderArgs) -> Result<()> {
+    if a.width == 0 || a.height == 0 || a.width > 16384 || a.height > 16384 {
+        bail!(
+            "invalid --width/--height {}×{}: each must lie in 1..=16384",
+            a.width,
+            a.height
+        );
+    }
+    if a.taps == 0 || a.taps > 1025 {
+        bail!("invalid --taps {}: must be in 1..=1025", a.taps);
+    }
+    if !(0.0..=1.0).contains(&a.jitter) {
+        bail!("invalid --jitter {}: must be in [0, 1]", a.jitter);
+    }
+    let positive = |v: f32, zero_ok: bool| v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0));
+    if !(positive(a.sss_width, true) && positive(a.exposure, false)) {
+        bail!(
+            "invalid --sss-width {} / --exposure {}: must be ≥ 0 / > 0",
+            a.sss_width,
+            a.exposure
+        );
+    }
+    if a.tolerance.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
+        bail!(
+            "invalid --tolerance {:?}: must be positive [cm]",
+            a.tolerance
+        );
+    }
+    if a.lights.len() > 4 {
+        bail!("invalid --light: {} given, at most 4", a.lights.len());
+    }
+    if let Some(f) = a.fov
+        && !(f > 1.0 && f < 170.0)
+    {
+        bail!("invalid --fov {f}: must lie in (1, 170) degrees");
+    }
+    let mut scene = Scene::named(&a.scene)?;
+    if let Some(c) = a.camera {
+        scene.camera.position = c;
+    }
+    if let Some(t) = a.target {
+        scene.camera.target = t;
+    }
+    if let Some(f) = a.fov {
+        scene.camera.fov_y_deg = f;
+    }
+    if !a.lights.is_empty() {
+        scene.lights = a.lights.clone();
+    }
+    if (scene.camera.position - scene.camera.target).length() <= 0.0 {
+        bail!("invalid --camera/--target: they coincide");
+    }
+    let named = library::material(&a.material)?;
+    let gpu = Gpu::new()?;
+    eprintln!("GPU: {}", gpu.adapter_name);
+    let params = RenderParams {
+        width: a.width,
+        height: a.height,
+        albedo: match a.albedo {
+            Albedo::Pre => AlbedoMode::Pre,
+            Albedo::Post => AlbedoMode::Post,
+            Albedo::PrePost => AlbedoMode::PrePost,
+        },
+        sss_width: a.sss_width,
+        depth_mode: match a.depth_test {
+            DepthTest::Lerp => DepthMode::Lerp,
+            DepthTest::Reject => DepthMode::Reject,
+            DepthTest::None => DepthMode::None,
+        },
+        tolerance_cm: a.tolerance,
+        jitter: a.jitter,
+        fixed_depth: None,
+        exposure: a.exposure,
+    };
+    let profile = || profile_for(&named, &a.profiles, a.photons, 1);
+    if a.bench {
+        return bench(&gpu, &scene, &profile()?, &named.slug, &a);
+    }
+    std::fs::create_dir_all(&a.out)
+        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let kernel = match &a.kernel {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("cannot read {}", path.display()))?;
+            ShaderKernel::from_toml(&text, &path.display().to_string())?
+        }
+        None => kernel_of(&profile()?, &named.slug, ModelName::Preint, 1, a.taps)?,
+    };
+    let start = std::time::Instant::now();
+    let frame = gpu::render(
+        &gpu,
+        &scene,
+        Some(&GpuKernel::from_shader_kernel(&kernel)?),
+        &params,
+    )?;
+    let seconds = start.elapsed().as_secs_f64();
+    let png_path = a.out.join("render.png");
+    write_atomic(
+        &png_path,
+        &png_rgba(frame.width, frame.height, &frame.display)?,
+    )?;
+    write_atomic(
+        &a.out.join("render.pfm"),
+        &pfm(frame.width, frame.height, &frame.linear),
+    )?;
+    eprintln!(
+        "{} kernel ({} pass(es) × {} taps) on {} at {}×{} in {seconds:.2} s → {}",
+        kernel.model,
+        kernel.pass.len(),
+        kernel.taps,
+        a.scene,
+        a.width,
+        a.height,
+        png_path.display()
+    );
+    let mut summary = json!({
+        "adapter": gpu.adapter_name, "scene": a.scene, "kernel": kernel.model, "width": a.width, "height": a.height,
+        "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
+    });
+    if a.compare_models {
+        summary["compare"] = compare(&gpu, &scene, &params, &profile()?, &named.slug, &a)?;
+    }
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    }
+    Ok(())
+}
+
+/// ACES (Narkowicz) and sRGB, as the GPU's recombination does, for CPU-side images.
+fn display_rgb(v: [f32; 3], exposure: f32) -> [u8; 3] {
+    v.map(|x| {
+        let x = (x * exposure).max(0.0);
+        let t = ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0);
+        let s = if t <= 0.0031308 {
+            12.92 * t
+        } else {
+            1.055 * t.powf(1.0 / 2.4) - 0.055
+        };
+        (s * 255.0 + 0.5) as u8
+    })
+}
+
+/// Every model rendered at one kernel scale (the target's depth, rounded so that a pixel is an
+/// odd number of profile bins) without a depth test, against the CPU 2D convolution of the same
+/// irradiance with the ground-truth kernel binned to pixels; errors on SSS pixels.
+fn compare(
+    gpu: &Gpu,
+    scene: &Scene,
+    base: &RenderParams,
+    p: &Profile,
+    slug: &str,
+    a: &RenderArgs,
+) -> Result<serde_json::Value> {
+    let f = scene.camera.px_per_cm_at_unit_depth(base.height);
+    let depth = (scene.camera.target - scene.camera.position).length();
+    let bin =
+        (((depth / f) as f64 / p.dr / a.sss_width.max(1e-6) as f64).round() as usize).max(1) | 1;
+    let fixed_depth = (bin as f64 * p.dr * f as f64 * a.sss_width as f64) as f32;
+    let params = RenderParams {
+        depth_mode: DepthMode::None,
+        fixed_depth: Some(fixed_depth),
+        ..*base
+    };
+    let (w, h) = (base.width as usize, base.height as usize);
+    eprintln!(
+        "comparing models at {:.4} cm/px (profile bins of {:.4} cm × {bin}) …",
+        p.dr * bin as f64,
+        p.dr
+    );
+    let lambert = gpu::render(gpu, scene, None, &params)?;
+    let sss: Vec<bool> = lambert.geometry.iter().map(|g| g[1] > 0.0).collect();
+    // The ground truth: each channel convolved with the 2D kernel, SSS pixels only.
+    let mut truth = lambert.irradiance.clone();
+    for c in 0..3 {
+        let k = bin_kernel(&fit::ground_truth(p, c, None), bin);
+        let img = Image {
+            width: w,
+            height: h,
+            v: lambert.irradiance.iter().map(|v| v[c] as f64).collect(),
+        };
+        let conv = convolve_2d(&img, &k);
+        for i in 0..w * h {
+            if sss[i] {
+                truth[i][c] = conv.v[i] as f32;
+            }
+        }
+    }
+    // A cut-out around the strongest irradiance gradient on the object (a shadow edge).
+    let side = (w.min(h) / 3).max(16).min(w).min(h);
+    let grad = |i: usize| {
+        let (x, y) = (i % w, i / w);
+        if x + 1 >= w || y + 1 >= h || !sss[i] {
+            return 0.0;
+        }
+        let e = |j: usize| lambert.irradiance[j].iter().take(3).sum::<f32>();
+        (e(i + 1) - e(i)).abs() + (e(i + w) - e(i)).abs()
+    };
+    let best = (0..w * h)
+        .max_by(|&i, &j| grad(i).total_cmp(&grad(j)))
+        .unwrap_or(0);
+    let x0 = (best % w).saturating_sub(side / 2).min(w - side);
+    let y0 = (best / w).saturating_sub(side / 2).min(h - side);
+    let mean: f64 = {
+        let (s, n) = (0..w * h)
+            .filter(|&i| sss[i])
+            .fold((0.0, 0usize), |(s, n), i| {
+                (
+                    s + truth[i][..3].iter().map(|&v| v as f64).sum::<f64>() / 3.0,
+                    n + 1,
+                )
+            });
+        s / n.max(1) as f64
+    };
+    let crop = |img: &[[f32; 4]]| -> Vec<u8> {
+        let mut rgb = Vec::with_capacity(side * side * 3);
+        for y in y0..y0 + side {
+            for x in x0..x0 + side {
+                let v = img[y * w + x];
+                rgb.extend(display_rgb([v[0], v[1], v[2]], a.exposure));
+            }
+        }
+        rgb
+    };
+    let diff_crop = |img: &[[f32; 4]]| -> Vec<u8> {
+        let gain = 10.0 / mean.max(1e-12) as f32;
+        let mut rgb = Vec::with_capacity(side * side * 3);
+        for y in y0..y0 + side {
+            for x in x0..x0 + side {
+                let i = y * w + x;
+                let d = (0..3).map(|c| img[i][c] - truth[i][c]).sum::<f32>() / 3.0 * gain;
+                let m = (d.abs().min(1.0) * 255.0) as u8;
+                rgb.extend(if d >= 0.0 {
+                    [255, 255 - m, 255 - m]
+                } else {
+                    [255 - m, 255 - m, 255]
+                });
+            }
+        }
+        rgb
+    };
+    let rms = |img: &[[f32; 4]]| -> f64 {
+        let (s, n) = (0..w * h)
+            .filter(|&i| sss[i])
+            .fold((0.0, 0usize), |(s, n), i| {
+                (
+                    s + (0..3)
+                        .map(|c| ((img[i][c] - truth[i][c]) as f64).powi(2))
+                        .sum::<f64>()
+                        / 3.0,
+                    n + 1,
+                )
+            });
+        (s / n.max(1) as f64).sqrt() / mean.max(1e-300)
+    };
+    // Cut-outs are shown at least 240 px wide (nearest-neighbour), so labels fit.
+    let zoom = 240usize.div_ceil(side).max(1);
+    let cell = |label: String, rgb: Vec<u8>| {
+        let s = side * zoom;
+        let mut big = Vec::with_capacity(s * s * 3);
+        for y in 0..s {
+            for x in 0..s {
+                let k = ((y / zoom) * side + x / zoom) * 3;
+                big.extend_from_slice(&rgb[k..k + 3]);
+            }
+        }
+        fit::plot::SheetCell {
+            label,
+            width: s as u32,
+            height: s as u32,
+            rgb: big,
+        }
+    };
+    let mut cells = vec![
+        cell("2D ground truth (CPU)".into(), crop(&truth)),
+        cell(
+            "difference ×10 (red +, blue −)".into(),
+            vec![255; side * side * 3],
+        ),
+    ];
+    let mut rows = vec![json!({"model": "lambert", "image_rms_rel": rms(&lambert.irradiance)})];
+    cells.push(cell(
+        format!(
+            "no SSS (Lambert): rms {:.2}%",
+            100.0 * rms(&lambert.irradiance)
+        ),
+        crop(&lambert.irradiance),
+    ));
+    cells.push(cell(
+        "no SSS − truth".into(),
+        diff_crop(&lambert.irradiance),
+    ));
+    // With --json the table stays off stdout.
+    let table = |line: String| {
+        if !a.json {
+            println!("{line}");
+        }
+    };
+    table(format!(
+        "{slug} on {}: image RMS of the scattered diffuse against the 2D ground truth (SSS pixels, relative to their mean)",
+        a.scene
+    ));
+    table(format!(
+        "  {:<8} {:>9}",
+        "lambert",
+        format!("{:.3}%", 100.0 * rms(&lambert.irradiance))
+    ));
+    for (label, model, rank) in MODELS {
+        let k = kernel_of(p, slug, model, rank, a.taps)?;
+        let frame = gpu::render(
+            gpu,
+            scene,
+            Some(&GpuKernel::from_shader_kernel(&k)?),
+            &params,
+        )?;
+        let e = rms(&frame.scattered);
+        table(format!("  {label:<8} {:>9}", format!("{:.3}%", 100.0 * e)));
+        write_atomic(
+            &a.out.join(format!("{label}.png")),
+            &png_rgba(frame.width, frame.height, &frame.display)?,
+        )?;
+        rows.push(
+            json!({"model": label, "image_rms_rel": e, "png": a.out.join(format!("{label}.png"))}),
+        );
+        cells.push(cell(
+            format!("{label}: rms {:.2}%", 100.0 * e),
+            crop(&frame.scattered),
+        ));
+        cells.push(cell(
+            format!("{label} − truth"),
+            diff_crop(&frame.scattered),
+        ));
+    }
+    let sheet = a.out.join("compare_sheet.png");
+    let tmp = a.out.join(".compare_sheet.tmp.png");
+    fit::plot::image_sheet(&cells, 2, &tmp)?;
+    std::fs::rename(&tmp, &sheet)?;
+    let v = json!({ "cm_per_px": p.dr * bin as f64, "models": rows, "sheet": sheet });
+    write_atomic(
+        &a.out.join("compare.json"),
+        serde_json::to_string_pretty(&v)?.as_bytes(),
+    )?;
+    eprintln!("comparison sheet → {}", sheet.display());
+    Ok(v)
+}
+
+/// Per-pass GPU times at 1920×1080 for 17/33 taps and rank 1/3 (median of 5 frames).
+fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> Result<()> {
+    let params = RenderParams {
+        width: 1920,
+        height: 1080,
+        ..RenderParams::default()
+    };
+    if !gpu.timestamps {
+        eprintln!("this adapter has no timestamp queries: reporting whole-frame wall time instead");
+    }
+    let mut rows = Vec::new();
+    println!(
+        "SSS passes at 1920×1080 on {} ({slug}, median of 5 frames)",
+        gpu.adapter_name
+    );
+    println!(
+        "  {:<10} {:>5} {:>5} {:>14} {:>14} {:>12} {:>15}",
+        "kernel", "taps", "rank", "horizontal ms", "vertical ms", "SSS ms", "frame wall ms"
+    );
+    for (label, model, rank) in [
+        ("preint", ModelName::Preint, 1),
+        ("svd3", ModelName::Svd, 3),
+    ] {
+        for taps in [17, 33] {
+            let k = GpuKernel::from_shader_kernel(&kernel_of(p, slug, model, rank, taps)?)?;
+            let mut frames = Vec::new();
+            for _ in 0..5 {
+                let t = std::time::Instant::now();
+                let f = gpu::render(gpu, scene, Some(&k), &params)?;
+                frames.push((f.times, t.elapsed().as_secs_f64() * 1e3));
+            }
+            let median = |mut v: Vec<f64>| {
+                v.sort_by(f64::total_cmp);
+                v[v.len() / 2]
+            };
+            let sum = |times: &[gpu::PassTime], key: &str| {
+                times
+                    .iter()
+                    .filter(|t| t.label.ends_with(key))
+                    .map(|t| t.ms)
+                    .sum::<f64>()
+            };
+            let hor = median(frames.iter().map(|f| sum(&f.0, "horizontal")).collect());
+            let ver = median(frames.iter().map(|f| sum(&f.0, "vertical")).collect());
+            let wall = median(frames.iter().map(|f| f.1).collect());
+            let total = if gpu.timestamps { hor + ver } else { wall };
+            println!(
+                "  {label:<10} {taps:>5} {rank:>5} {:>14} {:>14} {total:>12.3} {wall:>15.1}",
+                if gpu.timestamps {
+                    format!("{hor:.3}")
+                } else {
+                    "-".into()
+                },
+                if gpu.timestamps {
+                    format!("{ver:.3}")
+                } else {
+                    "-".into()
+                }
+            );
+            rows.push(json!({"kernel": label, "taps": taps, "rank": rank, "horizontal_ms": hor, "vertical_ms": ver, "sss_ms": total, "frame_wall_ms": wall, "timestamps": gpu.timestamps}));
+        }
+    }
+    if a.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&json!({"adapter": gpu.adapter_name, "rows": rows}))?
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,296 @@
+//! The separable SSS passes: for each term of the kernel, a horizontal then a vertical 1D compute
+//! pass; the vertical pass adds sign·result into the output, so rank-N SVD, d'Eon sums of
+//! Gaussians and rank-1 kernels all run the same way.
+
+use wgpu::util::DeviceExt;
+
+use crate::context::Gpu;
+use crate::error::{GpuError, Result};
+
+/// A kernel as the shader takes it: per pass, the RGB sign and the taps (RGB weight, offset [cm]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GpuKernel {
+    pub passes: Vec<([f32; 3], Vec<[f32; 4]>)>,
+    /// Largest |offset| [cm].
+    pub range_cm: f32,
+}
+
+impl GpuKernel {
+    /// Converts a `sss fit` kernel file; refuses empty or non-finite taps and non-cm units.
+    pub fn from_shader_kernel(k: &fit::taps::ShaderKernel) -> Result<GpuKernel> {
+        if k.unit != "cm" {
+            return Err(GpuError::invalid("kernel unit", &k.unit, "expected \"cm\""));
+        }
+        if k.pass.is_empty() || k.pass.iter().any(|p| p.tap.is_empty()) {
+            return Err(GpuError::invalid(
+                "kernel pass",
+                k.pass.len(),
+                "needs at least one pass with taps",
+            ));
+        }
+        let mut range = 0.0f32;
+        let passes = k
+            .pass
+            .iter()
+            .map(|p| {
+                let taps = p
+                    .tap
+                    .iter()
+                    .map(|t| {
+                        range = range.max(t.offset.abs() as f32);
+                        [
+                            t.weight[0] as f32,
+                            t.weight[1] as f32,
+                            t.weight[2] as f32,
+                            t.offset as f32,
+                        ]
+                    })
+                    .collect::<Vec<_>>();
+                (p.sign.map(|s| s as f32), taps)
+            })
+            .collect::<Vec<_>>();
+        if passes
+            .iter()
+            .flat_map(|(s, t)| s.iter().chain(t.iter().flatten()))
+            .any(|v| !v.is_finite())
+        {
+            return Err(GpuError::invalid(
+                "kernel taps",
+                "NaN/inf",
+                "every weight and offset must be finite",
+            ));
+        }
+        Ok(GpuKernel {
+            passes,
+            range_cm: range,
+        })
+    }
+}
+
+/// How samples across depth discontinuities are treated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DepthMode {
+    /// No test: light bleeds across silhouettes.
+    None,
+    /// Lerp towards the centre sample as |Δz| grows (thesis eq. 4.12, SSSS "follow surface").
+    Lerp,
+    /// Reject samples with |Δz| > tolerance and give their weight to the rest, per channel
+    /// (what production engines do).
+    Reject,
+}
+
+/// Blur settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BlurParams {
+    /// Pixels per cm at view depth 1 cm (see [`crate::Camera::px_per_cm_at_unit_depth`]).
+    pub px_per_cm_at_unit_depth: f32,
+    /// Global width multiplier (1 = the kernel's physical size).
+    pub sss_width: f32,
+    pub depth_mode: DepthMode,
+    /// Depth difference [cm] at which a sample is fully replaced or rejected.
+    pub tolerance_cm: f32,
+    /// Per-pixel random scale of the offsets in [1 − j/2, 1 + j/2] (supplement Fig. S.6–S.7).
+    pub jitter: f32,
+    /// Use this view depth [cm] for every pixel's kernel scale (comparisons with a fixed-scale
+    /// CPU reference); None: each pixel's own depth.
+    pub fixed_depth: Option<f32>,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Uniform {
+    width: u32,
+    height: u32,
+    taps: u32,
+    horizontal: u32,
+    sign: [f32; 4],
+    px_per_cm_at_unit_depth: f32,
+    sss_width: f32,
+    tolerance: f32,
+    mode: u32,
+    jitter: f32,
+    accumulate: u32,
+    fixed_depth: f32,
+    _pad: u32,
+}
+
+/// The compiled blur pipeline.
+pub(crate) struct Blur {
+    pipeline: wgpu::ComputePipeline,
+}
+
+impl Blur {
+    pub(crate) fn new(gpu: &Gpu) -> Blur {
+        let module = gpu
+            .device
+            .create_shader_module(wgpu::include_wgsl!("shaders/blur.wgsl"));
+        let pipeline = gpu
+            .device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("blur"),
+                layout: None,
+                module: &module,
+                entry_point: Some("main"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+        Blur { pipeline }
+    }
+
+    /// Records every pass of `kernel`: src → tmp (horizontal) → dst (vertical, accumulated).
+    /// `dst` is cleared first. With `timer`, each 1D pass gets begin/end timestamps.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn encode(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        kernel: &GpuKernel,
+        params: &BlurParams,
+        (width, height): (u32, u32),
+        src: &wgpu::Buffer,
+        geometry: &wgpu::Buffer,
+        tmp: &wgpu::Buffer,
+        dst: &wgpu::Buffer,
+        timer: &mut Option<&mut crate::render::Timer>,
+    ) {
+        enc.clear_buffer(dst, 0, None);
+        let mode = match params.depth_mode {
+            DepthMode::None => 0,
+            DepthMode::Lerp => 1,
+            DepthMode::Reject => 2,
+        };
+        for (p, (sign, taps)) in kernel.passes.iter().enumerate() {
+            let taps_buf = gpu
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("taps"),
+                    contents: bytemuck::cast_slice(taps),
+                    usage: wgpu::BufferUsages::STORAGE,
+                });
+            for horizontal in [true, false] {
+                let u = Uniform {
+                    width,
+                    height,
+                    taps: taps.len() as u32,
+                    horizontal: horizontal as u32,
+                    sign: [sign[0], sign[1], sign[2], 0.0],
+                    px_per_cm_at_unit_depth: params.px_per_cm_at_unit_depth,
+                    sss_width: params.sss_width,
+                    tolerance: params.tolerance_cm.max(1e-12),
+                    mode,
+                    jitter: params.jitter,
+                    accumulate: (!horizontal) as u32,
+                    fixed_depth: params.fixed_depth.unwrap_or(0.0),
+                    _pad: 0,
+                };
+                let ubuf = gpu
+                    .device
+                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("blur params"),
+                        contents: bytemuck::bytes_of(&u),
+                        usage: wgpu::BufferUsages::UNIFORM,
+                    });
+                let (from, to) = if horizontal { (src, tmp) } else { (tmp, dst) };
+                let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: None,
+                    layout: &self.pipeline.get_bind_group_layout(0),
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: ubuf.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: taps_buf.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: from.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 3,
+                            resource: geometry.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 4,
+                            resource: to.as_entire_binding(),
+                        },
+                    ],
+                });
+                let label = format!(
+                    "pass {} {}",
+                    p + 1,
+                    if horizontal { "horizontal" } else { "vertical" }
+                );
+                let writes = timer.as_mut().map(|t| t.writes(&label));
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(&label),
+                    timestamp_writes: writes,
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &bind, &[]);
+                pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+            }
+        }
+    }
+}
+
+/// Storage buffer for `n` RGBA f32 pixels.
+pub(crate) fn pixels(gpu: &Gpu, n: usize, label: &str) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: (n * 16).max(16) as u64,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// Applies the kernel's passes to an image (RGBA per pixel, row-major) with per-pixel
+/// `geometry` (x: view depth [cm], y: SSS strength): the blur stage alone, for tests and CPU
+/// comparisons.
+pub fn blur_image(
+    gpu: &Gpu,
+    image: &[[f32; 4]],
+    geometry: &[[f32; 4]],
+    (width, height): (u32, u32),
+    kernel: &GpuKernel,
+    params: &BlurParams,
+) -> Result<Vec<[f32; 4]>> {
+    let n = (width * height) as usize;
+    if image.len() != n || geometry.len() != n {
+        return Err(GpuError::invalid(
+            "image size",
+            image.len(),
+            format!("expected {width}×{height} = {n} pixels"),
+        ));
+    }
+    let upload = |data: &[[f32; 4]]| {
+        gpu.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("upload"),
+                contents: bytemuck::cast_slice(data),
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+    };
+    let (src, geom) = (upload(image), upload(geometry));
+    let (tmp, dst) = (pixels(gpu, n, "tmp"), pixels(gpu, n, "dst"));
+    let blur = Blur::new(gpu);
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
+    blur.encode(
+        gpu,
+        &mut enc,
+        kernel,
+        params,
+        (width, height),
+        &src,
+        &geom,
+        &tmp,
+        &dst,
+        &mut None,
+    );
+    gpu.queue.submit([enc.finish()]);
+    let bytes = gpu.read_buffer(&dst, (n * 16) as u64)?;
+    Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&bytes).to_vec())
+}

@@ -1,0 +1,44 @@
+//! Typed errors of the `gpu` crate.
+
+/// What can go wrong on the GPU side.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    /// No adapter (hardware or software) could be found.
+    #[error(
+        "no GPU adapter found (install a Vulkan driver; for software rendering Mesa's lavapipe: apt-get install mesa-vulkan-drivers): {0}"
+    )]
+    NoAdapter(String),
+    /// The adapter refused the device.
+    #[error("GPU device request failed: {0}")]
+    Device(String),
+    /// An input is unusable; names the field.
+    #[error("invalid {field} = {value}: {reason}")]
+    Invalid {
+        field: String,
+        value: String,
+        reason: String,
+    },
+    /// A mesh file could not be read.
+    #[error("mesh {path}: {message}")]
+    Mesh { path: String, message: String },
+    /// Reading results back failed.
+    #[error("GPU readback failed: {0}")]
+    Readback(String),
+}
+
+impl GpuError {
+    pub(crate) fn invalid(
+        field: impl Into<String>,
+        value: impl ToString,
+        reason: impl Into<String>,
+    ) -> Self {
+        GpuError::Invalid {
+            field: field.into(),
+            value: value.to_string(),
+            reason: reason.into(),
+        }
+    }
+}
+
+/// Result with [`GpuError`].
+pub type Result<T> = std::result::Result<T, GpuError>;

@@ -1,0 +1,209 @@
+//! Triangle meshes in cm: the built-in shapes (sphere, ground plane, a thin fin) and Wavefront OBJ
+//! files. Each vertex carries its albedo and SSS strength (0: no scattering, e.g. the floor).
+
+use std::path::Path;
+
+use glam::Vec3;
+
+use crate::error::{GpuError, Result};
+
+/// One vertex as the scene shader reads it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Vertex {
+    /// Position [cm].
+    pub pos: [f32; 3],
+    /// Unit normal.
+    pub normal: [f32; 3],
+    /// Diffuse albedo, RGB.
+    pub albedo: [f32; 3],
+    /// SSS strength (scales the kernel's width; 0 = none).
+    pub strength: f32,
+}
+
+/// An indexed triangle list.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub vertices: Vec<Vertex>,
+    pub indices: Vec<u32>,
+}
+
+impl Mesh {
+    /// Appends another mesh.
+    pub fn append(&mut self, other: &Mesh) {
+        let base = self.vertices.len() as u32;
+        self.vertices.extend_from_slice(&other.vertices);
+        self.indices.extend(other.indices.iter().map(|i| i + base));
+    }
+
+    /// A UV sphere.
+    pub fn sphere(centre: Vec3, radius: f32, albedo: [f32; 3], strength: f32) -> Mesh {
+        let (rings, segments) = (96u32, 192u32);
+        let mut m = Mesh::default();
+        for i in 0..=rings {
+            let theta = std::f32::consts::PI * i as f32 / rings as f32;
+            for j in 0..=segments {
+                let phi = std::f32::consts::TAU * j as f32 / segments as f32;
+                let n = Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.cos(),
+                    theta.sin() * phi.sin(),
+                );
+                m.vertices.push(Vertex {
+                    pos: (centre + radius * n).into(),
+                    normal: n.into(),
+                    albedo,
+                    strength,
+                });
+            }
+        }
+        let row = segments + 1;
+        for i in 0..rings {
+            for j in 0..segments {
+                let (a, b) = (i * row + j, (i + 1) * row + j);
+                m.indices.extend([a, a + 1, b, a + 1, b + 1, b]);
+            }
+        }
+        m
+    }
+
+    /// An axis-aligned box from `min` to `max` with flat faces.
+    pub fn cuboid(min: Vec3, max: Vec3, albedo: [f32; 3], strength: f32) -> Mesh {
+        let mut m = Mesh::default();
+        let faces: [(Vec3, Vec3, Vec3); 6] = [
+            (Vec3::X, Vec3::Y, Vec3::Z),
+            (-Vec3::X, Vec3::Z, Vec3::Y),
+            (Vec3::Y, Vec3::Z, Vec3::X),
+            (-Vec3::Y, Vec3::X, Vec3::Z),
+            (Vec3::Z, Vec3::X, Vec3::Y),
+            (-Vec3::Z, Vec3::Y, Vec3::X),
+        ];
+        let centre = 0.5 * (min + max);
+        let half = 0.5 * (max - min);
+        for (n, u, v) in faces {
+            let base = m.vertices.len() as u32;
+            for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                let p = centre + half * (n + su * u + sv * v);
+                m.vertices.push(Vertex {
+                    pos: p.into(),
+                    normal: n.into(),
+                    albedo,
+                    strength,
+                });
+            }
+            // Counter-clockwise seen from outside (u × v = n).
+            m.indices
+                .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+        }
+        m
+    }
+
+    /// A square ground plane at height `y`, facing up.
+    pub fn plane(y: f32, half: f32, albedo: [f32; 3]) -> Mesh {
+        let n = [0.0, 1.0, 0.0];
+        let v = |x: f32, z: f32| Vertex {
+            pos: [x, y, z],
+            normal: n,
+            albedo,
+            strength: 0.0,
+        };
+        Mesh {
+            vertices: vec![
+                v(-half, -half),
+                v(half, -half),
+                v(half, half),
+                v(-half, half),
+            ],
+            indices: vec![0, 2, 1, 0, 3, 2],
+        }
+    }
+
+    /// A Wavefront OBJ file, scaled to `height` [cm] and standing on y = 0 centred at the origin;
+    /// missing normals are computed from the faces.
+    pub fn from_obj(path: &Path, height: f32, albedo: [f32; 3], strength: f32) -> Result<Mesh> {
+        let err = |message: String| GpuError::Mesh {
+            path: path.display().to_string(),
+            message,
+        };
+        let (models, _) = tobj::load_obj(
+            path,
+            &tobj::LoadOptions {
+                triangulate: true,
+                single_index: true,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| err(e.to_string()))?;
+        let mut m = Mesh::default();
+        for model in &models {
+            let mesh = &model.mesh;
+            let base = m.vertices.len() as u32;
+            let count = mesh.positions.len() / 3;
+            for k in 0..count {
+                let p = [
+                    mesh.positions[3 * k],
+                    mesh.positions[3 * k + 1],
+                    mesh.positions[3 * k + 2],
+                ];
+                let n = if mesh.normals.len() == mesh.positions.len() {
+                    [
+                        mesh.normals[3 * k],
+                        mesh.normals[3 * k + 1],
+                        mesh.normals[3 * k + 2],
+                    ]
+                } else {
+                    [0.0; 3]
+                };
+                m.vertices.push(Vertex {
+                    pos: p,
+                    normal: n,
+                    albedo,
+                    strength,
+                });
+            }
+            m.indices.extend(mesh.indices.iter().map(|i| i + base));
+        }
+        if m.indices.is_empty() {
+            return Err(err("no triangles".into()));
+        }
+        if m.vertices
+            .iter()
+            .any(|v| v.pos.iter().any(|c| !c.is_finite()))
+        {
+            return Err(err("non-finite vertex position".into()));
+        }
+        if m.vertices.iter().all(|v| v.normal == [0.0; 3]) {
+            m.compute_normals();
+        }
+        let (lo, hi) = m.bounds();
+        let scale = height / (hi.y - lo.y).max(1e-12);
+        let shift = Vec3::new(-0.5 * (lo.x + hi.x), -lo.y, -0.5 * (lo.z + hi.z));
+        for v in &mut m.vertices {
+            v.pos = ((Vec3::from(v.pos) + shift) * scale).into();
+        }
+        Ok(m)
+    }
+
+    /// Area-weighted vertex normals.
+    fn compute_normals(&mut self) {
+        let mut acc = vec![Vec3::ZERO; self.vertices.len()];
+        for t in self.indices.chunks(3) {
+            let p = |i: u32| Vec3::from(self.vertices[i as usize].pos);
+            let n = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
+            for &i in t {
+                acc[i as usize] += n;
+            }
+        }
+        for (v, n) in self.vertices.iter_mut().zip(acc) {
+            v.normal = n.normalize_or(Vec3::Y).into();
+        }
+    }
+
+    /// Axis-aligned bounds.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.vertices.iter().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), v| (lo.min(Vec3::from(v.pos)), hi.max(Vec3::from(v.pos))),
+        )
+    }
+}

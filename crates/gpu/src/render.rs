@@ -1,0 +1,619 @@
+//! One frame: shadow maps, the scene pass, the SSS passes and recombination, read back as images.
+
+use glam::Mat4;
+use wgpu::util::DeviceExt;
+
+use crate::blur::{Blur, BlurParams, DepthMode, GpuKernel, pixels};
+use crate::context::Gpu;
+use crate::error::{GpuError, Result};
+use crate::mesh::Vertex;
+use crate::scene::{AlbedoMode, Light, Scene};
+
+/// Render settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderParams {
+    pub width: u32,
+    pub height: u32,
+    pub albedo: AlbedoMode,
+    /// Kernel width multiplier (1 = physical size).
+    pub sss_width: f32,
+    pub depth_mode: DepthMode,
+    /// Depth tolerance [cm]; None: the kernel's range × `sss_width`.
+    pub tolerance_cm: Option<f32>,
+    pub jitter: f32,
+    /// Fixed view depth [cm] for the kernel scale (see [`BlurParams::fixed_depth`]).
+    pub fixed_depth: Option<f32>,
+    /// Exposure before tone mapping.
+    pub exposure: f32,
+}
+
+impl Default for RenderParams {
+    fn default() -> Self {
+        RenderParams {
+            width: 1920,
+            height: 1080,
+            albedo: AlbedoMode::PrePost,
+            sss_width: 1.0,
+            depth_mode: DepthMode::Lerp,
+            tolerance_cm: None,
+            jitter: 0.0,
+            fixed_depth: None,
+            exposure: 1.0,
+        }
+    }
+}
+
+/// GPU time of one pass [ms] (timestamp queries).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PassTime {
+    pub label: String,
+    pub ms: f64,
+}
+
+/// A rendered frame: row-major, top row first.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    /// Final linear radiance (scattered diffuse × post albedo + specular).
+    pub linear: Vec<[f32; 4]>,
+    /// Tone-mapped sRGB, RGBA8.
+    pub display: Vec<u8>,
+    /// The scene pass's diffuse target (irradiance × pre-scatter albedo): the blur's input.
+    pub irradiance: Vec<[f32; 4]>,
+    /// The blur's output (before the post-scatter albedo); pixels without SSS strength hold the
+    /// kernel's response to a delta there, and the final image uses their unscattered light.
+    pub scattered: Vec<[f32; 4]>,
+    /// x: view depth [cm] (background: far plane), y: SSS strength.
+    pub geometry: Vec<[f32; 4]>,
+    /// Per-pass GPU times; empty where the adapter has no timestamp queries.
+    pub times: Vec<PassTime>,
+}
+
+/// Timestamp bookkeeping: two queries per timed pass.
+pub(crate) struct Timer {
+    set: wgpu::QuerySet,
+    labels: Vec<String>,
+}
+
+const MAX_TIMED: u32 = 64;
+
+impl Timer {
+    fn new(gpu: &Gpu) -> Option<Timer> {
+        gpu.timestamps.then(|| Timer {
+            set: gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2 * MAX_TIMED,
+            }),
+            labels: Vec::new(),
+        })
+    }
+
+    pub(crate) fn writes(&mut self, label: &str) -> wgpu::ComputePassTimestampWrites<'_> {
+        let k = (self.labels.len() as u32).min(MAX_TIMED - 1);
+        self.labels.push(label.to_string());
+        wgpu::ComputePassTimestampWrites {
+            query_set: &self.set,
+            beginning_of_pass_write_index: Some(2 * k),
+            end_of_pass_write_index: Some(2 * k + 1),
+        }
+    }
+
+    fn read(&self, gpu: &Gpu) -> Result<Vec<PassTime>> {
+        let n = (self.labels.len() as u32).min(MAX_TIMED);
+        if n == 0 {
+            return Ok(Vec::new());
+        }
+        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamps"),
+            size: 16 * n as u64,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        enc.resolve_query_set(&self.set, 0..2 * n, &buf, 0);
+        gpu.queue.submit([enc.finish()]);
+        let bytes = gpu.read_buffer(&buf, 16 * n as u64)?;
+        let ticks: &[u64] = bytemuck::cast_slice(&bytes);
+        let period = gpu.queue.get_timestamp_period() as f64;
+        Ok(self
+            .labels
+            .iter()
+            .zip(ticks.chunks(2))
+            .map(|(l, t)| PassTime {
+                label: l.clone(),
+                ms: t[1].wrapping_sub(t[0]) as f64 * period * 1e-6,
+            })
+            .collect())
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct LightU {
+    view_proj: [[f32; 4]; 4],
+    pos_or_dir: [f32; 4],
+    color: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Globals {
+    view_proj: [[f32; 4]; 4],
+    view: [[f32; 4]; 4],
+    camera_pos: [f32; 4],
+    params: [f32; 4],
+    ambient: [f32; 4],
+    lights: [LightU; 4],
+}
+
+/// Scene targets: diffuse; specular + strength; view depth + packed post-scatter albedo.
+const FORMATS: [wgpu::TextureFormat; 3] = [
+    wgpu::TextureFormat::Rgba32Float,
+    wgpu::TextureFormat::Rgba16Float,
+    wgpu::TextureFormat::Rg32Float,
+];
+const SHADOW_SIZE: u32 = 2048;
+const NEAR: f32 = 1.0;
+const FAR: f32 = 500.0;
+
+/// Renders `scene`, scattering the diffuse light with `kernel` (None: plain Lambertian shading).
+pub fn render(
+    gpu: &Gpu,
+    scene: &Scene,
+    kernel: Option<&GpuKernel>,
+    params: &RenderParams,
+) -> Result<Frame> {
+    let (w, h) = (params.width, params.height);
+    let max = gpu.device.limits().max_texture_dimension_2d;
+    if w == 0 || h == 0 || w > max || h > max {
+        return Err(GpuError::invalid(
+            "image size",
+            format!("{w}×{h}"),
+            format!("each side must lie in 1..={max}"),
+        ));
+    }
+    if scene.lights.len() > 4 {
+        return Err(GpuError::invalid("lights", scene.lights.len(), "at most 4"));
+    }
+    if !(params.sss_width.is_finite() && params.sss_width >= 0.0) {
+        return Err(GpuError::invalid(
+            "sss width",
+            params.sss_width,
+            "must be finite and ≥ 0",
+        ));
+    }
+    let n = (w * h) as usize;
+    let dev = &gpu.device;
+    let vbuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("vertices"),
+        contents: bytemuck::cast_slice(&scene.mesh.vertices),
+        usage: wgpu::BufferUsages::VERTEX,
+    });
+    let ibuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("indices"),
+        contents: bytemuck::cast_slice(&scene.mesh.indices),
+        usage: wgpu::BufferUsages::INDEX,
+    });
+    let index_count = scene.mesh.indices.len() as u32;
+
+    // Shadow maps: one layer per light (at least one, so the binding exists).
+    let layers = scene.lights.len().max(1) as u32;
+    let shadow_tex = dev.create_texture(&wgpu::TextureDescriptor {
+        label: Some("shadow maps"),
+        size: wgpu::Extent3d {
+            width: SHADOW_SIZE,
+            height: SHADOW_SIZE,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Depth32Float,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    });
+    let shadow_module = dev.create_shader_module(wgpu::include_wgsl!("shaders/shadow.wgsl"));
+    let vertex_layout = wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<Vertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32],
+    };
+    let shadow_pipeline = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("shadow"),
+        layout: None,
+        vertex: wgpu::VertexState {
+            module: &shadow_module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[Some(vertex_layout.clone())],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: wgpu::TextureFormat::Depth32Float,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: None,
+        multiview_mask: None,
+        cache: None,
+    });
+    let mut lights = [LightU {
+        view_proj: Mat4::IDENTITY.to_cols_array_2d(),
+        pos_or_dir: [0.0; 4],
+        color: [0.0; 4],
+    }; 4];
+    let mut enc = dev.create_command_encoder(&Default::default());
+    for (i, light) in scene.lights.iter().enumerate() {
+        let vp = scene.light_view_proj(light);
+        let (pos_or_dir, color, shadow) = match *light {
+            Light::Directional {
+                towards,
+                irradiance,
+                shadow,
+            } => (towards.normalize().extend(0.0), irradiance, shadow),
+            Light::Point {
+                position,
+                intensity,
+                shadow,
+            } => (position.extend(1.0), intensity, shadow),
+        };
+        lights[i] = LightU {
+            view_proj: vp.to_cols_array_2d(),
+            pos_or_dir: pos_or_dir.into(),
+            color: color.extend(if shadow { i as f32 } else { -1.0 }).into(),
+        };
+        let ubuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light"),
+            contents: bytemuck::bytes_of(&vp.to_cols_array_2d()),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &shadow_pipeline.get_bind_group_layout(0),
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: ubuf.as_entire_binding(),
+            }],
+        });
+        let view = shadow_tex.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2),
+            base_array_layer: i as u32,
+            array_layer_count: Some(1),
+            ..Default::default()
+        });
+        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("shadow"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            ..Default::default()
+        });
+        if shadow {
+            pass.set_pipeline(&shadow_pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.set_vertex_buffer(0, vbuf.slice(..));
+            pass.set_index_buffer(ibuf.slice(..), wgpu::IndexFormat::Uint32);
+            pass.draw_indexed(0..index_count, 0, 0..1);
+        }
+    }
+
+    // Scene pass.
+    let cam = &scene.camera;
+    let view = cam.view();
+    let proj = cam.projection(w as f32 / h as f32, NEAR, FAR);
+    let globals = Globals {
+        view_proj: (proj * view).to_cols_array_2d(),
+        view: view.to_cols_array_2d(),
+        camera_pos: cam.position.extend(1.0).into(),
+        params: [
+            scene.lights.len() as f32,
+            match params.albedo {
+                AlbedoMode::Pre => 0.0,
+                AlbedoMode::Post => 1.0,
+                AlbedoMode::PrePost => 2.0,
+            },
+            scene.specular,
+            scene.shininess,
+        ],
+        ambient: scene.ambient.extend(0.0).into(),
+        lights,
+    };
+    let gbuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("globals"),
+        contents: bytemuck::bytes_of(&globals),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let scene_module = dev.create_shader_module(wgpu::include_wgsl!("shaders/scene.wgsl"));
+    let targets: Vec<Option<wgpu::ColorTargetState>> =
+        FORMATS.iter().map(|&f| Some(f.into())).collect();
+    let scene_pipeline = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("scene"),
+        layout: None,
+        vertex: wgpu::VertexState {
+            module: &scene_module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[Some(vertex_layout)],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: wgpu::TextureFormat::Depth32Float,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &scene_module,
+            entry_point: Some("fs"),
+            compilation_options: Default::default(),
+            targets: &targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    });
+    let shadow_view = shadow_tex.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    let sampler = dev.create_sampler(&wgpu::SamplerDescriptor {
+        compare: Some(wgpu::CompareFunction::LessEqual),
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        ..Default::default()
+    });
+    let scene_bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &scene_pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: gbuf.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(&shadow_view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::Sampler(&sampler),
+            },
+        ],
+    });
+    let size = wgpu::Extent3d {
+        width: w,
+        height: h,
+        depth_or_array_layers: 1,
+    };
+    let target = |label: &str, format| {
+        dev.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        })
+    };
+    let tex: Vec<wgpu::Texture> = ["diffuse", "specular", "geometry"]
+        .iter()
+        .zip(FORMATS)
+        .map(|(l, f)| target(l, f))
+        .collect();
+    let views: Vec<wgpu::TextureView> = tex
+        .iter()
+        .map(|t| t.create_view(&Default::default()))
+        .collect();
+    let depth = target("depth", wgpu::TextureFormat::Depth32Float);
+    let depth_view = depth.create_view(&Default::default());
+    {
+        // Background: no light, no strength, far depth; its albedo bits are 0 (black), and it
+        // has no diffuse light to scale anyway.
+        let clears = [[0.0; 4], [0.0; 4], [FAR as f64, 0.0, 0.0, 0.0]];
+        let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = views
+            .iter()
+            .zip(clears)
+            .map(|(v, c)| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view: v,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: c[0],
+                            g: c[1],
+                            b: c[2],
+                            a: c[3],
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            })
+            .collect();
+        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("scene"),
+            color_attachments: &attachments,
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            ..Default::default()
+        });
+        pass.set_pipeline(&scene_pipeline);
+        pass.set_bind_group(0, &scene_bind, &[]);
+        pass.set_vertex_buffer(0, vbuf.slice(..));
+        pass.set_index_buffer(ibuf.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..index_count, 0, 0..1);
+    }
+
+    // Unpack the targets into storage buffers.
+    let bufs: Vec<wgpu::Buffer> = ["diffuse", "specular", "geometry", "albedo"]
+        .iter()
+        .map(|l| pixels(gpu, n, l))
+        .collect();
+    let unpack_module = dev.create_shader_module(wgpu::include_wgsl!("shaders/unpack.wgsl"));
+    let unpack = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("unpack"),
+        layout: None,
+        module: &unpack_module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let mut entries: Vec<wgpu::BindGroupEntry> = views
+        .iter()
+        .enumerate()
+        .map(|(i, v)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: wgpu::BindingResource::TextureView(v),
+        })
+        .collect();
+    entries.extend(bufs.iter().enumerate().map(|(i, b)| wgpu::BindGroupEntry {
+        binding: 3 + i as u32,
+        resource: b.as_entire_binding(),
+    }));
+    let unpack_bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &unpack.get_bind_group_layout(0),
+        entries: &entries,
+    });
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&unpack);
+        pass.set_bind_group(0, &unpack_bind, &[]);
+        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+    }
+
+    // SSS.
+    let scattered = pixels(gpu, n, "scattered");
+    let tmp = pixels(gpu, n, "tmp");
+    let mut timer = Timer::new(gpu);
+    match kernel {
+        Some(k) => {
+            let blur_params = BlurParams {
+                px_per_cm_at_unit_depth: cam.px_per_cm_at_unit_depth(h),
+                sss_width: params.sss_width,
+                depth_mode: params.depth_mode,
+                tolerance_cm: params.tolerance_cm.unwrap_or(k.range_cm * params.sss_width),
+                jitter: params.jitter,
+                fixed_depth: params.fixed_depth,
+            };
+            Blur::new(gpu).encode(
+                gpu,
+                &mut enc,
+                k,
+                &blur_params,
+                (w, h),
+                &bufs[0],
+                &bufs[2],
+                &tmp,
+                &scattered,
+                &mut timer.as_mut(),
+            );
+        }
+        None => enc.copy_buffer_to_buffer(&bufs[0], 0, &scattered, 0, (n * 16) as u64),
+    }
+
+    // Recombine.
+    let linear = pixels(gpu, n, "linear");
+    let display = dev.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("display"),
+        size: (n * 4) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let combine_module = dev.create_shader_module(wgpu::include_wgsl!("shaders/combine.wgsl"));
+    let combine = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("combine"),
+        layout: None,
+        module: &combine_module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let cu = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("combine params"),
+        contents: bytemuck::cast_slice(&[w, h, params.exposure.to_bits(), 0]),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let combine_bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &combine.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: cu.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: scattered.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: bufs[1].as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: bufs[3].as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: linear.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 5,
+                resource: display.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 6,
+                resource: bufs[0].as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 7,
+                resource: bufs[2].as_entire_binding(),
+            },
+        ],
+    });
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&combine);
+        pass.set_bind_group(0, &combine_bind, &[]);
+        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+    }
+    gpu.queue.submit([enc.finish()]);
+
+    let read = |b: &wgpu::Buffer| -> Result<Vec<[f32; 4]>> {
+        Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&gpu.read_buffer(b, (n * 16) as u64)?).to_vec())
+    };
+    Ok(Frame {
+        width: w,
+        height: h,
+        linear: read(&linear)?,
+        display: gpu.read_buffer(&display, (n * 4) as u64)?,
+        irradiance: read(&bufs[0])?,
+        scattered: read(&scattered)?,
+        geometry: read(&bufs[2])?,
+        times: match &timer {
+            Some(t) => t.read(gpu)?,
+            None => Vec::new(),
+        },
+    })
+}

@@ -1,0 +1,128 @@
+// Scene pass: shadowed irradiance (rgba32float), specular with the SSS strength in alpha
+// (rgba16float), and linear view depth with the post-scatter albedo packed as RGBA8 bits
+// (rg32float): 32 bytes per pixel, WebGPU's portable limit. World units are cm.
+
+struct Light {
+    view_proj: mat4x4<f32>,
+    // xyz: direction towards the light (w = 0) or its position (w = 1).
+    pos_or_dir: vec4<f32>,
+    // rgb: radiance scale (irradiance at normal incidence for directional lights, intensity for
+    // point lights, divided by distance² [cm²]); w: shadow-map layer, < 0 for none.
+    color: vec4<f32>,
+};
+
+struct Globals {
+    view_proj: mat4x4<f32>,
+    view: mat4x4<f32>,
+    camera_pos: vec4<f32>,
+    // x: light count, y: albedo mode (0 pre, 1 post, 2 pre+post), z: specular intensity,
+    // w: Blinn–Phong exponent.
+    params: vec4<f32>,
+    ambient: vec4<f32>,
+    lights: array<Light, 4>,
+};
+
+@group(0) @binding(0) var<uniform> g: Globals;
+@group(0) @binding(1) var shadow_maps: texture_depth_2d_array;
+@group(0) @binding(2) var shadow_sampler: sampler_comparison;
+
+struct VIn {
+    @location(0) pos: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) albedo: vec3<f32>,
+    @location(3) strength: f32,
+};
+
+struct VOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) albedo: vec3<f32>,
+    @location(3) strength: f32,
+    @location(4) view_depth: f32,
+};
+
+@vertex
+fn vs(v: VIn) -> VOut {
+    var o: VOut;
+    o.clip = g.view_proj * vec4<f32>(v.pos, 1.0);
+    o.world = v.pos;
+    o.normal = v.normal;
+    o.albedo = v.albedo;
+    o.strength = v.strength;
+    o.view_depth = -(g.view * vec4<f32>(v.pos, 1.0)).z;
+    return o;
+}
+
+fn shadow(i: u32, world: vec3<f32>, n_dot_l: f32) -> f32 {
+    let layer = g.lights[i].color.w;
+    if layer < 0.0 {
+        return 1.0;
+    }
+    let p = g.lights[i].view_proj * vec4<f32>(world, 1.0);
+    let ndc = p.xyz / p.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0 {
+        return 1.0;
+    }
+    let bias = 0.0015 + 0.004 * (1.0 - n_dot_l);
+    let texel = 1.0 / vec2<f32>(textureDimensions(shadow_maps));
+    var lit = 0.0;
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            lit += textureSampleCompareLevel(shadow_maps, shadow_sampler,
+                uv + vec2<f32>(f32(dx), f32(dy)) * texel, i32(layer), ndc.z - bias);
+        }
+    }
+    return lit / 9.0;
+}
+
+struct FOut {
+    @location(0) diffuse: vec4<f32>,
+    @location(1) specular: vec4<f32>,
+    @location(2) geometry: vec4<f32>,
+};
+
+@fragment
+fn fs(v: VOut, @builtin(front_facing) front: bool) -> FOut {
+    var n = normalize(v.normal);
+    if !front {
+        n = -n;
+    }
+    let view_dir = normalize(g.camera_pos.xyz - v.world);
+    var irradiance = g.ambient.rgb;
+    var spec = vec3<f32>(0.0);
+    for (var i = 0u; i < u32(g.params.x); i++) {
+        let l4 = g.lights[i].pos_or_dir;
+        var l = normalize(l4.xyz);
+        var scale = g.lights[i].color.rgb;
+        if l4.w > 0.5 {
+            let d = l4.xyz - v.world;
+            l = normalize(d);
+            scale = scale / dot(d, d);
+        }
+        let n_dot_l = max(dot(n, l), 0.0);
+        if n_dot_l <= 0.0 {
+            continue;
+        }
+        let vis = shadow(i, v.world, n_dot_l);
+        irradiance += scale * n_dot_l * vis;
+        let h = normalize(l + view_dir);
+        spec += scale * g.params.z * pow(max(dot(n, h), 0.0), g.params.w) * n_dot_l * vis;
+    }
+    var pre = v.albedo;
+    var post = vec3<f32>(1.0);
+    let mode = u32(g.params.y);
+    if mode == 1u {
+        pre = vec3<f32>(1.0);
+        post = v.albedo;
+    } else if mode == 2u {
+        pre = sqrt(v.albedo);
+        post = sqrt(v.albedo);
+    }
+    var o: FOut;
+    o.diffuse = vec4<f32>(irradiance * pre, 1.0);
+    o.specular = vec4<f32>(spec, v.strength);
+    o.geometry = vec4<f32>(v.view_depth, bitcast<f32>(pack4x8unorm(vec4<f32>(post, 1.0))), 0.0, 1.0);
+    return o;
+}

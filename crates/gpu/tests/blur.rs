@@ -1,0 +1,269 @@
+//! The GPU blur passes against the CPU reference convolutions of `fit`. These run on whatever
+//! adapter wgpu finds; in CI that is Mesa's lavapipe. Under CI=true a missing adapter fails.
+
+use fit::convolve::{Image, convolve_2d, convolve_separable};
+use fit::taps::ShaderKernel;
+use fit::{Profile, ground_truth, preint, svd};
+use gpu::{BlurParams, DepthMode, Gpu, GpuKernel, blur_image};
+
+fn gpu() -> Option<Gpu> {
+    match Gpu::new() {
+        Ok(g) => Some(g),
+        Err(e) if std::env::var("CI").as_deref() == Ok("true") => panic!("CI=true and {e}"),
+        Err(e) => {
+            eprintln!("skipping GPU test: {e}");
+            None
+        }
+    }
+}
+
+/// A skin-like profile: Rd spacing h = 0.01 cm, two decay lengths per channel.
+fn profile() -> Profile {
+    Profile::from_fn(0.01, 40, |c, r| {
+        let l = [0.08, 0.05, 0.03][c];
+        (-r / l).exp() / r.max(0.005) + 0.3 * (-r / (3.0 * l)).exp() / r.max(0.005)
+    })
+}
+
+/// Pixel size = h: at view depth `z`, px_per_cm_at_unit_depth = z/h.
+fn params(z: f32, h: f64, mode: DepthMode) -> BlurParams {
+    BlurParams {
+        px_per_cm_at_unit_depth: z / h as f32,
+        sss_width: 1.0,
+        depth_mode: mode,
+        tolerance_cm: 0.5,
+        jitter: 0.0,
+        fixed_depth: None,
+    }
+}
+
+fn rgba(channels: [&Image; 3]) -> Vec<[f32; 4]> {
+    (0..channels[0].v.len())
+        .map(|i| {
+            [
+                channels[0].v[i] as f32,
+                channels[1].v[i] as f32,
+                channels[2].v[i] as f32,
+                1.0,
+            ]
+        })
+        .collect()
+}
+
+fn test_image(w: usize, h: usize) -> Image {
+    let mut img = Image::new(w, h);
+    for y in 0..h {
+        for x in 0..w {
+            // An edge, a bright square and a smooth ramp.
+            let edge = if x < w / 3 { 1.0 } else { 0.0 };
+            let square = if (30..38).contains(&x) && (10..18).contains(&y) {
+                4.0
+            } else {
+                0.0
+            };
+            img.v[y * w + x] = edge + square + 0.2 * (y as f64 / h as f64);
+        }
+    }
+    img
+}
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0, |a, b| a.max(b.abs()))
+}
+
+/// Both passes of a rank-3 SVD kernel with 17 quadratic taps at constant depth equal the CPU's
+/// separable convolution with the same taps: GPU linear interpolation between the two nearest
+/// pixels is the CPU's linear splitting of each tap. Bound: 2·10⁻⁶ of the image's maximum
+/// (f32 accumulation over 3 × 2 × 17 taps).
+#[test]
+fn blur_passes_equal_the_cpu_separable_convolution() {
+    let Some(gpu) = gpu() else { return };
+    let p = profile();
+    let ks: Vec<_> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
+    let seps: Vec<_> = ks.iter().map(|k| svd(k, 3).0).collect();
+    let kernel =
+        ShaderKernel::from_separable("svd", "test", [&seps[0], &seps[1], &seps[2]], 17, 0.95, 0.0);
+    let (w, h) = (64usize, 48usize);
+    let img = test_image(w, h);
+    let geometry = vec![[30.0f32, 1.0, 0.0, 1.0]; w * h];
+    let out = blur_image(
+        &gpu,
+        &rgba([&img, &img, &img]),
+        &geometry,
+        (w as u32, h as u32),
+        &GpuKernel::from_shader_kernel(&kernel).unwrap(),
+        &params(30.0, p.dr, DepthMode::None),
+    )
+    .unwrap();
+    let scale = max_abs(&img.v);
+    for c in 0..3 {
+        let cpu = convolve_separable(&img, &kernel.to_separable(c, p.dr, 2 * ks[c].half));
+        let diff: Vec<f64> = (0..w * h).map(|i| out[i][c] as f64 - cpu.v[i]).collect();
+        assert!(
+            max_abs(&diff) < 2e-6 * scale,
+            "channel {c}: max |GPU − CPU| = {:e}",
+            max_abs(&diff)
+        );
+    }
+}
+
+/// The exactness of pre-integration on an edge survives the whole GPU path: a dense
+/// pre-integrated kernel (one tap per sample) on an edge image equals the CPU's 2D convolution
+/// with the ground-truth kernel.
+#[test]
+fn preintegrated_edge_matches_the_2d_ground_truth_on_the_gpu() {
+    let Some(gpu) = gpu() else { return };
+    let p = profile();
+    let ks: Vec<_> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
+    let seps: Vec<_> = ks.iter().map(preint).collect();
+    let kernel = ShaderKernel::dense("preint", "test", [&seps[0], &seps[1], &seps[2]]);
+    let (w, h) = (120usize, 24usize);
+    let mut edge = Image::new(w, h);
+    for y in 0..h {
+        for x in 0..w / 2 {
+            edge.v[y * w + x] = 1.0;
+        }
+    }
+    let geometry = vec![[30.0f32, 1.0, 0.0, 1.0]; w * h];
+    let out = blur_image(
+        &gpu,
+        &rgba([&edge, &edge, &edge]),
+        &geometry,
+        (w as u32, h as u32),
+        &GpuKernel::from_shader_kernel(&kernel).unwrap(),
+        &params(30.0, p.dr, DepthMode::None),
+    )
+    .unwrap();
+    for c in 0..3 {
+        let truth = convolve_2d(&edge, &ks[c]);
+        let diff: Vec<f64> = (0..w * h).map(|i| out[i][c] as f64 - truth.v[i]).collect();
+        let peak = max_abs(&truth.v);
+        assert!(
+            max_abs(&diff) < 1e-5 * peak,
+            "channel {c}: {:e} of {peak}",
+            max_abs(&diff)
+        );
+    }
+}
+
+/// Light does not bleed across a depth discontinuity when the blur follows the surface (lerp)
+/// or rejects samples, while without a depth test it does; measured on the dark side of an edge
+/// that is also a 10 cm step in depth.
+#[test]
+fn depth_discontinuities_stop_bleeding() {
+    let Some(gpu) = gpu() else { return };
+    let p = profile();
+    let ks: Vec<_> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
+    let seps: Vec<_> = ks.iter().map(preint).collect();
+    let kernel = GpuKernel::from_shader_kernel(&ShaderKernel::from_separable(
+        "preint",
+        "test",
+        [&seps[0], &seps[1], &seps[2]],
+        33,
+        0.95,
+        0.0,
+    ))
+    .unwrap();
+    let (w, h) = (80usize, 8usize);
+    let mut img = Image::new(w, h);
+    let mut geometry = vec![[30.0f32, 1.0, 0.0, 1.0]; w * h];
+    for y in 0..h {
+        for x in 0..w {
+            if x < w / 2 {
+                img.v[y * w + x] = 1.0;
+            } else {
+                geometry[y * w + x][0] = 40.0;
+            }
+        }
+    }
+    let bleed = |mode| {
+        let mut pr = params(30.0, p.dr, mode);
+        pr.fixed_depth = Some(30.0);
+        let out = blur_image(
+            &gpu,
+            &rgba([&img, &img, &img]),
+            &geometry,
+            (w as u32, h as u32),
+            &kernel,
+            &pr,
+        )
+        .unwrap();
+        let dark: f64 = (0..h)
+            .flat_map(|y| (w / 2..w / 2 + 10).map(move |x| (x, y)))
+            .map(|(x, y)| out[y * w + x][0] as f64)
+            .sum();
+        let lit_edge = out[(h / 2) * w + w / 2 - 1][0] as f64;
+        (dark / (10 * h) as f64, lit_edge)
+    };
+    let (none, _) = bleed(DepthMode::None);
+    let (lerp, _) = bleed(DepthMode::Lerp);
+    let (reject, reject_edge) = bleed(DepthMode::Reject);
+    eprintln!(
+        "mean light within 10 px of the step: none {none:.4}, lerp {lerp:.2e}, reject {reject:.2e}"
+    );
+    assert!(none > 0.02, "{none}");
+    assert!(
+        lerp < 1e-3 * none && reject < 1e-3 * none,
+        "lerp {lerp}, reject {reject}, none {none}"
+    );
+    // Rejection renormalizes: the lit side's last pixel keeps the kernel's whole weight × 1.
+    let total: f64 = seps[0]
+        .terms
+        .iter()
+        .map(|t| t.sign * t.a.iter().sum::<f64>().powi(2))
+        .sum();
+    assert!(
+        (reject_edge - total).abs() < 1e-3 * total,
+        "{reject_edge} vs {total}"
+    );
+}
+
+/// Doubling the view depth halves the blur radius (eq. 4.11): the 10–90% width of a blurred edge.
+#[test]
+fn doubling_the_depth_halves_the_blur_radius() {
+    let Some(gpu) = gpu() else { return };
+    let p = profile();
+    let ks: Vec<_> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
+    let seps: Vec<_> = ks.iter().map(preint).collect();
+    let kernel = GpuKernel::from_shader_kernel(&ShaderKernel::from_separable(
+        "preint",
+        "test",
+        [&seps[0], &seps[1], &seps[2]],
+        65,
+        0.99,
+        0.0,
+    ))
+    .unwrap();
+    let (w, h) = (400usize, 4usize);
+    let mut img = Image::new(w, h);
+    for y in 0..h {
+        for x in 0..w / 2 {
+            img.v[y * w + x] = 1.0;
+        }
+    }
+    let width = |z: f32| {
+        let geometry = vec![[z, 1.0, 0.0, 1.0]; w * h];
+        // Pixel size h at z = 10 cm: a kernel of ~1 cm spans ~100 px there.
+        let pr = params(10.0, p.dr, DepthMode::None);
+        let out = blur_image(
+            &gpu,
+            &rgba([&img, &img, &img]),
+            &geometry,
+            (w as u32, h as u32),
+            &kernel,
+            &pr,
+        )
+        .unwrap();
+        let row: Vec<f64> = (0..w).map(|x| out[w + x][0] as f64).collect();
+        let (hi, lo) = (row[0], row[w - 1]);
+        let cross = |level: f64| {
+            let t = lo + level * (hi - lo);
+            let i = row.iter().position(|&v| v < t).unwrap();
+            (i - 1) as f64 + (row[i - 1] - t) / (row[i - 1] - row[i])
+        };
+        cross(0.1) - cross(0.9)
+    };
+    let (near, far) = (width(10.0), width(20.0));
+    eprintln!("10–90% edge width: {near:.2} px at 10 cm, {far:.2} px at 20 cm");
+    assert!((near / far - 2.0).abs() < 0.05, "{near} / {far}");
+}

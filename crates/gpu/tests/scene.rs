@@ -1,0 +1,86 @@
+//! The scene pass against direct lighting computed here: Lambert's cosine law on the sphere and
+//! the sphere's shadow on the floor. Under CI=true a missing adapter fails.
+
+use glam::{Vec3, Vec4Swizzles};
+use gpu::{AlbedoMode, Gpu, Light, RenderParams, Scene, render};
+
+fn gpu() -> Option<Gpu> {
+    match Gpu::new() {
+        Ok(g) => Some(g),
+        Err(e) if std::env::var("CI").as_deref() == Ok("true") => panic!("CI=true and {e}"),
+        Err(e) => {
+            eprintln!("skipping GPU test: {e}");
+            None
+        }
+    }
+}
+
+const W: u32 = 320;
+const H: u32 = 180;
+
+/// The pixel a world point projects to.
+fn pixel(scene: &Scene, p: Vec3) -> (usize, usize) {
+    let vp = scene.camera.projection(W as f32 / H as f32, 1.0, 500.0) * scene.camera.view();
+    let c = vp * p.extend(1.0);
+    let ndc = c.xyz() / c.w;
+    (
+        ((ndc.x * 0.5 + 0.5) * W as f32) as usize,
+        ((0.5 - ndc.y * 0.5) * H as f32) as usize,
+    )
+}
+
+#[test]
+fn irradiance_follows_the_cosine_law_and_shadows_fall_where_geometry_puts_them() {
+    let Some(gpu) = gpu() else { return };
+    let scene = Scene::sphere();
+    let Light::Directional {
+        towards,
+        irradiance,
+        ..
+    } = scene.lights[0]
+    else {
+        panic!()
+    };
+    let params = RenderParams {
+        width: W,
+        height: H,
+        albedo: AlbedoMode::Post,
+        ..RenderParams::default()
+    };
+    let frame = render(&gpu, &scene, None, &params).unwrap();
+    let at = |(x, y): (usize, usize)| frame.irradiance[y * W as usize + x];
+    // Points on the sphere (centre (0, 5, 0), radius 5) facing the camera: E = E₀·max(n·l, 0) + ambient.
+    let centre = Vec3::new(0.0, 5.0, 0.0);
+    for dir in [
+        Vec3::new(0.0, 0.3, 1.0),
+        Vec3::new(-0.5, 0.5, 1.0),
+        Vec3::new(-0.3, 0.4, 0.9),
+    ] {
+        let n = dir.normalize();
+        let e = at(pixel(&scene, centre + 5.0 * n));
+        let want = irradiance.x * n.dot(towards).max(0.0) + scene.ambient.x;
+        assert!(
+            (e[0] - want).abs() < 0.02 * want,
+            "n = {n}: {} vs {want}",
+            e[0]
+        );
+    }
+    // The floor point in line with the sphere's centre along the light gets only ambient light;
+    // a floor point well away from the shadow gets E₀·l_y + ambient.
+    let shadowed = centre - towards * (centre.y / towards.y);
+    let e = at(pixel(&scene, shadowed));
+    assert!((e[0] - scene.ambient.x).abs() < 1e-3, "in shadow: {}", e[0]);
+    let lit = at(pixel(&scene, Vec3::new(-9.0, 0.0, 3.0)));
+    let want = irradiance.x * towards.y + scene.ambient.x;
+    assert!(
+        (lit[0] - want).abs() < 1e-3 * want,
+        "lit floor: {} vs {want}",
+        lit[0]
+    );
+    // Depth is the view depth of what the pixel sees; strength is 1 on the sphere, 0 on the floor.
+    let p = centre + 5.0 * Vec3::Z;
+    let g = frame.geometry[pixel(&scene, p).1 * W as usize + pixel(&scene, p).0];
+    let view_depth = -(scene.camera.view() * p.extend(1.0)).z;
+    assert!((g[0] - view_depth).abs() < 0.05, "{} vs {view_depth}", g[0]);
+    assert_eq!(g[1], 1.0);
+}
