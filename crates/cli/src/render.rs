@@ -106,6 +106,31 @@ pub struct RenderArgs {
     #[arg(long = "light", value_parser = parse_light)]
     lights: Vec<Light>,
 
+    /// Diffuse albedo R,G,B of the SSS objects (e.g. the material's total diffuse reflectance)
+    #[arg(long, value_parser = parse_vec3)]
+    object_albedo: Option<Vec3>,
+
+    /// Diffuse albedo R,G,B of the floor
+    #[arg(long, value_parser = parse_vec3)]
+    floor_albedo: Option<Vec3>,
+
+    /// Blinn–Phong specular intensity (0: none)
+    #[arg(long)]
+    specular: Option<f32>,
+
+    /// Constant ambient irradiance (0: none)
+    #[arg(long)]
+    ambient: Option<f32>,
+
+    /// Add a black, non-scattering box (an occluder that casts hard shadows), repeatable:
+    /// MIN_X,MIN_Y,MIN_Z:MAX_X,MAX_Y,MAX_Z [cm]
+    #[arg(long = "box", value_parser = parse_box)]
+    boxes: Vec<(Vec3, Vec3)>,
+
+    /// Plain Lambertian shading: no scattering at all (a baseline)
+    #[arg(long, conflicts_with_all = ["kernel", "compare_models", "bench"])]
+    no_sss: bool,
+
     /// Render every kernel model and compare with the CPU 2D ground-truth convolution
     #[arg(long)]
     compare_models: bool,
@@ -143,6 +168,18 @@ fn parse_vec3(s: &str) -> Result<Vec3, String> {
     match v[..] {
         [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(x, y, z)),
         _ => Err(format!("{s:?}: expected three finite numbers X,Y,Z")),
+    }
+}
+
+fn parse_box(s: &str) -> Result<(Vec3, Vec3), String> {
+    let (a, b) = s.split_once(':').ok_or(format!(
+        "{s:?}: expected MIN_X,MIN_Y,MIN_Z:MAX_X,MAX_Y,MAX_Z"
+    ))?;
+    let (lo, hi) = (parse_vec3(a)?, parse_vec3(b)?);
+    if lo.cmplt(hi).all() {
+        Ok((lo, hi))
+    } else {
+        Err(format!("{s:?}: every MIN must be below its MAX"))
     }
 }
 
@@ -287,6 +324,40 @@ pub fn run(a: RenderArgs) -> Result<()> {
     if !a.lights.is_empty() {
         scene.lights = a.lights.clone();
     }
+    for (field, v) in [
+        ("--object-albedo", a.object_albedo),
+        ("--floor-albedo", a.floor_albedo),
+    ] {
+        if let Some(v) = v
+            && !(v.min_element() >= 0.0 && v.max_element() <= 1.0)
+        {
+            bail!("invalid {field} {v}: each channel must lie in [0, 1]");
+        }
+    }
+    for vert in &mut scene.mesh.vertices {
+        let albedo = if vert.strength > 0.0 {
+            a.object_albedo
+        } else {
+            a.floor_albedo
+        };
+        if let Some(v) = albedo {
+            vert.albedo = v.into();
+        }
+    }
+    for &(lo, hi) in &a.boxes {
+        scene.mesh.append(&gpu::Mesh::cuboid(lo, hi, [0.0; 3], 0.0));
+    }
+    for (field, v) in [("--specular", a.specular), ("--ambient", a.ambient)] {
+        if v.is_some_and(|x| !(x.is_finite() && x >= 0.0)) {
+            bail!("invalid {field} {v:?}: must be finite and ≥ 0");
+        }
+    }
+    if let Some(v) = a.specular {
+        scene.specular = v;
+    }
+    if let Some(v) = a.ambient {
+        scene.ambient = Vec3::splat(v);
+    }
     if (scene.camera.position - scene.camera.target).length() <= 0.0 {
         bail!("invalid --camera/--target: they coincide");
     }
@@ -319,20 +390,26 @@ pub fn run(a: RenderArgs) -> Result<()> {
     std::fs::create_dir_all(&a.out)
         .with_context(|| format!("cannot create {}", a.out.display()))?;
     let kernel = match &a.kernel {
+        _ if a.no_sss => None,
         Some(path) => {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("cannot read {}", path.display()))?;
-            ShaderKernel::from_toml(&text, &path.display().to_string())?
+            Some(ShaderKernel::from_toml(&text, &path.display().to_string())?)
         }
-        None => kernel_of(&profile()?, &named.slug, ModelName::Preint, 1, a.taps)?,
+        None => Some(kernel_of(
+            &profile()?,
+            &named.slug,
+            ModelName::Preint,
+            1,
+            a.taps,
+        )?),
     };
+    let gpu_kernel = kernel
+        .as_ref()
+        .map(GpuKernel::from_shader_kernel)
+        .transpose()?;
     let start = std::time::Instant::now();
-    let frame = gpu::render(
-        &gpu,
-        &scene,
-        Some(&GpuKernel::from_shader_kernel(&kernel)?),
-        &params,
-    )?;
+    let frame = gpu::render(&gpu, &scene, gpu_kernel.as_ref(), &params)?;
     let seconds = start.elapsed().as_secs_f64();
     let png_path = a.out.join("render.png");
     write_atomic(
@@ -343,18 +420,23 @@ pub fn run(a: RenderArgs) -> Result<()> {
         &a.out.join("render.pfm"),
         &pfm(frame.width, frame.height, &frame.linear),
     )?;
+    let what = kernel.as_ref().map_or("no SSS".to_string(), |k| {
+        format!(
+            "{} kernel ({} pass(es) × {} taps)",
+            k.model,
+            k.pass.len(),
+            k.taps
+        )
+    });
     eprintln!(
-        "{} kernel ({} pass(es) × {} taps) on {} at {}×{} in {seconds:.2} s → {}",
-        kernel.model,
-        kernel.pass.len(),
-        kernel.taps,
+        "{what} on {} at {}×{} in {seconds:.2} s → {}",
         a.scene,
         a.width,
         a.height,
         png_path.display()
     );
     let mut summary = json!({
-        "adapter": gpu.adapter_name, "scene": a.scene, "kernel": kernel.model, "width": a.width, "height": a.height,
+        "adapter": gpu.adapter_name, "scene": a.scene, "kernel": kernel.as_ref().map(|k| k.model.clone()), "width": a.width, "height": a.height,
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
     });
     if a.compare_models {

@@ -1,0 +1,54 @@
+"""Shared helpers of the Mitsuba 3 reference scripts: running `sss`, reading its outputs."""
+
+import json
+import os
+import subprocess
+import sys
+
+
+def sss_binary(arg):
+    """The `sss` executable: --sss, else target/release/sss, else the one on PATH."""
+    if arg:
+        return arg
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    local = os.path.join(root, "target", "release", "sss")
+    return local if os.path.exists(local) else "sss"
+
+
+def run(cmd, **kw):
+    """Runs a command; on failure prints its stderr and exits."""
+    r = subprocess.run(cmd, capture_output=True, text=True, **kw)
+    if r.returncode != 0:
+        sys.stderr.write(f"command failed: {' '.join(cmd)}\n{r.stderr}")
+        sys.exit(2)
+    return r.stdout
+
+
+def material(sss, name):
+    """A built-in material's coefficients [1/cm] per channel, from `sss materials --json`."""
+    for m in json.loads(run([sss, "materials", "--json"]))["materials"]:
+        if m["material"] == name:
+            return m
+    sys.exit(f"unknown material {name!r}")
+
+
+def read_profile(path):
+    """(dr, rows) of a profile CSV written by `sss simulate`; rows are (r, [R,G,B], [seR,seG,seB]),
+    the last (overflow) bin dropped."""
+    lines = open(path).read().strip().split("\n")[1:]
+    rows = []
+    for line in lines:
+        v = [float(x) for x in line.split(",")]
+        rows.append((v[0], v[1:4], v[4:7]))
+    dr = rows[0][0] / (0.5 + 1.0 / 6.0)
+    return dr, rows[:-1]
+
+
+def mitsuba():
+    """Mitsuba 3 with the scalar_rgb variant (works from the wheel as is)."""
+    try:
+        import mitsuba as mi
+    except ImportError:
+        sys.exit("Mitsuba 3 is not installed: pip install -r scripts/references/requirements.txt")
+    mi.set_variant("scalar_rgb")
+    return mi

@@ -1,0 +1,40 @@
+//! The Mitsuba 3 references (scripts/references) at CI size: `sss simulate` against Mitsuba's
+//! path tracer on Rd(r), and `sss render` against it on images. Needs Python with the packages in
+//! scripts/references/requirements.txt (`.ci/run` installs them); outside CI a machine without
+//! them skips, under CI=true it fails.
+
+use std::process::Command;
+
+#[test]
+fn mitsuba_references_agree() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    let probe = Command::new("python3")
+        .args(["-c", "import mitsuba, numpy"])
+        .output();
+    if !probe.is_ok_and(|o| o.status.success()) {
+        assert_ne!(
+            std::env::var("CI").as_deref(),
+            Ok("true"),
+            "CI=true and Mitsuba 3 is not importable: pip install -r scripts/references/requirements.txt"
+        );
+        eprintln!("skipping: Mitsuba 3 is not installed");
+        return;
+    }
+    let out = tempfile::tempdir().unwrap();
+    let o = Command::new("python3")
+        .arg(format!("{root}/scripts/references/run.py"))
+        .args(["--quick", "--sss", env!("CARGO_BIN_EXE_sss"), "--out"])
+        .arg(out.path())
+        .current_dir(out.path())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    eprintln!("{stdout}");
+    assert!(
+        o.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(out.path().join("profiles.json").exists());
+    assert!(out.path().join("images/images.json").exists());
+}
