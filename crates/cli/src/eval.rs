@@ -20,21 +20,8 @@ pub struct EvalArgs {
     #[arg(required = true, value_name = "MATERIAL")]
     materials: Vec<String>,
 
-    /// Folder of profiles NAME.profile.csv; missing ones are simulated and written there
-    #[arg(long, default_value = "out")]
-    profiles: PathBuf,
-
-    /// Photons per channel for profiles simulated on demand [default: the thesis's 1e7]
-    #[arg(long, value_parser = parse_count)]
-    photons: Option<u64>,
-
-    /// Seed for profiles simulated on demand
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-
-    /// Worker threads [default: all cores]
-    #[arg(long)]
-    threads: Option<usize>,
+    #[command(flatten)]
+    source: ProfileSource,
 
     /// Write comparison plots (PNG) to this folder
     #[arg(long, value_name = "DIR")]
@@ -43,6 +30,34 @@ pub struct EvalArgs {
     /// Print the measurements as JSON on stdout
     #[arg(long)]
     json: bool,
+}
+
+/// Where MC profiles come from: a folder, with missing ones simulated there.
+#[derive(Args)]
+pub struct ProfileSource {
+    /// Folder of profiles NAME.profile.csv; missing ones are simulated and written there
+    #[arg(long, default_value = "out")]
+    pub profiles: PathBuf,
+
+    /// Photons per channel for profiles simulated on demand [default: the thesis's 1e7]
+    #[arg(long, value_parser = parse_count)]
+    pub photons: Option<u64>,
+
+    /// Seed for profiles simulated on demand
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+
+    /// Worker threads [default: all cores]
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+impl ProfileSource {
+    /// The profile of a material, on a pool of the requested threads.
+    pub fn profile(&self, n: &Named) -> Result<Profile> {
+        simulate::thread_pool(self.threads)?
+            .install(|| profile_for(n, &self.profiles, self.photons, self.seed))
+    }
 }
 
 /// The profile of a material: read from `dir`, or simulated (profile-only batch run) and saved.
@@ -88,10 +103,10 @@ pub fn run(a: EvalArgs) -> Result<()> {
         .iter()
         .map(|m| library::material(m))
         .collect::<Result<_>>()?;
-    let pool = simulate::thread_pool(a.threads)?;
+    let pool = simulate::thread_pool(a.source.threads)?;
     let mut materials = Vec::new();
     for n in &named {
-        let p = pool.install(|| profile_for(n, &a.profiles, a.photons, a.seed))?;
+        let p = a.source.profile(n)?;
         eprintln!(
             "fitting and evaluating every model for {} (kernel side {} samples) …",
             n.slug,

@@ -9,10 +9,10 @@ use fit::analytic::{Medium, Model};
 use fit::profile_compare::{BANDS, compare};
 use serde_json::{Value, json};
 
-use crate::eval::profile_for;
+use crate::eval::ProfileSource;
 use crate::files::write_atomic;
 use crate::library::{self, Named};
-use crate::{parse_count, simulate};
+use crate::simulate;
 
 fn parse_model(s: &str) -> Result<Model, String> {
     Model::parse(s).map_err(|e| e.to_string())
@@ -75,21 +75,8 @@ pub struct CompareArgs {
     #[arg(required = true, value_name = "MATERIAL")]
     materials: Vec<String>,
 
-    /// Folder of MC profiles NAME.profile.csv; missing ones are simulated and written there
-    #[arg(long, default_value = "out")]
-    profiles: PathBuf,
-
-    /// Photons per channel for profiles simulated on demand [default: the thesis's 1e7]
-    #[arg(long, value_parser = parse_count)]
-    photons: Option<u64>,
-
-    /// Seed for profiles simulated on demand
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-
-    /// Worker threads [default: all cores]
-    #[arg(long)]
-    threads: Option<usize>,
+    #[command(flatten)]
+    source: ProfileSource,
 
     /// Folder for the plots NAME.compare_profiles.png
     #[arg(long, default_value = "out/plots")]
@@ -111,12 +98,12 @@ pub fn compare_profiles(a: CompareArgs) -> Result<()> {
         .iter()
         .map(|m| library::material(m))
         .collect::<Result<_>>()?;
-    let pool = simulate::thread_pool(a.threads)?;
+    let pool = simulate::thread_pool(a.source.threads)?;
     std::fs::create_dir_all(&a.plots)
         .with_context(|| format!("cannot create {}", a.plots.display()))?;
     let mut out = Vec::new();
     for n in &named {
-        let mc = pool.install(|| profile_for(n, &a.profiles, a.photons, a.seed))?;
+        let mc = a.source.profile(n)?;
         let models = pool.install(|| compare(&mc, &n.material))?;
         let mfp = [0, 1, 2].map(|c| Medium::channel(&n.material, c).transport_mfp());
         let plot = a.plots.join(format!("{}.compare_profiles.png", n.slug));

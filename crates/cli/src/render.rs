@@ -14,7 +14,7 @@ use glam::Vec3;
 use gpu::{AlbedoMode, DepthMode, Gpu, GpuKernel, Light, RenderParams, Scene};
 use serde_json::json;
 
-use crate::eval::profile_for;
+use crate::eval::ProfileSource;
 use crate::files::write_atomic;
 use crate::fit::{KernelSpec, ModelName, build_kernel};
 use crate::library;
@@ -139,13 +139,8 @@ pub struct RenderArgs {
     #[arg(long)]
     bench: bool,
 
-    /// Folder of profiles NAME.profile.csv; missing ones are simulated there
-    #[arg(long, default_value = "out")]
-    profiles: PathBuf,
-
-    /// Photons per channel for profiles simulated on demand [default: the thesis's 1e7]
-    #[arg(long, value_parser = crate::parse_count)]
-    photons: Option<u64>,
+    #[command(flatten)]
+    source: ProfileSource,
 
     /// Output folder
     #[arg(long, default_value = "out/render")]
@@ -383,7 +378,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         fixed_depth: None,
         exposure: a.exposure,
     };
-    let profile = || profile_for(&named, &a.profiles, a.photons, 1);
+    let profile = || a.source.profile(&named);
     if a.bench {
         return bench(&gpu, &scene, &profile()?, &named.slug, &a);
     }

@@ -121,20 +121,13 @@ pub(crate) struct Blur {
 
 impl Blur {
     pub(crate) fn new(gpu: &Gpu) -> Blur {
-        let module = gpu
-            .device
-            .create_shader_module(wgpu::include_wgsl!("shaders/blur.wgsl"));
-        let pipeline = gpu
-            .device
-            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("blur"),
-                layout: None,
-                module: &module,
-                entry_point: Some("main"),
-                compilation_options: Default::default(),
-                cache: None,
-            });
-        Blur { pipeline }
+        Blur {
+            pipeline: crate::render::compute_pipeline(
+                &gpu.device,
+                wgpu::include_wgsl!("shaders/blur.wgsl"),
+                "blur",
+            ),
+        }
     }
 
     /// Records every pass of `kernel`: src → tmp (horizontal) → dst (vertical, accumulated).

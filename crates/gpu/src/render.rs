@@ -158,6 +158,34 @@ const SHADOW_SIZE: u32 = 2048;
 const NEAR: f32 = 1.0;
 const FAR: f32 = 500.0;
 
+/// Depth32 with writes and a less-than test.
+fn depth_test() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: wgpu::TextureFormat::Depth32Float,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}
+
+/// A compute pipeline from a WGSL module's `main`, its layout derived from the shader.
+pub(crate) fn compute_pipeline(
+    dev: &wgpu::Device,
+    module: wgpu::ShaderModuleDescriptor,
+    label: &str,
+) -> wgpu::ComputePipeline {
+    let module = dev.create_shader_module(module);
+    dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: None,
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
 /// Renders `scene`, scattering the diffuse light with `kernel` (None: plain Lambertian shading).
 pub fn render(
     gpu: &Gpu,
@@ -230,13 +258,7 @@ pub fn render(
             buffers: &[Some(vertex_layout.clone())],
         },
         primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: wgpu::TextureFormat::Depth32Float,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
+        depth_stencil: Some(depth_test()),
         multisample: Default::default(),
         fragment: None,
         multiview_mask: None,
@@ -347,13 +369,7 @@ pub fn render(
             buffers: &[Some(vertex_layout)],
         },
         primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: wgpu::TextureFormat::Depth32Float,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
+        depth_stencil: Some(depth_test()),
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState {
             module: &scene_module,
@@ -469,15 +485,7 @@ pub fn render(
         .iter()
         .map(|l| pixels(gpu, n, l))
         .collect();
-    let unpack_module = dev.create_shader_module(wgpu::include_wgsl!("shaders/unpack.wgsl"));
-    let unpack = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("unpack"),
-        layout: None,
-        module: &unpack_module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
+    let unpack = compute_pipeline(dev, wgpu::include_wgsl!("shaders/unpack.wgsl"), "unpack");
     let mut entries: Vec<wgpu::BindGroupEntry> = views
         .iter()
         .enumerate()
@@ -540,15 +548,7 @@ pub fn render(
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
-    let combine_module = dev.create_shader_module(wgpu::include_wgsl!("shaders/combine.wgsl"));
-    let combine = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("combine"),
-        layout: None,
-        module: &combine_module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
+    let combine = compute_pipeline(dev, wgpu::include_wgsl!("shaders/combine.wgsl"), "combine");
     let cu = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("combine params"),
         contents: bytemuck::cast_slice(&[w, h, params.exposure.to_bits(), 0]),

@@ -4,18 +4,10 @@
 use fit::convolve::{Image, convolve_2d, convolve_separable};
 use fit::taps::ShaderKernel;
 use fit::{Profile, ground_truth, preint, svd};
-use gpu::{BlurParams, DepthMode, Gpu, GpuKernel, blur_image};
+use gpu::{BlurParams, DepthMode, GpuKernel, blur_image};
 
-fn gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var("CI").as_deref() == Ok("true") => panic!("CI=true and {e}"),
-        Err(e) => {
-            eprintln!("skipping GPU test: {e}");
-            None
-        }
-    }
-}
+mod common;
+use common::gpu;
 
 /// A skin-like profile: Rd spacing h = 0.01 cm, two decay lengths per channel.
 fn profile() -> Profile {
@@ -23,6 +15,21 @@ fn profile() -> Profile {
         let l = [0.08, 0.05, 0.03][c];
         (-r / l).exp() / r.max(0.005) + 0.3 * (-r / (3.0 * l)).exp() / r.max(0.005)
     })
+}
+
+/// The pre-integrated kernel of [`profile`] with `taps` taps holding `coverage` of its mass.
+fn preint_kernel(taps: usize, coverage: f64) -> GpuKernel {
+    let p = profile();
+    let seps: Vec<_> = (0..3).map(|c| preint(&ground_truth(&p, c, None))).collect();
+    GpuKernel::from_shader_kernel(&ShaderKernel::from_separable(
+        "preint",
+        "test",
+        [&seps[0], &seps[1], &seps[2]],
+        taps,
+        coverage,
+        0.0,
+    ))
+    .unwrap()
 }
 
 /// Pixel size = h: at view depth `z`, px_per_cm_at_unit_depth = z/h.
@@ -155,15 +162,7 @@ fn depth_discontinuities_stop_bleeding() {
     let p = profile();
     let ks: Vec<_> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
     let seps: Vec<_> = ks.iter().map(preint).collect();
-    let kernel = GpuKernel::from_shader_kernel(&ShaderKernel::from_separable(
-        "preint",
-        "test",
-        [&seps[0], &seps[1], &seps[2]],
-        33,
-        0.95,
-        0.0,
-    ))
-    .unwrap();
+    let kernel = preint_kernel(33, 0.95);
     let (w, h) = (80usize, 8usize);
     let mut img = Image::new(w, h);
     let mut geometry = vec![[30.0f32, 1.0, 0.0, 1.0]; w * h];
@@ -223,17 +222,7 @@ fn depth_discontinuities_stop_bleeding() {
 fn doubling_the_depth_halves_the_blur_radius() {
     let Some(gpu) = gpu() else { return };
     let p = profile();
-    let ks: Vec<_> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
-    let seps: Vec<_> = ks.iter().map(preint).collect();
-    let kernel = GpuKernel::from_shader_kernel(&ShaderKernel::from_separable(
-        "preint",
-        "test",
-        [&seps[0], &seps[1], &seps[2]],
-        65,
-        0.99,
-        0.0,
-    ))
-    .unwrap();
+    let kernel = preint_kernel(65, 0.99);
     let (w, h) = (400usize, 4usize);
     let mut img = Image::new(w, h);
     for y in 0..h {

@@ -2,18 +2,10 @@
 //! the sphere's shadow on the floor. Under CI=true a missing adapter fails.
 
 use glam::{Vec3, Vec4Swizzles};
-use gpu::{AlbedoMode, Gpu, Light, RenderParams, Scene, render};
+use gpu::{AlbedoMode, Light, RenderParams, Scene, render};
 
-fn gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => Some(g),
-        Err(e) if std::env::var("CI").as_deref() == Ok("true") => panic!("CI=true and {e}"),
-        Err(e) => {
-            eprintln!("skipping GPU test: {e}");
-            None
-        }
-    }
-}
+mod common;
+use common::gpu;
 
 const W: u32 = 320;
 const H: u32 = 180;
