@@ -14,13 +14,15 @@ pub struct Gpu {
 }
 
 impl Gpu {
-    /// Opens the best adapter available.
+    /// Opens the best adapter of Vulkan, Metal or DX12 (a GL backend only adds noise headless).
     pub fn new() -> Result<Gpu> {
-        // Vulkan, Metal or DX12 (WGPU_BACKEND overrides); the GL backend only adds noise headless.
-        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-        if std::env::var_os("WGPU_BACKEND").is_none() {
-            desc.backends = wgpu::Backends::PRIMARY;
-        }
+        Gpu::with_backends(wgpu::Backends::PRIMARY)
+    }
+
+    /// Opens the best adapter of the given backends.
+    pub fn with_backends(backends: wgpu::Backends) -> Result<Gpu> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = backends;
         let instance = wgpu::Instance::new(desc);
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,

@@ -214,6 +214,19 @@ pub fn render(
     }
     let n = (w * h) as usize;
     let dev = &gpu.device;
+    let limit =
+        (dev.limits().max_storage_buffer_binding_size as u64).min(dev.limits().max_buffer_size);
+    if n as u64 * 16 > limit {
+        return Err(GpuError::invalid(
+            "image size",
+            format!("{w}×{h}"),
+            format!(
+                "needs {} MB per buffer, the adapter allows {} MB",
+                n * 16 >> 20,
+                limit >> 20
+            ),
+        ));
+    }
     let vbuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("vertices"),
         contents: bytemuck::cast_slice(&scene.mesh.vertices),
