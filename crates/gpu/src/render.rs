@@ -214,15 +214,17 @@ pub fn render(
     }
     let n = (w * h) as usize;
     let dev = &gpu.device;
-    let limit =
-        (dev.limits().max_storage_buffer_binding_size as u64).min(dev.limits().max_buffer_size);
+    let limit = dev
+        .limits()
+        .max_storage_buffer_binding_size
+        .min(dev.limits().max_buffer_size);
     if n as u64 * 16 > limit {
         return Err(GpuError::invalid(
             "image size",
             format!("{w}×{h}"),
             format!(
                 "needs {} MB per buffer, the adapter allows {} MB",
-                n * 16 >> 20,
+                (n * 16) >> 20,
                 limit >> 20
             ),
         ));
