@@ -126,15 +126,19 @@ def main():
     ap.add_argument("--quick", action="store_true", help="CI size: Skin1 only, fewer samples")
     ap.add_argument("--sss", help="path to the sss binary [default: target/release/sss]")
     ap.add_argument("--out", default="out/references", help="output folder for profiles.json")
+    ap.add_argument("--materials", help="comma-separated NAME:CHANNELS, e.g. marble:R,soymilk:RGB "
+                    "[default: skin1:RB with --quick, else skin1, marble and soymilk, all channels]")
     a = ap.parse_args()
     sss = sss_binary(a.sss)
     if a.quick:
         cases = [("skin1", "RB")]
-        bins, spp, seeds, photons = 6, 40000, 4, 1_000_000
+        bins, spp, seeds, photons = 6, 48000, 16, 1_000_000
     else:
         # Skin1 (η 1.3), Marble (η 1.5), a Narasimhan liquid with g > 0.8 (soy milk, g 0.83–0.87).
         cases = [("skin1", "RGB"), ("marble", "RGB"), ("soymilk", "RGB")]
-        bins, spp, seeds, photons = 10, 400000, 8, 10_000_000
+        bins, spp, seeds, photons = 10, 400000, 16, 10_000_000
+    if a.materials:
+        cases = [tuple(c.split(":")) if ":" in c else (c, "RGB") for c in a.materials.split(",")]
     os.makedirs(a.out, exist_ok=True)
     results = []
     with tempfile.TemporaryDirectory() as tmp:
