@@ -629,7 +629,17 @@ fn compare(
             Some(&GpuKernel::from_shader_kernel(&k)?),
             &params,
         )?;
-        let e = rms(&frame.scattered);
+        // What the image shows: scattered light on SSS pixels, the unscattered elsewhere.
+        let shown: Vec<[f32; 4]> = (0..w * h)
+            .map(|i| {
+                if sss[i] {
+                    frame.scattered[i]
+                } else {
+                    frame.irradiance[i]
+                }
+            })
+            .collect();
+        let e = rms(&shown);
         table(format!("  {label:<8} {:>9}", format!("{:.3}%", 100.0 * e)));
         write_atomic(
             &a.out.join(format!("{label}.png")),
@@ -640,12 +650,9 @@ fn compare(
         );
         cells.push(cell(
             format!("{label}: rms {:.2}%", 100.0 * e),
-            crop(&frame.scattered),
+            crop(&shown),
         ));
-        cells.push(cell(
-            format!("{label} − truth"),
-            diff_crop(&frame.scattered),
-        ));
+        cells.push(cell(format!("{label} − truth"), diff_crop(&shown)));
     }
     let sheet = a.out.join("compare_sheet.png");
     let tmp = a.out.join(".compare_sheet.tmp.png");
