@@ -132,7 +132,7 @@ def main():
     sss = sss_binary(a.sss)
     if a.quick:
         cases = [("skin1", "RB")]
-        bins, spp, seeds, photons = 6, 48000, 16, 1_000_000
+        bins, spp, seeds, photons = 6, 144000, 16, 1_000_000
     else:
         # Skin1 (η 1.3), Marble (η 1.5), a Narasimhan liquid with g > 0.8 (soy milk, g 0.83–0.87).
         cases = [("skin1", "RGB"), ("marble", "RGB"), ("soymilk", "RGB")]
