@@ -98,11 +98,7 @@ fn row_json(r: &Row) -> Value {
 }
 
 pub fn run(a: EvalArgs) -> Result<()> {
-    let named: Vec<Named> = a
-        .materials
-        .iter()
-        .map(|m| library::material(m))
-        .collect::<Result<_>>()?;
+    let named = library::materials(&a.materials)?;
     let pool = simulate::thread_pool(a.source.threads)?;
     let mut materials = Vec::new();
     for n in &named {

@@ -71,6 +71,11 @@ pub fn material(arg: &str) -> Result<Named> {
     }
 }
 
+/// Resolves every material argument (see [`material`]).
+pub fn materials(args: &[String]) -> Result<Vec<Named>> {
+    args.iter().map(|m| material(m)).collect()
+}
+
 /// Every built-in material, in alphabetical order.
 pub fn all() -> Result<Vec<Named>> {
     MATERIALS.iter().map(|(n, _)| material(n)).collect()

@@ -11,7 +11,7 @@ use serde_json::{Value, json};
 
 use crate::eval::ProfileSource;
 use crate::files::write_atomic;
-use crate::library::{self, Named};
+use crate::library;
 use crate::simulate;
 
 fn parse_model(s: &str) -> Result<Model, String> {
@@ -93,11 +93,7 @@ fn band_name(b: usize) -> String {
 
 /// Tabulates and plots every analytic model against each material's MC profile.
 pub fn compare_profiles(a: CompareArgs) -> Result<()> {
-    let named: Vec<Named> = a
-        .materials
-        .iter()
-        .map(|m| library::material(m))
-        .collect::<Result<_>>()?;
+    let named = library::materials(&a.materials)?;
     let pool = simulate::thread_pool(a.source.threads)?;
     std::fs::create_dir_all(&a.plots)
         .with_context(|| format!("cannot create {}", a.plots.display()))?;

@@ -57,6 +57,17 @@ fn rgba(channels: [&Image; 3]) -> Vec<[f32; 4]> {
         .collect()
 }
 
+/// 1 on the left half, 0 on the right.
+fn edge(w: usize, h: usize) -> Image {
+    let mut img = Image::new(w, h);
+    for y in 0..h {
+        for x in 0..w / 2 {
+            img.v[y * w + x] = 1.0;
+        }
+    }
+    img
+}
+
 fn test_image(w: usize, h: usize) -> Image {
     let mut img = Image::new(w, h);
     for y in 0..h {
@@ -125,12 +136,7 @@ fn preintegrated_edge_matches_the_2d_ground_truth_on_the_gpu() {
     let seps: Vec<_> = ks.iter().map(preint).collect();
     let kernel = ShaderKernel::dense("preint", "test", [&seps[0], &seps[1], &seps[2]]);
     let (w, h) = (120usize, 24usize);
-    let mut edge = Image::new(w, h);
-    for y in 0..h {
-        for x in 0..w / 2 {
-            edge.v[y * w + x] = 1.0;
-        }
-    }
+    let edge = edge(w, h);
     let geometry = vec![[30.0f32, 1.0, 0.0, 1.0]; w * h];
     let out = blur_image(
         &gpu,
@@ -224,12 +230,7 @@ fn doubling_the_depth_halves_the_blur_radius() {
     let p = profile();
     let kernel = preint_kernel(65, 0.99);
     let (w, h) = (400usize, 4usize);
-    let mut img = Image::new(w, h);
-    for y in 0..h {
-        for x in 0..w / 2 {
-            img.v[y * w + x] = 1.0;
-        }
-    }
+    let img = edge(w, h);
     let width = |z: f32| {
         let geometry = vec![[z, 1.0, 0.0, 1.0]; w * h];
         // Pixel size h at z = 10 cm: a kernel of ~1 cm spans ~100 px there.
