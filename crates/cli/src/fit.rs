@@ -3,30 +3,172 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
-use clap::{Args, ValueEnum};
+use clap::Args;
 use fit::metrics::ImageEval;
-use fit::taps::{Pass, ShaderKernel, Tap};
-use fit::{Burley, Gaussians, Guided, Manual, Profile, Separable, ground_truth, preint, svd};
+use fit::skin::Skin;
+use fit::taps::{ShaderKernel, TapSpec};
+use fit::{FittedKernel, KernelModel, Manual, ManualParams, Profile, SkinParams, ground_truth};
 use serde_json::json;
 
 use crate::files::write_atomic;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum ModelName {
-    /// SVD rank-N (thesis §5.1); --rank N
-    Svd,
-    /// Pre-integration (thesis §5.2)
-    Preint,
-    /// Guided optimization (thesis §5.3); --k, --b
-    Guided,
-    /// Manual two-Gaussian model (§5.4): Table A.1 if the material has a row, else an image-space fit
-    Manual,
-    /// d'Eon sum of N Gaussians; --rank N
-    Deon,
-    /// The original SSSS skin kernel (eq. 4.8) with the demo's defaults
-    Skin,
-    /// Christensen–Burley normalized diffusion fitted to the profile, projected onto one axis
-    Burley,
+/// The kernel model and its parameters, as every command that builds a kernel takes them.
+#[derive(Args, Clone)]
+pub struct ModelArgs {
+    /// Kernel model: svd, svdN, svdN-renorm, preint, guided[-kK][-bB], manual, deonN, skin,
+    /// skin-fit (SSSS's strength and falloff fitted to the profile, thesis eq. 4.13), burley.
+    /// Full grammar in ARCHITECTURE.md; --rank, --k, --b and the knobs below refine it
+    #[arg(long, default_value = "preint")]
+    pub model: KernelModel,
+
+    /// Rank (svd) or number of Gaussians (deon): separable passes = 2·N
+    #[arg(long)]
+    pub rank: Option<usize>,
+
+    /// Guided optimization: radial weight exponent k (0 centre … 2 falloff)
+    #[arg(long)]
+    pub k: Option<f64>,
+
+    /// Guided optimization: axis suppression b on [−1, 1] (0 = none; the thesis uses 50)
+    #[arg(long)]
+    pub b: Option<f64>,
+
+    /// SVD: rescale to ‖A‖₁ = ‖R_d‖₁ (thesis eq. 5.12)
+    #[arg(long)]
+    pub renormalize: bool,
+
+    /// Manual model: weight w of the near Gaussian, in [0, 1] (one value or R,G,B); unset knobs
+    /// come from Table A.1 or the image-space fit
+    #[arg(long, value_parser = parse_rgb, value_name = "W[,W,W]")]
+    pub w: Option<[f64; 3]>,
+
+    /// Manual model: variance τ_n of the near Gaussian [mm²] (one value or R,G,B)
+    #[arg(long, value_parser = parse_rgb, value_name = "MM2[,MM2,MM2]")]
+    pub tau_near: Option<[f64; 3]>,
+
+    /// Manual model: variance τ_f of the far Gaussian [mm²] (one value or R,G,B)
+    #[arg(long, value_parser = parse_rgb, value_name = "MM2[,MM2,MM2]")]
+    pub tau_far: Option<[f64; 3]>,
+
+    /// Skin model: SSSS strength t in [0, 1], the share of light scattered (one value or R,G,B)
+    /// [default: the demo's 0.48,0.41,0.28]
+    #[arg(long, value_parser = parse_rgb, value_name = "T[,T,T]")]
+    pub strength: Option<[f64; 3]>,
+
+    /// Skin model: SSSS falloff f, each channel's radius stretch 0.001 + f (one value or R,G,B)
+    /// [default: the demo's 1,0.37,0.3]
+    #[arg(long, value_parser = parse_rgb, value_name = "F[,F,F]")]
+    pub falloff: Option<[f64; 3]>,
+
+    /// Skin model: width w, multiplies the kernel's size (1 = the demo's profile in mm, taps to
+    /// ±2 mm at 17 taps) [default: 1]
+    #[arg(long)]
+    pub width: Option<f64>,
+}
+
+/// One value or three comma-separated values (R,G,B).
+pub fn parse_rgb(s: &str) -> Result<[f64; 3], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| {
+            x.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("{x:?} is not a number"))
+        })
+        .collect::<Result<_, _>>()?;
+    match v[..] {
+        [a] => Ok([a; 3]),
+        [a, b, c] => Ok([a, b, c]),
+        _ => Err(format!("{s:?}: give one value or three (R,G,B)")),
+    }
+}
+
+impl ModelArgs {
+    /// The model with the modifiers applied; a modifier that does not belong to the model is an
+    /// error naming it. Manual knobs that are left unset need the ground truths (`truths`).
+    pub fn resolve(&self, truths: &[fit::Kernel2], material: &str) -> Result<KernelModel> {
+        let m = self.model;
+        let manual_knobs = self.w.is_some() || self.tau_near.is_some() || self.tau_far.is_some();
+        let skin_knobs = self.strength.is_some() || self.falloff.is_some() || self.width.is_some();
+        let wrong = |flag: &str, family: &str| -> Result<KernelModel> {
+            bail!("invalid {flag} for --model {m}: it applies to {family} only")
+        };
+        let model = match m {
+            KernelModel::Svd { rank, renormalize } => KernelModel::Svd {
+                rank: self.rank.unwrap_or(rank),
+                renormalize: renormalize || self.renormalize,
+            },
+            KernelModel::Deon { n } => KernelModel::Deon {
+                n: self.rank.unwrap_or(n),
+            },
+            KernelModel::Guided { k, b } => KernelModel::Guided {
+                k: self.k.unwrap_or(k),
+                b: self.b.unwrap_or(b),
+            },
+            _ if self.rank.is_some() => return wrong("--rank", "svd and deon"),
+            _ if self.k.is_some() || self.b.is_some() => return wrong("--k/--b", "guided"),
+            KernelModel::Manual(p) if manual_knobs => {
+                let base = match p {
+                    ManualParams::Given(g) => g,
+                    ManualParams::Auto => match m.fit_truths(truths, material)?.model {
+                        KernelModel::Manual(ManualParams::Given(g)) => g,
+                        _ => unreachable!("manual resolves to manual"),
+                    },
+                };
+                KernelModel::Manual(ManualParams::Given([0, 1, 2].map(|c| Manual {
+                    w: self.w.map_or(base[c].w, |w| w[c]),
+                    tau_near: self.tau_near.map_or(base[c].tau_near, |t| t[c] / 100.0),
+                    tau_far: self.tau_far.map_or(base[c].tau_far, |t| t[c] / 100.0),
+                })))
+            }
+            KernelModel::Skin(SkinParams::Given(s)) if skin_knobs => {
+                KernelModel::Skin(SkinParams::Given(Skin {
+                    strength: self.strength.unwrap_or(s.strength),
+                    falloff: self.falloff.unwrap_or(s.falloff),
+                    width: self.width.unwrap_or(s.width),
+                }))
+            }
+            m => m,
+        };
+        if self.renormalize && !matches!(model, KernelModel::Svd { .. }) {
+            return wrong("--renormalize", "svd");
+        }
+        if manual_knobs && !matches!(model, KernelModel::Manual(_)) {
+            return wrong("--w/--tau-near/--tau-far", "manual");
+        }
+        if skin_knobs && !matches!(model, KernelModel::Skin(SkinParams::Given(_))) {
+            return wrong("--strength/--falloff/--width", "skin");
+        }
+        model.validate()?;
+        Ok(model)
+    }
+}
+
+/// Options of how a model is sampled into taps.
+#[derive(Args, Clone)]
+pub struct TapArgs {
+    /// Taps per 1D pass (odd numbers include the centre)
+    #[arg(long, default_value_t = 17)]
+    pub taps: usize,
+
+    /// Fraction of taps the renderer should jitter per pixel (stored in the kernel file)
+    #[arg(long, default_value_t = 0.0)]
+    pub jitter: f64,
+
+    /// Fraction of the widest channel's 1D mass inside the tap range (0.95 balances the channels
+    /// at 17 taps; the tail beyond still goes into the outer taps' weights)
+    #[arg(long, default_value_t = 0.95)]
+    pub coverage: f64,
+}
+
+impl TapArgs {
+    pub fn spec(&self) -> TapSpec {
+        TapSpec {
+            taps: self.taps,
+            coverage: self.coverage,
+            jitter: self.jitter,
+        }
+    }
 }
 
 #[derive(Args)]
@@ -34,38 +176,11 @@ pub struct FitArgs {
     /// Profile CSV written by `sss simulate` (r_cm,R,G,B,R_se,G_se,B_se)
     profile: PathBuf,
 
-    /// Kernel model
-    #[arg(long, value_enum)]
-    model: ModelName,
+    #[command(flatten)]
+    model: ModelArgs,
 
-    /// Rank (svd) or number of Gaussians (deon): separable passes = 2·N
-    #[arg(long, default_value_t = 1)]
-    rank: usize,
-
-    /// Guided optimization: radial weight exponent k (0 centre … 2 falloff)
-    #[arg(long, default_value_t = 1.0)]
-    k: f64,
-
-    /// Guided optimization: axis suppression b on [−1, 1] (0 = none; the thesis uses 50)
-    #[arg(long, default_value_t = 0.0)]
-    b: f64,
-
-    /// SVD: rescale to ‖A‖₁ = ‖R_d‖₁ (thesis eq. 5.12)
-    #[arg(long)]
-    renormalize: bool,
-
-    /// Taps per 1D pass (odd numbers include the centre)
-    #[arg(long, default_value_t = 17)]
-    taps: usize,
-
-    /// Fraction of taps the renderer should jitter per pixel (stored in the kernel file)
-    #[arg(long, default_value_t = 0.0)]
-    jitter: f64,
-
-    /// Fraction of the widest channel's 1D mass inside the tap range (0.95 balances the channels
-    /// at 17 taps; the tail beyond still goes into the outer taps' weights)
-    #[arg(long, default_value_t = 0.95)]
-    coverage: f64,
+    #[command(flatten)]
+    taps: TapArgs,
 
     /// Material name (for Table A.1 lookup and the file's header) [default: from the file name]
     #[arg(long)]
@@ -80,127 +195,62 @@ pub struct FitArgs {
     json: bool,
 }
 
-/// Fits one model to every channel's normalized ground truth.
-fn fit_channels(
+/// A model fitted to a profile and sampled into taps.
+pub fn build_kernel(
     p: &Profile,
-    model: ModelName,
-    rank: usize,
-    k: f64,
-    b: f64,
-    renormalize: bool,
+    model: &ModelArgs,
     material: &str,
-) -> Result<Vec<Separable>> {
-    (0..3)
-        .map(|c| {
+    spec: TapSpec,
+) -> Result<(ShaderKernel, FittedKernel)> {
+    spec.validate()?;
+    let truths: Vec<fit::Kernel2> = (0..3).map(|c| ground_truth(p, c, None)).collect();
+    let fitted = model
+        .resolve(&truths, material)?
+        .fit_truths(&truths, material)?;
+    Ok((ShaderKernel::from_fitted(&fitted, material, spec)?, fitted))
+}
+
+/// A model without modifiers (what `render` and `kernel` choose).
+pub fn plain(model: KernelModel) -> ModelArgs {
+    ModelArgs {
+        model,
+        rank: None,
+        k: None,
+        b: None,
+        renormalize: false,
+        w: None,
+        tau_near: None,
+        tau_far: None,
+        strength: None,
+        falloff: None,
+        width: None,
+    }
+}
+
+/// How far the sparse taps are from the full-resolution kernel: the worst image RMS over the
+/// test signals, per channel (images in [0, 1]).
+pub fn taps_vs_full(p: &Profile, kernel: &ShaderKernel, fitted: &FittedKernel) -> Vec<f64> {
+    fitted
+        .channels
+        .iter()
+        .enumerate()
+        .map(|(c, full)| {
             let gt = ground_truth(p, c, None);
-            Ok(match model {
-                ModelName::Svd if renormalize => svd(&gt, rank).0.renormalized(gt.l1()),
-                ModelName::Svd => svd(&gt, rank).0,
-                ModelName::Preint => preint(&gt),
-                ModelName::Guided => {
-                    Guided {
-                        k,
-                        b,
-                        ..Guided::default()
-                    }
-                    .fit(&gt)
-                    .kernel
-                }
-                ModelName::Manual => {
-                    let m = match fit::table_a1(material) {
-                        Some(t) => t[c],
-                        None => Manual::fit_image_space(
-                            &gt,
-                            Manual {
-                                w: 0.5,
-                                tau_near: (2.0 * gt.h).powi(2),
-                                tau_far: (gt.half as f64 * gt.h / 8.0).powi(2),
-                            },
-                        ),
-                    };
-                    m.separable(gt.half, gt.h)
-                }
-                ModelName::Deon => Gaussians::fit_up_to(&gt, rank)
-                    .pop()
-                    .expect("rank ≥ 1")
-                    .to_separable(gt.half, gt.h),
-                ModelName::Burley => Burley::fit(&gt).projected(gt.half, gt.h),
-                ModelName::Skin => bail!("the skin kernel is not fitted"),
-            })
+            let eval = ImageEval::new(&gt, 256, 128);
+            let sparse = kernel.to_separable(c, gt.h, gt.half);
+            fit::signals::Signal::ALL
+                .iter()
+                .map(|&s| {
+                    let (_, _, f) = eval.images(s, full);
+                    let (_, _, t) = eval.images(s, &sparse);
+                    f.rms_diff(&t)
+                })
+                .fold(0.0, f64::max)
         })
         .collect()
 }
 
-/// What a kernel is built from, besides the profile.
-pub struct KernelSpec<'a> {
-    pub model: ModelName,
-    pub rank: usize,
-    pub k: f64,
-    pub b: f64,
-    pub renormalize: bool,
-    pub material: &'a str,
-    pub taps: usize,
-    pub coverage: f64,
-    pub jitter: f64,
-}
-
-/// The shader kernel of one model, and each channel's full-resolution separable fit (empty for
-/// the skin kernel, which is not fitted).
-pub fn build_kernel(p: &Profile, s: &KernelSpec) -> Result<(ShaderKernel, Vec<Separable>)> {
-    let name = format!("{:?}", s.model).to_lowercase();
-    if s.model == ModelName::Skin {
-        // The demo's own taps, offsets converted from mm to cm.
-        let k = fit::skin::kernel(s.taps, fit::skin::FALLOFF, fit::skin::STRENGTH);
-        let mut tap: Vec<Tap> = k
-            .iter()
-            .map(|&(o, w)| Tap {
-                offset: 0.1 * o,
-                weight: w,
-            })
-            .collect();
-        tap.sort_by(|x, y| x.offset.total_cmp(&y.offset));
-        let kernel = ShaderKernel {
-            model: name,
-            material: s.material.to_string(),
-            unit: "cm".into(),
-            taps: s.taps,
-            range: if s.taps > 20 { 0.3 } else { 0.2 },
-            jitter: s.jitter,
-            pass: vec![Pass {
-                sign: [1.0; 3],
-                tap,
-            }],
-        };
-        return Ok((kernel, Vec::new()));
-    }
-    let chans = fit_channels(p, s.model, s.rank, s.k, s.b, s.renormalize, s.material)?;
-    let shader = ShaderKernel::from_separable(
-        &name,
-        s.material,
-        [&chans[0], &chans[1], &chans[2]],
-        s.taps,
-        s.coverage,
-        s.jitter,
-    );
-    Ok((shader, chans))
-}
-
 pub fn run(a: FitArgs) -> Result<()> {
-    if a.taps == 0 || a.taps > 1025 {
-        bail!("invalid --taps {}: must be in 1..=1025", a.taps);
-    }
-    if !(0.0..=1.0).contains(&a.jitter) {
-        bail!("invalid --jitter {}: must be in [0, 1]", a.jitter);
-    }
-    if !(a.coverage > 0.0 && a.coverage <= 1.0) {
-        bail!("invalid --coverage {}: must be in (0, 1]", a.coverage);
-    }
-    if a.rank == 0 || a.rank > 32 {
-        bail!("invalid --rank {}: must be in 1..=32", a.rank);
-    }
-    if !a.k.is_finite() || a.k < 0.0 || !a.b.is_finite() || a.b < 0.0 {
-        bail!("invalid --k {} / --b {}: must be non-negative", a.k, a.b);
-    }
     let text = std::fs::read_to_string(&a.profile)
         .with_context(|| format!("cannot read profile {}", a.profile.display()))?;
     let p = Profile::from_csv(&text, &a.profile.display().to_string())?;
@@ -213,57 +263,27 @@ pub fn run(a: FitArgs) -> Result<()> {
             .to_string()
     });
     let start = std::time::Instant::now();
-    let name = format!("{:?}", a.model).to_lowercase();
-    let mut tap_rms = Vec::new();
-    let (kernel, chans) = build_kernel(
-        &p,
-        &KernelSpec {
-            model: a.model,
-            rank: a.rank,
-            k: a.k,
-            b: a.b,
-            renormalize: a.renormalize,
-            material: &material,
-            taps: a.taps,
-            coverage: a.coverage,
-            jitter: a.jitter,
-        },
-    )?;
-    // How far the sparse taps are from the full-resolution kernel, on the test signals.
-    for (c, full) in chans.iter().enumerate() {
-        let gt = ground_truth(&p, c, None);
-        let eval = ImageEval::new(&gt, 256, 128);
-        let sparse = kernel.to_separable(c, gt.h, gt.half);
-        let worst = fit::signals::Signal::ALL
-            .iter()
-            .map(|&s| {
-                let (_, _, f) = eval.images(s, full);
-                let (_, _, t) = eval.images(s, &sparse);
-                f.rms_diff(&t)
-            })
-            .fold(0.0, f64::max);
-        tap_rms.push(worst);
-    }
-    if !chans.is_empty() {
-        eprintln!(
-            "taps vs full-resolution kernel, worst image RMS over the test signals: R {:.2e}  G {:.2e}  B {:.2e} (images in [0, 1])",
-            tap_rms[0], tap_rms[1], tap_rms[2]
-        );
-    }
+    let (kernel, fitted) = build_kernel(&p, &a.model, &material, a.taps.spec())?;
+    let tap_rms = taps_vs_full(&p, &kernel, &fitted);
+    eprintln!(
+        "taps vs full-resolution kernel, worst image RMS over the test signals: R {:.2e}  G {:.2e}  B {:.2e} (images in [0, 1])",
+        tap_rms[0], tap_rms[1], tap_rms[2]
+    );
+    let name = kernel.model;
     let header = format!(
         "# sss fit: model {name}, material {material}, profile {}\n# offsets in cm; each [[pass]] is one horizontal + one vertical 1D convolution; sum the passes' results\n",
         a.profile.display()
     );
     write_atomic(&a.out, (header + &kernel.to_toml()).as_bytes())?;
-    let summary = json!({ "model": name, "material": material, "out": a.out, "taps": a.taps, "passes": kernel.pass.len(), "range_cm": kernel.range, "taps_vs_full_image_rms": tap_rms, "seconds": start.elapsed().as_secs_f64() });
+    let summary = json!({ "model": name.to_string(), "material": material, "out": a.out, "taps": kernel.taps, "passes": kernel.pass.len(), "range_cm": kernel.range, "taps_vs_full_image_rms": tap_rms, "seconds": start.elapsed().as_secs_f64() });
     if a.json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
         eprintln!(
-            "wrote {} ({} pass(es) × {} taps, range {:.4} cm) in {:.2} s",
+            "wrote {} ({name}: {} pass(es) × {} taps, range {:.4} cm) in {:.2} s",
             a.out.display(),
             kernel.pass.len(),
-            a.taps,
+            kernel.taps,
             kernel.range,
             start.elapsed().as_secs_f64()
         );

@@ -6,17 +6,17 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
-use fit::Profile;
 use fit::convolve::{Image, convolve_2d};
 use fit::metrics::bin_kernel;
 use fit::taps::ShaderKernel;
+use fit::{KernelModel, Profile};
 use glam::Vec3;
 use gpu::{AlbedoMode, DepthMode, Gpu, GpuKernel, Light, RenderParams, Scene};
 use serde_json::json;
 
 use crate::eval::ProfileSource;
 use crate::files::write_atomic;
-use crate::fit::{KernelSpec, ModelName, build_kernel};
+use crate::fit::{build_kernel, plain};
 use crate::library;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -209,41 +209,40 @@ fn parse_light(s: &str) -> Result<Light, String> {
     }
 }
 
-/// The kernels compared by --compare-models and timed by --bench: (label, model, rank).
-const MODELS: [(&str, ModelName, usize); 8] = [
-    ("preint", ModelName::Preint, 1),
-    ("svd1", ModelName::Svd, 1),
-    ("svd3", ModelName::Svd, 3),
-    ("deon3", ModelName::Deon, 3),
-    ("guided", ModelName::Guided, 1),
-    ("manual", ModelName::Manual, 1),
-    ("skin", ModelName::Skin, 1),
-    ("burley", ModelName::Burley, 1),
+/// The kernels compared by --compare-models: (label, model). SVD is rescaled to the kernel's
+/// energy (‖A‖₁ = ‖R_d‖₁) for images, as `eval` does.
+const MODELS: [(&str, KernelModel); 8] = [
+    ("preint", KernelModel::Preint),
+    (
+        "svd1",
+        KernelModel::Svd {
+            rank: 1,
+            renormalize: true,
+        },
+    ),
+    (
+        "svd3",
+        KernelModel::Svd {
+            rank: 3,
+            renormalize: true,
+        },
+    ),
+    ("deon3", KernelModel::Deon { n: 3 }),
+    ("guided", KernelModel::Guided { k: 1.0, b: 0.0 }),
+    ("manual", KernelModel::Manual(fit::ManualParams::Auto)),
+    (
+        "skin",
+        KernelModel::Skin(fit::SkinParams::Given(fit::skin::Skin::DEMO)),
+    ),
+    ("burley", KernelModel::Burley { radial: false }),
 ];
 
-fn kernel_of(
-    p: &Profile,
-    slug: &str,
-    model: ModelName,
-    rank: usize,
-    taps: usize,
-) -> Result<ShaderKernel> {
-    Ok(build_kernel(
-        p,
-        // SVD is rescaled to the kernel's energy (‖A‖₁ = ‖R_d‖₁) for images, as `eval` does.
-        &KernelSpec {
-            model,
-            rank,
-            k: 1.0,
-            b: 0.0,
-            renormalize: model == ModelName::Svd,
-            material: slug,
-            taps,
-            coverage: 0.95,
-            jitter: 0.0,
-        },
-    )?
-    .0)
+fn kernel_of(p: &Profile, slug: &str, model: KernelModel, taps: usize) -> Result<ShaderKernel> {
+    let spec = fit::taps::TapSpec {
+        taps,
+        ..Default::default()
+    };
+    Ok(build_kernel(p, &plain(model), slug, spec)?.0)
 }
 
 fn png_rgba(width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>> {
@@ -394,8 +393,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         None => Some(kernel_of(
             &profile()?,
             &named.slug,
-            ModelName::Preint,
-            1,
+            KernelModel::Preint,
             a.taps,
         )?),
     };
@@ -431,7 +429,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         png_path.display()
     );
     let mut summary = json!({
-        "adapter": gpu.adapter_name, "scene": a.scene, "kernel": kernel.as_ref().map(|k| k.model.clone()), "width": a.width, "height": a.height,
+        "adapter": gpu.adapter_name, "scene": a.scene, "kernel": kernel.as_ref().map(|k| k.model.to_string()), "width": a.width, "height": a.height,
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
     });
     if a.compare_models {
@@ -621,8 +619,8 @@ fn compare(
         "lambert",
         format!("{:.3}%", 100.0 * rms(&lambert.irradiance))
     ));
-    for (label, model, rank) in MODELS {
-        let k = kernel_of(p, slug, model, rank, a.taps)?;
+    for (label, model) in MODELS {
+        let k = kernel_of(p, slug, model, a.taps)?;
         let frame = gpu::render(
             gpu,
             scene,
@@ -686,12 +684,19 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
         "  {:<10} {:>5} {:>5} {:>14} {:>14} {:>12} {:>15}",
         "kernel", "taps", "rank", "horizontal ms", "vertical ms", "SSS ms", "frame wall ms"
     );
-    for (label, model, rank) in [
-        ("preint", ModelName::Preint, 1),
-        ("svd3", ModelName::Svd, 3),
+    for (label, model) in [
+        ("preint", KernelModel::Preint),
+        (
+            "svd3",
+            KernelModel::Svd {
+                rank: 3,
+                renormalize: true,
+            },
+        ),
     ] {
+        let rank = model.terms().unwrap_or(1);
         for taps in [17, 33] {
-            let k = GpuKernel::from_shader_kernel(&kernel_of(p, slug, model, rank, taps)?)?;
+            let k = GpuKernel::from_shader_kernel(&kernel_of(p, slug, model, taps)?)?;
             let mut frames = Vec::new();
             for _ in 0..5 {
                 let t = std::time::Instant::now();

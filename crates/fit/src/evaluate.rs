@@ -4,7 +4,8 @@
 //!
 //! Models: `svd` ranks 1–6, `preint`, `guided` k = 0, 1, 2 (b = 0), `manual` (Table A.1 when the
 //! material has a row, else the image-space fit), `deon` N = 1–6, `skin` (the original SSSS
-//! kernel with its defaults, scaled in mm), `burley` (variant `radial`: dense 2D; `projected`:
+//! kernel with its defaults, scaled in mm; variant `fitted, eq. 4.13`: its strength and falloff
+//! fitted to the profile), `burley` (variant `radial`: dense 2D; `projected`:
 //! rank-1 pre-integration of it).
 
 use std::time::Instant;
@@ -14,6 +15,7 @@ use crate::kernel2d::{Kernel2, ground_truth};
 use crate::metrics::{ImageEval, bin_kernel, kernel_rms, l1_error};
 use crate::separable::Separable;
 use crate::signals::Signal;
+use crate::skin::Skin;
 use crate::{Burley, Gaussians, Guided, Manual, Profile, preint, svd, top_eigen_to};
 
 /// One model on one channel.
@@ -84,23 +86,6 @@ fn dense_slices(k: &Kernel2) -> (Vec<f64>, Vec<f64>) {
     )
 }
 
-/// The SSSS skin kernel's 1D function on a grid (offsets in cm, the demo works in mm).
-fn skin_separable(c: usize, half: usize, h: f64) -> Separable {
-    let a: Vec<f64> = (0..2 * half + 1)
-        .map(|i| {
-            crate::skin::profile(
-                10.0 * (i as f64 - half as f64).abs() * h,
-                crate::skin::FALLOFF,
-            )[c]
-        })
-        .collect();
-    let s: f64 = a.iter().sum();
-    let t = crate::skin::STRENGTH[c];
-    let mut a: Vec<f64> = a.into_iter().map(|x| t * x / s).collect();
-    a[half] += 1.0 - t;
-    Separable::rank1(h, a)
-}
-
 /// Size of the image-space evaluation: test signals of `size` pixels, kernels binned to a
 /// half-width of at most `max_half` pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -128,8 +113,12 @@ pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Evaluation {
     let mut images = Vec::new();
     let table = crate::manual::table_a1(material);
     let mut h = p.dr;
-    for c in 0..3 {
-        let k = ground_truth(p, c, None);
+    // The SSSS skin model fitted to the profile (§4.6, eq. 4.13) shares its width across channels.
+    let t = Instant::now();
+    let truths: Vec<Kernel2> = (0..3).map(|c| ground_truth(p, c, None)).collect();
+    let skin_fit = Skin::fit([&truths[0], &truths[1], &truths[2]]);
+    let skin_fit_seconds = t.elapsed().as_secs_f64() / 3.0;
+    for (c, k) in truths.into_iter().enumerate() {
         h = k.h;
         (truth_axis[c], truth_diagonal[c]) = dense_slices(&k);
         let eval = ImageEval::new(&k, image.size, image.max_half);
@@ -209,14 +198,10 @@ pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Evaluation {
         let t = Instant::now();
         let (manual, variant) = match &table {
             Some(rows) => (rows[c], "table A.1"),
-            None => {
-                let start = Manual {
-                    w: 0.5,
-                    tau_near: (2.0 * k.h).powi(2),
-                    tau_far: (k.half as f64 * k.h / 8.0).powi(2),
-                };
-                (Manual::fit_image_space(&k, start), "image-space fit")
-            }
+            None => (
+                Manual::fit_image_space(&k, Manual::start(&k)),
+                "image-space fit",
+            ),
         };
         let m = manual.separable(k.half, k.h);
         push(
@@ -243,8 +228,25 @@ pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Evaluation {
                 &mut rows,
             );
         }
-        let skin = skin_separable(c, k.half, k.h);
-        push("skin", None, None, None, &skin, 0.0, &mut rows);
+        let skin = Skin::DEMO.separable(c, k.half, k.h);
+        push(
+            "skin",
+            Some("SSSS defaults"),
+            None,
+            None,
+            &skin,
+            0.0,
+            &mut rows,
+        );
+        push(
+            "skin",
+            Some("fitted, eq. 4.13"),
+            None,
+            None,
+            &skin_fit.separable(c, k.half, k.h),
+            skin_fit_seconds,
+            &mut rows,
+        );
         let t = Instant::now();
         let b = Burley::fit(&k);
         let fit_s = t.elapsed().as_secs_f64();

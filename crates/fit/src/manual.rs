@@ -42,6 +42,33 @@ pub fn table_a1(material: &str) -> Option<[Manual; 3]> {
 }
 
 impl Manual {
+    /// Where the image-space fit starts: equal weights, a near Gaussian two samples wide and a
+    /// far one an eighth of the kernel's half-width.
+    pub fn start(k: &Kernel2) -> Manual {
+        Manual {
+            w: 0.5,
+            tau_near: (2.0 * k.h).powi(2),
+            tau_far: (k.half as f64 * k.h / 8.0).powi(2),
+        }
+    }
+
+    /// Checks the ranges; the error names the field.
+    pub fn validate(&self) -> crate::Result<()> {
+        if !(self.w.is_finite() && (0.0..=1.0).contains(&self.w)) {
+            return Err(crate::FitError::invalid("w", self.w, "must lie in [0, 1]"));
+        }
+        for (field, v) in [("tau_near", self.tau_near), ("tau_far", self.tau_far)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(crate::FitError::invalid(
+                    field,
+                    v,
+                    "variance must be positive and finite",
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// The 1D function on a grid of half-width `half` and spacing `h` [cm], cell-integrated, with
     /// Σ a = 1 (so ‖A‖₁ = 1, the normalized ground truth's).
     pub fn separable(&self, half: usize, h: f64) -> Separable {

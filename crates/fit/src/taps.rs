@@ -10,6 +10,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::model::{FittedKernel, KernelModel, SkinParams};
 use crate::separable::Separable;
 
 /// One tap: offset [cm] and per-channel weight.
@@ -29,7 +30,7 @@ pub struct Pass {
 /// A shader kernel file (`KERNEL.toml`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ShaderKernel {
-    pub model: String,
+    pub model: KernelModel,
     pub material: String,
     /// Length unit of the offsets.
     pub unit: String,
@@ -85,10 +86,107 @@ pub fn range_of(a: &[f64], h: f64, coverage: f64) -> f64 {
     half as f64 * h
 }
 
+/// How a model is sampled into taps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TapSpec {
+    /// Taps per 1D pass (odd counts include the centre), 1..=1025.
+    pub taps: usize,
+    /// Fraction of the widest channel's 1D mass inside the tap range, (0, 1].
+    pub coverage: f64,
+    /// Fraction of taps the renderer should jitter per pixel, [0, 1].
+    pub jitter: f64,
+}
+
+impl Default for TapSpec {
+    /// SSSS's 17 taps; coverage 0.95 balances the channels at 17 taps (measured); no jitter.
+    fn default() -> Self {
+        TapSpec {
+            taps: 17,
+            coverage: 0.95,
+            jitter: 0.0,
+        }
+    }
+}
+
+impl TapSpec {
+    /// Checks the ranges; the error names the field.
+    pub fn validate(&self) -> crate::Result<()> {
+        if !(1..=1025).contains(&self.taps) {
+            return Err(crate::FitError::invalid(
+                "taps",
+                self.taps,
+                "must be in 1..=1025",
+            ));
+        }
+        if !(self.coverage > 0.0 && self.coverage <= 1.0) {
+            return Err(crate::FitError::invalid(
+                "coverage",
+                self.coverage,
+                "must be in (0, 1]",
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.jitter) {
+            return Err(crate::FitError::invalid(
+                "jitter",
+                self.jitter,
+                "must be in [0, 1]",
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl ShaderKernel {
+    /// The shader kernel of a fitted model. The SSSS skin model keeps the demo's own taps (fixed
+    /// range 2 or 3 mm times its width, converted to cm) so that engines shipping SSSS get the
+    /// numbers they expect; every other model is sampled by [`ShaderKernel::from_separable`].
+    pub fn from_fitted(f: &FittedKernel, material: &str, spec: TapSpec) -> crate::Result<Self> {
+        spec.validate()?;
+        if let KernelModel::Skin(SkinParams::Given(skin)) = f.model {
+            let mut tap: Vec<Tap> = skin
+                .kernel(spec.taps)
+                .into_iter()
+                .map(|(o, w)| Tap {
+                    offset: 0.1 * o,
+                    weight: w,
+                })
+                .collect();
+            tap.sort_by(|x, y| x.offset.total_cmp(&y.offset));
+            let range = 0.1 * skin.width * if spec.taps > 20 { 3.0 } else { 2.0 };
+            return Ok(ShaderKernel {
+                model: f.model,
+                material: material.into(),
+                unit: "cm".into(),
+                taps: spec.taps,
+                range,
+                jitter: spec.jitter,
+                pass: vec![Pass {
+                    sign: [1.0; 3],
+                    tap,
+                }],
+            });
+        }
+        let c = &f.channels;
+        if c.len() != 3 {
+            return Err(crate::FitError::invalid(
+                "channels",
+                c.len(),
+                "a kernel needs three channels",
+            ));
+        }
+        Ok(Self::from_separable(
+            f.model,
+            material,
+            [&c[0], &c[1], &c[2]],
+            spec.taps,
+            spec.coverage,
+            spec.jitter,
+        ))
+    }
+
     /// Builds taps for RGB separable models (one per channel, the same number of terms each).
     pub fn from_separable(
-        model: &str,
+        model: KernelModel,
         material: &str,
         channels: [&Separable; 3],
         taps: usize,
@@ -129,7 +227,7 @@ impl ShaderKernel {
             })
             .collect();
         ShaderKernel {
-            model: model.into(),
+            model,
             material: material.into(),
             unit: "cm".into(),
             taps,
@@ -141,7 +239,7 @@ impl ShaderKernel {
 
     /// One tap per grid sample (offset (i − half)·h, weight aᵢ): the separable model exactly, for
     /// renderers that can afford the taps and for checking a GPU path against the CPU.
-    pub fn dense(model: &str, material: &str, channels: [&Separable; 3]) -> Self {
+    pub fn dense(model: KernelModel, material: &str, channels: [&Separable; 3]) -> Self {
         let h = channels[0].h;
         let passes = channels.iter().map(|s| s.terms.len()).max().unwrap_or(0);
         let n = channels
@@ -171,7 +269,7 @@ impl ShaderKernel {
             })
             .collect();
         ShaderKernel {
-            model: model.into(),
+            model,
             material: material.into(),
             unit: "cm".into(),
             taps: n,
@@ -208,14 +306,75 @@ impl ShaderKernel {
         toml::to_string(self).expect("kernel serializes")
     }
 
+    /// Parses and validates a kernel file: offsets in cm (a file in mm is converted), at least one
+    /// pass, `taps` taps in every pass, finite numbers, signs of ±1.
     pub fn from_toml(text: &str, source_name: &str) -> crate::Result<Self> {
-        toml::from_str(text).map_err(|e| crate::FitError::Parse {
+        let mut k: ShaderKernel = toml::from_str(text).map_err(|e| crate::FitError::Parse {
             source_name: source_name.into(),
             line: e
                 .span()
                 .map(|s| text[..s.start].lines().count().max(1))
                 .unwrap_or(0),
             message: e.message().to_string(),
-        })
+        })?;
+        let to_cm = match k.unit.as_str() {
+            "cm" => 1.0,
+            "mm" => 0.1,
+            other => {
+                return Err(crate::FitError::invalid(
+                    "unit",
+                    format!("{other:?}"),
+                    "must be \"cm\" or \"mm\"",
+                ));
+            }
+        };
+        if k.pass.is_empty() {
+            return Err(crate::FitError::invalid(
+                "pass",
+                0,
+                "a kernel needs at least one [[pass]]",
+            ));
+        }
+        if !(k.range.is_finite() && k.range >= 0.0) {
+            return Err(crate::FitError::invalid(
+                "range",
+                k.range,
+                "must be non-negative and finite",
+            ));
+        }
+        for (i, p) in k.pass.iter().enumerate() {
+            if p.tap.len() != k.taps {
+                return Err(crate::FitError::invalid(
+                    format!("pass[{i}] taps"),
+                    p.tap.len(),
+                    format!("the header says taps = {}", k.taps),
+                ));
+            }
+            if let Some(s) = p.sign.iter().find(|s| s.abs() != 1.0) {
+                return Err(crate::FitError::invalid(
+                    format!("pass[{i}].sign"),
+                    s,
+                    "must be 1 or -1",
+                ));
+            }
+            for (j, t) in p.tap.iter().enumerate() {
+                if !(t.offset.is_finite() && t.weight.iter().all(|w| w.is_finite())) {
+                    return Err(crate::FitError::invalid(
+                        format!("pass[{i}].tap[{j}]"),
+                        format!("{:?}", t),
+                        "offset and weights must be finite",
+                    ));
+                }
+            }
+        }
+        if to_cm != 1.0 {
+            k.unit = "cm".into();
+            k.range *= to_cm;
+            k.pass
+                .iter_mut()
+                .flat_map(|p| p.tap.iter_mut())
+                .for_each(|t| t.offset *= to_cm);
+        }
+        Ok(k)
     }
 }

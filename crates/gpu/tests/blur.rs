@@ -22,7 +22,7 @@ fn preint_kernel(taps: usize, coverage: f64) -> GpuKernel {
     let p = profile();
     let seps: Vec<_> = (0..3).map(|c| preint(&ground_truth(&p, c, None))).collect();
     GpuKernel::from_shader_kernel(&ShaderKernel::from_separable(
-        "preint",
+        fit::KernelModel::Preint,
         "test",
         [&seps[0], &seps[1], &seps[2]],
         taps,
@@ -99,8 +99,17 @@ fn blur_passes_equal_the_cpu_separable_convolution() {
     let p = profile();
     let ks: Vec<_> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
     let seps: Vec<_> = ks.iter().map(|k| svd(k, 3).0).collect();
-    let kernel =
-        ShaderKernel::from_separable("svd", "test", [&seps[0], &seps[1], &seps[2]], 17, 0.95, 0.0);
+    let kernel = ShaderKernel::from_separable(
+        fit::KernelModel::Svd {
+            rank: 3,
+            renormalize: false,
+        },
+        "test",
+        [&seps[0], &seps[1], &seps[2]],
+        17,
+        0.95,
+        0.0,
+    );
     let (w, h) = (64usize, 48usize);
     let img = test_image(w, h);
     let geometry = vec![[30.0f32, 1.0, 0.0, 1.0]; w * h];
@@ -134,7 +143,11 @@ fn preintegrated_edge_matches_the_2d_ground_truth_on_the_gpu() {
     let p = profile();
     let ks: Vec<_> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
     let seps: Vec<_> = ks.iter().map(preint).collect();
-    let kernel = ShaderKernel::dense("preint", "test", [&seps[0], &seps[1], &seps[2]]);
+    let kernel = ShaderKernel::dense(
+        fit::KernelModel::Preint,
+        "test",
+        [&seps[0], &seps[1], &seps[2]],
+    );
     let (w, h) = (120usize, 24usize);
     let edge = edge(w, h);
     let geometry = vec![[30.0f32, 1.0, 0.0, 1.0]; w * h];
