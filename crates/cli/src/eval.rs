@@ -82,6 +82,8 @@ pub fn profile_for(n: &Named, dir: &Path, photons: Option<u64>, seed: u64) -> Re
             n.slug,
             path.display()
         );
+    } else {
+        eprintln!("reusing {} (delete it to simulate again)", path.display());
     }
     let text = std::fs::read_to_string(&path)
         .with_context(|| format!("cannot read {}", path.display()))?;

@@ -5,7 +5,9 @@
 
 mod area_table;
 mod bench;
+mod engine;
 mod eval;
+mod export;
 mod files;
 mod fit;
 mod library;
@@ -36,6 +38,8 @@ enum Command {
     Fit(fit::FitArgs),
     /// Evaluate every kernel model against the ground truth (kernel and image space), with plots
     Eval(eval::EvalArgs),
+    /// Export a kernel file as shader code (HLSL, GLSL, WGSL) or JSON in SSSS's layout
+    Export(export::ExportArgs),
     /// Regenerate the thesis's tables and figures as an HTML report (use --quick for a CI-sized run)
     Reproduce(reproduce::ReproduceArgs),
     /// Write an analytic profile (dipole, better-dipole, directional-dipole, pbd, burley) as a profile CSV
@@ -50,6 +54,10 @@ enum Command {
     Merge(simulate::MergeArgs),
     /// List the built-in materials with σa, σs, g, η, albedo and mean free path per channel
     Materials(materials::MaterialsArgs),
+    /// Fit every model that fits a budget, pick the one with the lowest image error and write it as shader code
+    Kernel(engine::KernelArgs),
+    /// Burley parameters for Unreal, Unity, Blender or OpenPBR (MaterialX) fitted to the Monte Carlo profile, with their error
+    EngineParams(engine::EngineParamsArgs),
     /// Benchmarks (run time against error); measurements only, never pass/fail
     Bench(bench::BenchArgs),
 }
@@ -65,9 +73,12 @@ fn main() -> ExitCode {
         Command::AreaTable(a) => area_table::run(a),
         Command::Fit(a) => fit::run(a),
         Command::Eval(a) => eval::run(a),
+        Command::Export(a) => export::run(a),
         Command::Reproduce(a) => reproduce::run(a),
         Command::Materials(a) => materials::list(a),
         Command::Bench(a) => bench::run(a),
+        Command::Kernel(a) => engine::kernel(a),
+        Command::EngineParams(a) => engine::engine_params(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

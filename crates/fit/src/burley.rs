@@ -18,26 +18,14 @@ pub struct Burley {
 impl Burley {
     /// The profile Christensen & Burley (2015) give for a medium, from its transport coefficients:
     /// the multiple-scattering albedo A solves their van de Hulst fit
-    /// α′ = 1 − (4.09712 + 4.20863A − √(9.59217 + 41.6808A + 17.7126A²))² (bisection; the fit is
-    /// monotone with α′(0) = 0 and α′(1) = 1), the searchlight shape factor is
+    /// α′ = 1 − (4.09712 + 4.20863A − √(9.59217 + 41.6808A + 17.7126A²))²
+    /// ([`mc::artist::multiple_scattering_albedo`]), the searchlight shape factor is
     /// s = 1.85 − A + 7|A − 0.8|³ and d = ℓ/s with ℓ = 1/σt′. The total is A times the entry
     /// transmittance, per unit incident power as MC profiles are.
     pub fn from_medium(m: &crate::analytic::Medium) -> Burley {
         let albedo = m.albedo_reduced();
-        let alpha_of = |a: f64| {
-            1.0 - (4.09712 + 4.20863 * a - (9.59217 + 41.6808 * a + 17.7126 * a * a).sqrt()).powi(2)
-        };
-        let (mut lo, mut hi) = (0.0, 1.0);
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            if alpha_of(mid) < albedo {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
         // A medium that does not scatter has no diffuse profile.
-        let a = if albedo > 0.0 { 0.5 * (lo + hi) } else { 0.0 };
+        let a = mc::artist::multiple_scattering_albedo(albedo);
         let s = 1.85 - a + 7.0 * (a - 0.8).abs().powi(3);
         Burley {
             d: m.transport_mfp() / s,

@@ -10,9 +10,8 @@
 
 use std::time::Instant;
 
-use crate::convolve::{Image, convolve_2d};
 use crate::kernel2d::{Kernel2, ground_truth};
-use crate::metrics::{ImageEval, bin_kernel, kernel_rms, l1_error};
+use crate::metrics::{ImageEval, kernel_rms, l1_error};
 use crate::separable::Separable;
 use crate::signals::Signal;
 use crate::skin::Skin;
@@ -276,8 +275,7 @@ pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Evaluation {
                 / k.v.len() as f64)
                 .sqrt()
         };
-        let binned = bin_kernel(&normalized, eval.factor);
-        let image_rms = eval_dense(&eval, &binned);
+        let image_rms = eval.rms_dense(&normalized);
         let (axis, diagonal) = dense_slices(&dense);
         rows.push(Row {
             model: "burley",
@@ -304,15 +302,4 @@ pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Evaluation {
         rank1,
         images,
     }
-}
-
-fn eval_dense(eval: &ImageEval, k: &Kernel2) -> Vec<(Signal, f64)> {
-    Signal::ALL
-        .iter()
-        .map(|&s| {
-            let e: Image = s.image(eval.size);
-            let (_, reference, _) = eval.images(s, &Separable::rank1(k.h, vec![1.0]));
-            (s, convolve_2d(&e, k).rms_diff(&reference))
-        })
-        .collect()
 }

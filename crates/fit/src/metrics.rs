@@ -123,6 +123,16 @@ impl ImageEval {
             .collect()
     }
 
+    /// Image RMS per signal of a dense (non-separable) kernel on the ground truth's grid, binned
+    /// like the ground truth and convolved in 2D (a radial kernel as engines apply it).
+    pub fn rms_dense(&self, k: &Kernel2) -> Vec<(Signal, f64)> {
+        let binned = bin_kernel(k, self.factor);
+        self.references
+            .iter()
+            .map(|(s, e, m)| (*s, convolve_2d(e, &binned).rms_diff(m)))
+            .collect()
+    }
+
     /// The convolution of a signal with a model and the ground-truth reference (for plots).
     pub fn images(&self, signal: Signal, model: &Separable) -> (Image, Image, Image) {
         let binned =

@@ -166,6 +166,16 @@ impl Profile {
     }
 
     /// Number of radial bins.
+    /// Total diffuse reflectance of channel `c`: Σ Rd(rᵢ)·2πrᵢ·dr over the bins (MCML's annuli;
+    /// the overflow bin, dropped on load, is not included) [-].
+    pub fn total(&self, c: usize) -> f64 {
+        self.r
+            .iter()
+            .zip(&self.rd[c])
+            .map(|(r, v)| v * 2.0 * std::f64::consts::PI * r * self.dr)
+            .sum()
+    }
+
     pub fn len(&self) -> usize {
         self.r.len()
     }

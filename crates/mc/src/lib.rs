@@ -28,6 +28,7 @@
 
 #![warn(missing_docs)]
 
+pub mod artist;
 mod batch;
 mod cfmt;
 mod config;

@@ -10,7 +10,9 @@
 //! eta = 1.3                   # refractive index
 //! # thickness = 1e8           # optional, in `unit`; default: the run config's
 //! ```
-//! Values are converted to cm / cm⁻¹ on load.
+//! Instead of `sigma_a` and `sigma_s`, an artist's `color` (multiple-scattering albedo, R G B)
+//! and `radius` (mean free path 1/σt per channel, in `unit`) may be given; they are inverted to
+//! coefficients by [`crate::artist`]. Values are converted to cm / cm⁻¹ on load.
 
 use serde::Deserialize;
 
@@ -45,8 +47,10 @@ struct MaterialFile {
     #[serde(default)]
     source: String,
     unit: String,
-    sigma_a: [f64; 3],
-    sigma_s: [f64; 3],
+    sigma_a: Option<[f64; 3]>,
+    sigma_s: Option<[f64; 3]>,
+    color: Option<[f64; 3]>,
+    radius: Option<[f64; 3]>,
     g: OneOrThree,
     eta: f64,
     thickness: Option<f64>,
@@ -79,11 +83,26 @@ impl Material {
             OneOrThree::One(g) => [g; 3],
             OneOrThree::Three(g) => g,
         };
+        let (sigma_a, sigma_s) = match (f.sigma_a, f.sigma_s, f.color, f.radius) {
+            (Some(a), Some(s), None, None) => (a.map(|x| x / to_cm), s.map(|x| x / to_cm)),
+            (None, None, Some(color), Some(radius)) => crate::artist::Artist {
+                color,
+                radius: radius.map(|r| r * to_cm),
+            }
+            .coefficients(g)?,
+            _ => {
+                return Err(McError::invalid(
+                    "sigma_a/sigma_s/color/radius",
+                    "an incomplete or mixed set",
+                    "give either sigma_a and sigma_s, or an artist's color and radius",
+                ));
+            }
+        };
         let m = Material {
             name: f.name,
             source: f.source,
-            sigma_a: f.sigma_a.map(|s| s / to_cm),
-            sigma_s: f.sigma_s.map(|s| s / to_cm),
+            sigma_a,
+            sigma_s,
             g,
             eta: f.eta,
             thickness: f.thickness.map(|t| t * to_cm),

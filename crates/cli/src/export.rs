@@ -1,0 +1,55 @@
+//! `sss export`: a kernel file (KERNEL.toml) as HLSL, GLSL or WGSL source or JSON, in SSSS's
+//! layout (see `fit::export`).
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use fit::export::{OffsetUnit, ShaderFormat, export};
+use fit::taps::ShaderKernel;
+
+use crate::files::write_atomic;
+
+#[derive(Args)]
+pub struct ExportArgs {
+    /// Kernel file written by `sss fit` (KERNEL.toml, offsets in cm or mm)
+    pub kernel: PathBuf,
+
+    /// Output format: hlsl, glsl, wgsl (constants, per-pass float4 arrays and a reference blur
+    /// function) or json
+    #[arg(long)]
+    pub format: ShaderFormat,
+
+    /// Unit of the exported tap offsets and KERNEL_RANGE: cm or mm
+    #[arg(long, default_value = "cm")]
+    pub unit: OffsetUnit,
+
+    /// Output file [default: standard output]
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
+
+pub fn run(a: ExportArgs) -> Result<()> {
+    let text = std::fs::read_to_string(&a.kernel)
+        .with_context(|| format!("cannot read kernel {}", a.kernel.display()))?;
+    let k = ShaderKernel::from_toml(&text, &a.kernel.display().to_string())?;
+    let source = export(&k, a.format, a.unit);
+    match &a.out {
+        Some(path) => {
+            write_atomic(path, source.as_bytes())?;
+            eprintln!(
+                "wrote {} ({}: {} pass(es) × {} taps, offsets in {})",
+                path.display(),
+                a.format,
+                k.pass.len(),
+                k.taps,
+                a.unit
+            );
+        }
+        None => std::io::stdout()
+            .write_all(source.as_bytes())
+            .context("cannot write to standard output")?,
+    }
+    Ok(())
+}

@@ -1,0 +1,413 @@
+//! Engine parameter sets: the Christensen–Burley profile that best fits a Monte Carlo profile,
+//! written in each engine's own fields and units, with what that profile costs against the
+//! Monte Carlo ground truth. Conventions, read from each engine's public source or specification:
+//!
+//! - **Unreal Engine 5**, Subsurface Profile in Burley mode (`FSubsurfaceProfileStruct`,
+//!   `SubsurfaceScatteringMath.h`, `BurleyNormalizedSSSCommon.ush`): the shader evaluates Burley's
+//!   profile with the searchlight factor s_SL(A) = 3.5 + 100(A − 0.33)⁴ on a diffuse mean free
+//!   path DMFP [mm] = 10·MFP[cm]·s_SL(A)/(0.6·s_perp(A)), s_perp(A) = 1.85 − A + 7|A − 0.8|³, so
+//!   the shape length is d = DMFP/s_SL = 10·MFP/(0.6·s_perp) mm and MFP [cm] = 0.6·s_perp(A)·d[cm].
+//!   Mean Free Path Distance is the largest channel's MFP [cm, one Unreal unit], Mean Free Path
+//!   Color the channels divided by it; Surface Albedo is A. A World Unit Scale of 1 keeps the
+//!   profile at physical size (read from `CalculateBurleyScale`; not checked in a running editor).
+//! - **Unity HDRP**, Diffusion Profile (`DiffusionProfileSettings.cs`, `SubsurfaceScattering.compute`):
+//!   Scattering Distance × Multiplier is Burley's d per channel in mm (shape parameter S = 1/d),
+//!   World Scale is the size of one world unit in metres (1 for scenes in metres); the albedo is
+//!   the material's diffuse colour.
+//! - **Blender Cycles**, Principled BSDF with Subsurface Method "Christensen-Burley" (3.x, 4.x;
+//!   `kernel/closure/bssrdf.h`): Radius × Scale is scaled by 1/(4π) to Burley's d with no albedo
+//!   fit, so Radius × Scale = 4π·d, in scene units (metres by default); Base Color is A.
+//! - **OpenPBR 1.1** (and its MaterialX node `open_pbr_surface`): `subsurface_color` is the
+//!   index-matched multiple-scattering albedo and `subsurface_radius × subsurface_radius_scale`
+//!   the mean free path 1/σt per channel: an exact description of the medium, written from the
+//!   material's coefficients through [`mc::artist`] (van de Hulst's inversion), not from a fit.
+//!
+//! A, the albedo the Burley engines expect, is the Monte Carlo profile's total diffuse
+//! reflectance per channel (∫Rd dA, without the specular reflection at entry); d is fitted to
+//! the profile's shape by [`crate::Burley::fit`].
+
+use std::fmt;
+use std::str::FromStr;
+
+use serde::Serialize;
+
+use crate::burley::Burley;
+use crate::profile::Profile;
+use crate::select::Judge;
+
+/// The engines parameters are written for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Engine {
+    Unreal,
+    Unity,
+    Blender,
+    OpenPbr,
+}
+
+impl Engine {
+    pub const ALL: [Engine; 4] = [
+        Engine::Unreal,
+        Engine::Unity,
+        Engine::Blender,
+        Engine::OpenPbr,
+    ];
+}
+
+impl fmt::Display for Engine {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Engine::Unreal => "unreal",
+            Engine::Unity => "unity",
+            Engine::Blender => "blender",
+            Engine::OpenPbr => "openpbr",
+        })
+    }
+}
+
+impl FromStr for Engine {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        Engine::ALL
+            .into_iter()
+            .find(|e| e.to_string() == s.trim().to_ascii_lowercase())
+            .ok_or_else(|| format!("unknown engine {s:?} (unreal, unity, blender, openpbr)"))
+    }
+}
+
+impl Serialize for Engine {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+/// The Burley profile fitted to a Monte Carlo profile, per channel, and what it costs.
+#[derive(Clone, Debug, Serialize)]
+pub struct BurleyProfileFit {
+    /// Total diffuse reflectance A of the Monte Carlo profile [-].
+    pub albedo: [f64; 3],
+    /// Burley's shape length d [cm].
+    pub d_cm: [f64; 3],
+    /// ‖K − B‖₂/‖K‖₂ of the radial Burley kernel B (energy of K) against the normalized ground
+    /// truth K [-].
+    pub kernel_rms_rel: [f64; 3],
+    /// Image RMS on the test signals of the radial Burley kernel applied in 2D (images in [0, 1]).
+    pub image_rms: [f64; 3],
+}
+
+impl BurleyProfileFit {
+    /// Fits d per channel to the ground truths of `judge` (made from `p`).
+    pub fn new(p: &Profile, judge: &Judge) -> Self {
+        let (mut d_cm, mut kernel_rms_rel, mut image_rms) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+        for (c, k) in judge.truths().iter().enumerate() {
+            let b = Burley::fit(k);
+            let mut dense = b.kernel(k.half, k.h);
+            let s = k.l1() / dense.l1();
+            dense.v.iter_mut().for_each(|x| *x *= s);
+            let num: f64 = k.v.iter().zip(&dense.v).map(|(p, q)| (p - q).powi(2)).sum();
+            let den: f64 = k.v.iter().map(|p| p * p).sum();
+            d_cm[c] = b.d;
+            kernel_rms_rel[c] = (num / den).sqrt();
+            let e = judge.image_rms_dense(c, &dense);
+            image_rms[c] = e;
+        }
+        BurleyProfileFit {
+            albedo: [0, 1, 2].map(|c| p.total(c)),
+            d_cm,
+            kernel_rms_rel,
+            image_rms,
+        }
+    }
+}
+
+/// One parameter as the engine's user interface names it.
+#[derive(Clone, Debug, Serialize)]
+pub struct Field {
+    pub name: &'static str,
+    pub value: Value,
+    /// Unit, or "" for unitless values and colours.
+    pub unit: &'static str,
+}
+
+/// A number, an RGB colour or a choice.
+#[derive(Clone, Debug, Serialize)]
+#[serde(untagged)]
+pub enum Value {
+    Number(f64),
+    Color([f64; 3]),
+    Text(&'static str),
+}
+
+impl fmt::Display for Value {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Value::Number(x) => write!(f, "{x:.6}"),
+            Value::Color(c) => write!(f, "({:.6}, {:.6}, {:.6})", c[0], c[1], c[2]),
+            Value::Text(t) => f.write_str(t),
+        }
+    }
+}
+
+/// An engine's parameter set.
+#[derive(Clone, Debug, Serialize)]
+pub struct EngineParams {
+    pub engine: Engine,
+    /// Where in the engine these fields live.
+    pub location: &'static str,
+    pub fields: Vec<Field>,
+    /// Clamps applied, ranges exceeded, assumptions.
+    pub notes: Vec<String>,
+}
+
+/// Christensen–Burley's fit for a pencil beam with the mean free path (UE's "perpendicular").
+fn s_perp(a: f64) -> f64 {
+    1.85 - a + 7.0 * (a - 0.8).abs().powi(3)
+}
+
+/// (colour = values / max, max): engines split per-channel lengths this way.
+fn split(v: [f64; 3]) -> ([f64; 3], f64) {
+    let m = v.iter().cloned().fold(0.0, f64::max);
+    (v.map(|x| if m > 0.0 { x / m } else { 0.0 }), m)
+}
+
+fn field(name: &'static str, value: Value, unit: &'static str) -> Field {
+    Field { name, value, unit }
+}
+
+/// The parameters of a Burley-based engine from the fitted profile.
+pub fn burley_engine(engine: Engine, fit: &BurleyProfileFit) -> Option<EngineParams> {
+    let (a, d) = (fit.albedo, fit.d_cm);
+    let mut notes = Vec::new();
+    let (location, fields) = match engine {
+        Engine::Unreal => {
+            let albedo = a.map(|x| x.clamp(0.01, 1.0));
+            if albedo != a {
+                notes.push(format!(
+                    "Surface Albedo clamped to Unreal's range [0.01, 1] from {a:.4?}"
+                ));
+            }
+            let mfp = [0, 1, 2].map(|c| 0.6 * s_perp(albedo[c]) * d[c]);
+            let (color, dist) = split(mfp);
+            if !(0.1..=50.0).contains(&dist) {
+                notes.push(format!(
+                    "Mean Free Path Distance {dist:.4} cm is outside the editor's slider range 0.1–50 cm; type it in or rescale World Unit Scale"
+                ));
+            }
+            (
+                "Subsurface Profile asset (Burley Normalized)",
+                vec![
+                    field("Surface Albedo", Value::Color(albedo), ""),
+                    field("Mean Free Path Color", Value::Color(color), ""),
+                    field(
+                        "Mean Free Path Distance",
+                        Value::Number(dist),
+                        "cm (Unreal units)",
+                    ),
+                    field("World Unit Scale", Value::Number(1.0), ""),
+                    field("Tint", Value::Color([1.0; 3]), ""),
+                ],
+            )
+        }
+        Engine::Unity => {
+            let (color, mult) = split(d.map(|x| 10.0 * x));
+            notes.push(
+                "Set the material's Base Color (diffuse albedo) to the listed albedo.".into(),
+            );
+            notes.push(format!(
+                "Max Radius will read {:.3} mm (16.56 × the largest distance).",
+                16.56 * mult
+            ));
+            (
+                "HDRP Diffusion Profile",
+                vec![
+                    field("Scattering Distance", Value::Color(color), ""),
+                    field("Multiplier", Value::Number(mult), "mm"),
+                    field("World Scale", Value::Number(1.0), "m per world unit"),
+                    field("Base Color (albedo)", Value::Color(a), ""),
+                ],
+            )
+        }
+        Engine::Blender => {
+            let (radius, scale) = split(d.map(|x| 4.0 * std::f64::consts::PI * x / 100.0));
+            (
+                "Principled BSDF, Subsurface Method: Christensen-Burley",
+                vec![
+                    field("Base Color", Value::Color(a), ""),
+                    field("Subsurface Weight", Value::Number(1.0), ""),
+                    field("Subsurface Radius", Value::Color(radius), ""),
+                    field(
+                        "Subsurface Scale",
+                        Value::Number(scale),
+                        "m (scene units in metres)",
+                    ),
+                ],
+            )
+        }
+        Engine::OpenPbr => return None,
+    };
+    Some(EngineParams {
+        engine,
+        location,
+        fields,
+        notes,
+    })
+}
+
+/// OpenPBR's subsurface parameters of a material (exact, from its coefficients); lengths in cm.
+pub fn openpbr(m: &mc::Material) -> EngineParams {
+    let art = mc::artist::Artist::of_material(m);
+    let (scale, radius) = split(art.radius);
+    let g = m.g.iter().sum::<f64>() / 3.0;
+    let mut notes = vec![
+        "Lengths are in cm: divide subsurface_radius by your scene's cm per unit (100 for metres)."
+            .into(),
+    ];
+    if m.g.iter().any(|x| (x - g).abs() > 1e-12) {
+        notes.push(format!(
+            "OpenPBR has one anisotropy; the material's g per channel {:?} is averaged",
+            m.g
+        ));
+    }
+    if art.radius.iter().any(|r| !r.is_finite()) {
+        notes.push("A channel does not interact with light (infinite mean free path).".into());
+    }
+    EngineParams {
+        engine: Engine::OpenPbr,
+        location: "OpenPBR Surface (MaterialX open_pbr_surface)",
+        fields: vec![
+            field("base_color", Value::Color(art.color), ""),
+            field("subsurface_weight", Value::Number(1.0), ""),
+            field("subsurface_color", Value::Color(art.color), ""),
+            field("subsurface_radius", Value::Number(radius), "cm"),
+            field("subsurface_radius_scale", Value::Color(scale), ""),
+            field("subsurface_scatter_anisotropy", Value::Number(g), ""),
+            field("specular_ior", Value::Number(m.eta), ""),
+        ],
+        notes,
+    }
+}
+
+/// A MaterialX 1.39 document with one `open_pbr_surface` material made of `p`'s fields.
+pub fn materialx(p: &EngineParams, name: &str) -> String {
+    let ident: String = name
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
+    let inputs: String = p
+        .fields
+        .iter()
+        .map(|f| match &f.value {
+            Value::Number(x) => format!(
+                "    <input name=\"{}\" type=\"float\" value=\"{x}\" />\n",
+                f.name
+            ),
+            Value::Color(c) => format!(
+                "    <input name=\"{}\" type=\"color3\" value=\"{}, {}, {}\" />\n",
+                f.name, c[0], c[1], c[2]
+            ),
+            Value::Text(_) => String::new(),
+        })
+        .collect();
+    format!(
+        "<?xml version=\"1.0\"?>\n<materialx version=\"1.39\" colorspace=\"lin_rec709\">\n  <!-- sss engine-params: {name}; lengths in cm -->\n  <open_pbr_surface name=\"SR_{ident}\" type=\"surfaceshader\">\n{inputs}  </open_pbr_surface>\n  <surfacematerial name=\"M_{ident}\" type=\"material\">\n    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"SR_{ident}\" />\n  </surfacematerial>\n</materialx>\n"
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each engine's mapping, read back with the engine's own formula, gives the fitted d.
+    #[test]
+    fn engine_fields_reproduce_the_burley_shape() {
+        let fit = BurleyProfileFit {
+            albedo: [0.6, 0.4, 0.2],
+            d_cm: [0.12, 0.05, 0.02],
+            kernel_rms_rel: [0.0; 3],
+            image_rms: [0.0; 3],
+        };
+        let get = |p: &EngineParams, name: &str| {
+            p.fields
+                .iter()
+                .find(|f| f.name == name)
+                .unwrap()
+                .value
+                .clone()
+        };
+        let num = |v: Value| {
+            if let Value::Number(x) = v {
+                x
+            } else {
+                panic!()
+            }
+        };
+        let col = |v: Value| if let Value::Color(x) = v { x } else { panic!() };
+        // Unreal: d [mm] = DMFP/s_SL with DMFP = 10·MFP·s_SL/(0.6·s_perp).
+        let ue = burley_engine(Engine::Unreal, &fit).unwrap();
+        let dist = num(get(&ue, "Mean Free Path Distance"));
+        let color = col(get(&ue, "Mean Free Path Color"));
+        for c in 0..3 {
+            let a = fit.albedo[c];
+            let s_sl = 3.5 + 100.0 * (a - 0.33f64).powi(4);
+            let dmfp_mm = 10.0 * color[c] * dist * s_sl / (0.6 * s_perp(a));
+            assert!((dmfp_mm / s_sl / 10.0 - fit.d_cm[c]).abs() < 1e-12);
+        }
+        // Unity: Scattering Distance × Multiplier = d in mm.
+        let u = burley_engine(Engine::Unity, &fit).unwrap();
+        let (sd, m) = (
+            col(get(&u, "Scattering Distance")),
+            num(get(&u, "Multiplier")),
+        );
+        // Blender: Radius × Scale / (4π) = d in metres.
+        let b = burley_engine(Engine::Blender, &fit).unwrap();
+        let (r, s) = (
+            col(get(&b, "Subsurface Radius")),
+            num(get(&b, "Subsurface Scale")),
+        );
+        for c in 0..3 {
+            assert!((sd[c] * m / 10.0 - fit.d_cm[c]).abs() < 1e-12);
+            assert!((r[c] * s / (4.0 * std::f64::consts::PI) * 100.0 - fit.d_cm[c]).abs() < 1e-12);
+        }
+        assert!(burley_engine(Engine::OpenPbr, &fit).is_none());
+        assert_eq!("OpenPBR".parse::<Engine>().unwrap(), Engine::OpenPbr);
+        assert!("godot".parse::<Engine>().is_err());
+    }
+
+    /// OpenPBR's fields invert back to the material's coefficients (the spec's mapping).
+    #[test]
+    fn openpbr_round_trips_the_coefficients() {
+        let m = mc::Material {
+            name: "x".into(),
+            source: String::new(),
+            sigma_a: [0.32, 1.7, 4.8],
+            sigma_s: [7.4, 8.8, 10.1],
+            g: [0.0; 3],
+            eta: 1.3,
+            thickness: None,
+        };
+        let p = openpbr(&m);
+        let v = |n: &str| p.fields.iter().find(|f| f.name == n).unwrap().value.clone();
+        let (Value::Color(color), Value::Number(r), Value::Color(scale)) = (
+            v("subsurface_color"),
+            v("subsurface_radius"),
+            v("subsurface_radius_scale"),
+        ) else {
+            panic!()
+        };
+        let (sa, ss) = mc::artist::Artist {
+            color,
+            radius: scale.map(|s| s * r),
+        }
+        .coefficients(m.g)
+        .unwrap();
+        for c in 0..3 {
+            assert!((sa[c] / m.sigma_a[c] - 1.0).abs() < 1e-9);
+            assert!((ss[c] / m.sigma_s[c] - 1.0).abs() < 1e-9);
+        }
+        let x = materialx(&p, "skin 1");
+        assert!(
+            x.contains("<open_pbr_surface name=\"SR_skin_1\"")
+                && x.contains("subsurface_radius_scale")
+        );
+    }
+}

@@ -1,0 +1,255 @@
+//! Choosing a kernel for a renderer's budget: every model that fits in a number of 1D passes is
+//! fitted, sampled into the budget's taps, and scored by its image-space error on the test
+//! signals against the 2D ground-truth convolution (thesis §6.2's image-space RMS, with the
+//! shader's sparse taps rather than the full-resolution kernel, since the taps are what ships).
+
+use std::fmt;
+use std::str::FromStr;
+
+use rayon::prelude::*;
+
+use crate::error::{FitError, Result};
+use crate::kernel2d::{Kernel2, ground_truth};
+use crate::metrics::ImageEval;
+use crate::model::{KernelModel, ManualParams, SkinParams};
+use crate::profile::Profile;
+use crate::skin::Skin;
+use crate::taps::{ShaderKernel, TapSpec};
+
+/// A renderer's budget: 1D convolution passes (2 per rank-1 term) × taps per pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Budget {
+    pub passes: usize,
+    pub taps: usize,
+}
+
+impl Default for Budget {
+    /// SSSS's budget: one horizontal and one vertical pass of 17 taps.
+    fn default() -> Self {
+        Budget {
+            passes: 2,
+            taps: 17,
+        }
+    }
+}
+
+impl fmt::Display for Budget {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}x{}", self.passes, self.taps)
+    }
+}
+
+impl FromStr for Budget {
+    type Err = String;
+
+    /// `PASSESxTAPS` (also `×` or `X`), e.g. `2x17`; passes even (H + V per term), 2..=12.
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        let t = s.trim().replace(['×', 'X'], "x");
+        let (p, k) = t
+            .split_once('x')
+            .ok_or_else(|| format!("budget {s:?}: expected PASSESxTAPS, e.g. 2x17"))?;
+        let num = |v: &str, what: &str| {
+            v.trim()
+                .parse::<usize>()
+                .map_err(|_| format!("budget {s:?}: {what} {v:?} is not a whole number"))
+        };
+        let b = Budget {
+            passes: num(p, "passes")?,
+            taps: num(k, "taps")?,
+        };
+        if b.passes < 2 || b.passes % 2 != 0 || b.passes > 12 {
+            return Err(format!(
+                "budget {s:?}: passes must be even (one horizontal + one vertical per term), 2 to 12"
+            ));
+        }
+        if !(1..=1025).contains(&b.taps) {
+            return Err(format!("budget {s:?}: taps must be in 1..=1025"));
+        }
+        Ok(b)
+    }
+}
+
+/// The models that fit in `passes` 1D passes: SVD rank-N rescaled to the kernel's energy and
+/// d'Eon with N Gaussians for every N ≤ passes/2, and the rank-1 models.
+pub fn candidates(passes: usize) -> Vec<KernelModel> {
+    let terms = passes / 2;
+    let mut m = vec![
+        KernelModel::Preint,
+        KernelModel::Guided { k: 1.0, b: 0.0 },
+        KernelModel::Manual(ManualParams::Auto),
+        KernelModel::Skin(SkinParams::Given(Skin::DEMO)),
+        KernelModel::Skin(SkinParams::Fit),
+        KernelModel::Burley { radial: false },
+    ];
+    for n in 1..=terms {
+        m.push(KernelModel::Svd {
+            rank: n,
+            renormalize: true,
+        });
+        if n <= 6 {
+            m.push(KernelModel::Deon { n });
+        }
+    }
+    m
+}
+
+/// One scored candidate.
+#[derive(Clone, Debug)]
+pub struct Scored {
+    /// The model as fitted (parameters resolved).
+    pub model: KernelModel,
+    pub kernel: ShaderKernel,
+    /// Image RMS per channel: the root mean square over the test signals of each signal's RMS
+    /// difference to the 2D ground-truth convolution (images in [0, 1]).
+    pub image_rms: [f64; 3],
+}
+
+impl Scored {
+    /// The mean over channels of [`Scored::image_rms`]: the ranking key.
+    pub fn error(&self) -> f64 {
+        self.image_rms.iter().sum::<f64>() / 3.0
+    }
+}
+
+/// Per-channel image evaluators of a profile's ground truths (built once, shared by models).
+pub struct Judge {
+    truths: Vec<Kernel2>,
+    evals: Vec<ImageEval>,
+}
+
+impl Judge {
+    pub fn new(p: &Profile) -> Self {
+        let truths: Vec<Kernel2> = (0..3).map(|c| ground_truth(p, c, None)).collect();
+        let evals = truths
+            .par_iter()
+            .map(|k| ImageEval::new(k, 256, 128))
+            .collect();
+        Judge { truths, evals }
+    }
+
+    /// The normalized ground truths per channel.
+    pub fn truths(&self) -> &[Kernel2] {
+        &self.truths
+    }
+
+    /// Image RMS of channel `c` for a dense 2D kernel on the ground truth's grid (the RMS over the
+    /// test signals, as [`Judge::score`]).
+    pub fn image_rms_dense(&self, c: usize, k: &Kernel2) -> f64 {
+        let e = self.evals[c].rms_dense(k);
+        (e.iter().map(|(_, x)| x * x).sum::<f64>() / e.len() as f64).sqrt()
+    }
+
+    /// Per-channel image RMS of a shader kernel's taps.
+    pub fn score(&self, kernel: &ShaderKernel) -> [f64; 3] {
+        [0, 1, 2].map(|c| {
+            let k = &self.truths[c];
+            let sparse = kernel.to_separable(c, k.h, k.half);
+            let e = self.evals[c].rms(&sparse);
+            (e.iter().map(|(_, x)| x * x).sum::<f64>() / e.len() as f64).sqrt()
+        })
+    }
+
+    /// Fits, samples and scores one model.
+    pub fn fit_and_score(&self, model: KernelModel, material: &str, taps: usize) -> Result<Scored> {
+        let fitted = model.fit_truths(&self.truths, material)?;
+        let kernel = ShaderKernel::from_fitted(
+            &fitted,
+            material,
+            TapSpec {
+                taps,
+                ..TapSpec::default()
+            },
+        )?;
+        Ok(Scored {
+            model: fitted.model,
+            image_rms: self.score(&kernel),
+            kernel,
+        })
+    }
+
+    /// Every candidate for the budget, best (lowest mean image RMS) first.
+    pub fn rank(&self, budget: Budget, material: &str) -> Result<Vec<Scored>> {
+        let mut scored = candidates(budget.passes)
+            .into_par_iter()
+            .map(|m| self.fit_and_score(m, material, budget.taps))
+            .collect::<Result<Vec<_>>>()?;
+        scored.sort_by(|a, b| a.error().total_cmp(&b.error()));
+        if scored.is_empty() {
+            return Err(FitError::invalid("budget", budget, "no model fits"));
+        }
+        Ok(scored)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn budgets_parse_and_refuse() {
+        assert_eq!(
+            "2x17".parse::<Budget>().unwrap(),
+            Budget {
+                passes: 2,
+                taps: 17
+            }
+        );
+        assert_eq!(
+            "6×33".parse::<Budget>().unwrap(),
+            Budget {
+                passes: 6,
+                taps: 33
+            }
+        );
+        for bad in ["3x17", "0x17", "2x0", "17", "2xq", "14x17"] {
+            assert!(bad.parse::<Budget>().is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn candidates_fit_the_budget() {
+        for passes in [2, 4, 6, 12] {
+            for m in candidates(passes) {
+                assert!(m.passes().unwrap() <= passes, "{m} in {passes}");
+            }
+        }
+        assert_eq!(candidates(2).len(), 8);
+    }
+
+    /// A profile that is a single Gaussian is exactly separable: at any budget the winner's image
+    /// error is far below SSSS's fixed skin kernel's, and more passes never make the best worse.
+    #[test]
+    fn ranking_prefers_exact_models() {
+        let p = Profile::from_fn(0.005, 80, |_, r| (-r * r / (2.0 * 0.03f64.powi(2))).exp());
+        let judge = Judge::new(&p);
+        let r2 = judge
+            .rank(
+                Budget {
+                    passes: 2,
+                    taps: 33,
+                },
+                "test",
+            )
+            .unwrap();
+        let skin = r2
+            .iter()
+            .find(|s| s.model == KernelModel::Skin(SkinParams::Given(Skin::DEMO)))
+            .unwrap();
+        assert!(
+            r2[0].error() < 0.1 * skin.error(),
+            "{} vs {}",
+            r2[0].model,
+            skin.error()
+        );
+        let r4 = judge
+            .rank(
+                Budget {
+                    passes: 4,
+                    taps: 33,
+                },
+                "test",
+            )
+            .unwrap();
+        assert!(r4[0].error() <= r2[0].error() * (1.0 + 1e-9));
+    }
+}

@@ -1,0 +1,221 @@
+//! End-to-end tests of `sss kernel` (material → best shader snippet for a budget) and
+//! `sss engine-params` (material → engine fields), including `--from-artist`.
+
+use std::path::Path;
+
+mod common;
+use common::sss;
+
+const SMALL: &str = "photons = 30000\nseed = 2\nthickness_cm = 1e8\nn_above = 1.0\nn_below = 1.0\n[grid]\ndr_per_min_mfp = 6.0\nr_max_mfp = 10.0\nz_max_mfp = 10.0\nnz = 10\nna = 5\n";
+
+fn profile(dir: &Path) {
+    std::fs::write(dir.join("small.toml"), SMALL).unwrap();
+    let o = sss(
+        &[
+            "simulate",
+            "skin1",
+            "--config",
+            "small.toml",
+            "--profile-only",
+            "--out",
+            "profiles",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+fn json(o: &std::process::Output) -> serde_json::Value {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).expect("stdout is JSON")
+}
+
+#[test]
+fn kernel_picks_the_lowest_image_error_within_the_budget_and_writes_valid_wgsl() {
+    let dir = tempfile::tempdir().unwrap();
+    profile(dir.path());
+    let o = sss(
+        &[
+            "kernel",
+            "skin1",
+            "--format",
+            "wgsl",
+            "--budget",
+            "4x17",
+            "--profiles",
+            "profiles",
+            "--out",
+            "k.wgsl",
+            "--json",
+        ],
+        dir.path(),
+    );
+    let j = json(&o);
+    let rows = j["candidates"].as_array().unwrap();
+    let err = |r: &serde_json::Value| r["mean_image_rms"].as_f64().unwrap();
+    assert_eq!(j["chosen"], rows[0]["model"]);
+    assert!(rows.iter().all(|r| err(r) >= err(&rows[0])));
+    assert!(rows.iter().all(|r| r["passes"].as_u64().unwrap() <= 4));
+    // Rank-2 candidates are there (SVD and d'Eon with two terms).
+    assert!(rows.iter().any(|r| r["model"] == "svd2-renorm"));
+    assert!(rows.iter().any(|r| r["model"] == "deon2"));
+    let src = std::fs::read_to_string(dir.path().join("k.wgsl")).unwrap();
+    let module = naga::front::wgsl::parse_str(&src).expect("exported WGSL parses");
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .expect("exported WGSL validates");
+    // --json needs --out (stdout is taken); a bad budget is refused; nothing written.
+    for bad in [
+        vec![
+            "kernel",
+            "skin1",
+            "--format",
+            "glsl",
+            "--profiles",
+            "profiles",
+            "--json",
+        ],
+        vec![
+            "kernel",
+            "skin1",
+            "--format",
+            "glsl",
+            "--profiles",
+            "profiles",
+            "--budget",
+            "3x17",
+            "--out",
+            "never.glsl",
+        ],
+    ] {
+        let o = sss(&bad, dir.path());
+        assert_eq!(o.status.code(), Some(2), "{bad:?}");
+    }
+    assert!(!dir.path().join("never.glsl").exists());
+}
+
+#[test]
+fn engine_params_in_each_engine_and_materialx() {
+    let dir = tempfile::tempdir().unwrap();
+    profile(dir.path());
+    // The albedo the engines get is the MC profile's total diffuse reflectance.
+    let csv = std::fs::read_to_string(dir.path().join("profiles/skin1.profile.csv")).unwrap();
+    let p = fit::Profile::from_csv(&csv, "skin1").unwrap();
+    for engine in ["unreal", "unity", "blender"] {
+        let o = sss(
+            &[
+                "engine-params",
+                "skin1",
+                "--engine",
+                engine,
+                "--json",
+                "--profiles",
+                "profiles",
+            ],
+            dir.path(),
+        );
+        let j = json(&o);
+        let fit = &j["burley_fit"];
+        for c in 0..3 {
+            let a = fit["albedo"][c].as_f64().unwrap();
+            assert!((a - p.total(c)).abs() < 1e-12, "{engine}");
+            assert!(fit["d_cm"][c].as_f64().unwrap() > 0.0);
+            // The Burley profile is not exact: its error is reported, finite and non-zero.
+            let e = fit["image_rms"][c].as_f64().unwrap();
+            assert!(e.is_finite() && e > 0.0);
+        }
+        assert!(!j["params"]["fields"].as_array().unwrap().is_empty());
+        assert!(j["best_separable"]["image_rms"][0].as_f64().unwrap() > 0.0);
+    }
+    let o = sss(
+        &[
+            "engine-params",
+            "skin1",
+            "--engine",
+            "openpbr",
+            "--profiles",
+            "profiles",
+            "--mtlx",
+            "skin1.mtlx",
+        ],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let x = std::fs::read_to_string(dir.path().join("skin1.mtlx")).unwrap();
+    assert!(x.contains("<materialx version=\"1.39\"") && x.contains("open_pbr_surface"));
+    // --mtlx belongs to openpbr; unknown engines are refused; nothing written.
+    for bad in [
+        vec![
+            "engine-params",
+            "skin1",
+            "--engine",
+            "unreal",
+            "--profiles",
+            "profiles",
+            "--mtlx",
+            "never.mtlx",
+        ],
+        vec![
+            "engine-params",
+            "skin1",
+            "--engine",
+            "godot",
+            "--profiles",
+            "profiles",
+        ],
+    ] {
+        let o = sss(&bad, dir.path());
+        assert_eq!(o.status.code(), Some(2), "{bad:?}");
+    }
+    assert!(!dir.path().join("never.mtlx").exists());
+}
+
+/// An artist's colour and radius go through the Monte Carlo pipeline, and OpenPBR's fields (the
+/// same convention) give them back.
+#[test]
+fn from_artist_round_trips_through_openpbr() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = sss(
+        &[
+            "engine-params",
+            "--from-artist",
+            "color=0.6,0.4,0.2",
+            "radius=0.5,0.4,0.3:mm",
+            "--engine",
+            "openpbr",
+            "--json",
+            "--photons",
+            "2e4",
+            "--profiles",
+            "profiles",
+        ],
+        dir.path(),
+    );
+    let j = json(&o);
+    let fields = j["params"]["fields"].as_array().unwrap();
+    let get = |n: &str| &fields.iter().find(|f| f["name"] == n).unwrap()["value"];
+    let radius = get("subsurface_radius").as_f64().unwrap();
+    for (c, (color, r_mm)) in [(0.6, 0.5), (0.4, 0.4), (0.2, 0.3)].iter().enumerate() {
+        let got = get("subsurface_color")[c].as_f64().unwrap();
+        assert!((got - color).abs() < 1e-9, "color[{c}] {got}");
+        let r = radius * get("subsurface_radius_scale")[c].as_f64().unwrap();
+        assert!((r - 0.1 * r_mm).abs() < 1e-9, "radius[{c}] {r}");
+    }
+    // A colour outside [0, 1] is refused, naming the field.
+    let o = sss(
+        &[
+            "engine-params",
+            "--from-artist",
+            "color=1.2,0.4,0.2",
+            "radius=1",
+            "--engine",
+            "unity",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("color[R]"));
+}
