@@ -248,10 +248,10 @@ pub fn engine_params(a: EngineParamsArgs) -> Result<()> {
         fit.albedo, fit.d_cm[0], fit.d_cm[1], fit.d_cm[2]
     );
     text += "what the engine's profile costs (images in [0, 1]):\n";
-    for c in 0..3 {
+    for (c, ch) in ch.iter().enumerate() {
         text += &format!(
             "  {}: Burley kernel RMS {:.1}% of the MC kernel; image RMS Burley {:.2e}, best separable ({}) {:.2e}\n",
-            ch[c],
+            ch,
             100.0 * fit.kernel_rms_rel[c],
             fit.image_rms[c],
             best.model,

@@ -106,7 +106,7 @@ impl KernelModel {
                 "d'Eon sums have 1 to 6 Gaussians",
             )),
             KernelModel::Guided { k, b }
-                if !(k.is_finite() && k >= 0.0) || !(b.is_finite() && b >= 0.0) =>
+                if !(k.is_finite() && k >= 0.0 && b.is_finite() && b >= 0.0) =>
             {
                 Err(FitError::invalid(
                     "guided k, b",
@@ -232,8 +232,11 @@ fn parse3(key: &str, s: &str) -> std::result::Result<[f64; 3], String> {
     }
 }
 
+/// (key, value) pairs of a parametrized name.
+type Params<'a> = Vec<(&'a str, &'a str)>;
+
 /// `name(key=value,…)` → (name, [(key, value)]).
-fn split_params(s: &str) -> std::result::Result<(&str, Vec<(&str, &str)>), String> {
+fn split_params(s: &str) -> std::result::Result<(&str, Params<'_>), String> {
     let Some(open) = s.find('(') else {
         return Ok((s, Vec::new()));
     };
@@ -258,7 +261,7 @@ impl fmt::Display for KernelModel {
                 write!(f, "svd{rank}{}", if renormalize { "-renorm" } else { "" })
             }
             KernelModel::Preint => write!(f, "preint"),
-            KernelModel::Guided { k, b } if b == 0.0 => write!(f, "guided-k{k}"),
+            KernelModel::Guided { k, b: 0.0 } => write!(f, "guided-k{k}"),
             KernelModel::Guided { k, b } => write!(f, "guided-k{k}-b{b}"),
             KernelModel::Manual(ManualParams::Auto) => write!(f, "manual"),
             KernelModel::Manual(ManualParams::Given(m)) => write!(

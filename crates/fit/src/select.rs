@@ -57,7 +57,7 @@ impl FromStr for Budget {
             passes: num(p, "passes")?,
             taps: num(k, "taps")?,
         };
-        if b.passes < 2 || b.passes % 2 != 0 || b.passes > 12 {
+        if b.passes < 2 || !b.passes.is_multiple_of(2) || b.passes > 12 {
             return Err(format!(
                 "budget {s:?}: passes must be even (one horizontal + one vertical per term), 2 to 12"
             ));
