@@ -31,6 +31,10 @@ pub fn multiple_scattering_albedo(alpha_reduced: f64) -> f64 {
     if alpha_reduced <= 0.0 {
         return 0.0;
     }
+    // The fit's s reaches 0 (clamped) a few 10⁻⁶ below A = 1: a conservative medium is A = 1.
+    if alpha_reduced >= 1.0 {
+        return 1.0;
+    }
     let (mut lo, mut hi) = (0.0, 1.0);
     for _ in 0..60 {
         let mid = 0.5 * (lo + hi);
