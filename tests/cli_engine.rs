@@ -1,29 +1,8 @@
 //! End-to-end tests of `sss kernel` (material → best shader snippet for a budget) and
 //! `sss engine-params` (material → engine fields), including `--from-artist`.
 
-use std::path::Path;
-
 mod common;
-use common::sss;
-
-const SMALL: &str = "photons = 30000\nseed = 2\nthickness_cm = 1e8\nn_above = 1.0\nn_below = 1.0\n[grid]\ndr_per_min_mfp = 6.0\nr_max_mfp = 10.0\nz_max_mfp = 10.0\nnz = 10\nna = 5\n";
-
-fn profile(dir: &Path) {
-    std::fs::write(dir.join("small.toml"), SMALL).unwrap();
-    let o = sss(
-        &[
-            "simulate",
-            "skin1",
-            "--config",
-            "small.toml",
-            "--profile-only",
-            "--out",
-            "profiles",
-        ],
-        dir,
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-}
+use common::{small_profile, sss};
 
 fn json(o: &std::process::Output) -> serde_json::Value {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -33,7 +12,7 @@ fn json(o: &std::process::Output) -> serde_json::Value {
 #[test]
 fn kernel_picks_the_lowest_image_error_within_the_budget_and_writes_valid_wgsl() {
     let dir = tempfile::tempdir().unwrap();
-    profile(dir.path());
+    small_profile(dir.path());
     let o = sss(
         &[
             "kernel",
@@ -100,7 +79,7 @@ fn kernel_picks_the_lowest_image_error_within_the_budget_and_writes_valid_wgsl()
 #[test]
 fn engine_params_in_each_engine_and_materialx() {
     let dir = tempfile::tempdir().unwrap();
-    profile(dir.path());
+    small_profile(dir.path());
     // The albedo the engines get is the MC profile's total diffuse reflectance.
     let csv = std::fs::read_to_string(dir.path().join("profiles/skin1.profile.csv")).unwrap();
     let p = fit::Profile::from_csv(&csv, "skin1").unwrap();

@@ -1,29 +1,13 @@
 //! End-to-end tests of `sss export` on a kernel fitted to a small simulated profile.
 
 mod common;
-use common::sss;
-
-/// A coarse grid (dr = min MFP / 6, 10 max MFP) keeps the kernels small.
-const SMALL: &str = "photons = 30000\nseed = 2\nthickness_cm = 1e8\nn_above = 1.0\nn_below = 1.0\n[grid]\ndr_per_min_mfp = 6.0\nr_max_mfp = 10.0\nz_max_mfp = 10.0\nnz = 10\nna = 5\n";
+use common::{small_profile, sss};
 
 #[test]
 fn export_writes_valid_wgsl_and_json_and_refuses_bad_input() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path();
-    std::fs::write(path.join("small.toml"), SMALL).unwrap();
-    let o = sss(
-        &[
-            "simulate",
-            "skin1",
-            "--config",
-            "small.toml",
-            "--profile-only",
-            "--out",
-            "profiles",
-        ],
-        path,
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    small_profile(path);
     let o = sss(
         &[
             "fit",

@@ -1,34 +1,12 @@
 //! End-to-end tests of `sss fit` and `sss eval` on a small simulated profile.
 
-use std::path::Path;
-
 mod common;
-use common::sss;
-
-/// A coarse grid (dr = min MFP / 6, 10 max MFP) keeps the kernels small.
-const SMALL: &str = "photons = 30000\nseed = 2\nthickness_cm = 1e8\nn_above = 1.0\nn_below = 1.0\n[grid]\ndr_per_min_mfp = 6.0\nr_max_mfp = 10.0\nz_max_mfp = 10.0\nnz = 10\nna = 5\n";
-
-fn profile(dir: &Path) {
-    std::fs::write(dir.join("small.toml"), SMALL).unwrap();
-    let o = sss(
-        &[
-            "simulate",
-            "skin1",
-            "--config",
-            "small.toml",
-            "--profile-only",
-            "--out",
-            "profiles",
-        ],
-        dir,
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-}
+use common::{small_profile, sss};
 
 #[test]
 fn fit_writes_shader_kernels_for_every_model() {
     let dir = tempfile::tempdir().unwrap();
-    profile(dir.path());
+    small_profile(dir.path());
     for (model, extra, passes) in [
         ("preint", vec![], 1),
         ("svd", vec!["--rank", "3"], 3),
@@ -121,7 +99,7 @@ fn fit_writes_shader_kernels_for_every_model() {
 #[test]
 fn eval_reports_every_model_and_writes_plots() {
     let dir = tempfile::tempdir().unwrap();
-    profile(dir.path());
+    small_profile(dir.path());
     let o = sss(
         &[
             "eval",
