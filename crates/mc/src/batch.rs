@@ -20,6 +20,7 @@ use crate::rng::Rng;
 
 use crate::error::{McError, Result};
 use crate::grid::{Grid, GridIndex};
+use crate::incidence::Incidence;
 use crate::layer::{Layer, Sample};
 use crate::output::Output;
 use crate::photon::{Medium, Photon, Scorer, trace};
@@ -125,7 +126,7 @@ pub(crate) struct GroupJob {
 }
 
 impl GroupJob {
-    pub fn new(spec: &BatchSpec, group: &[usize]) -> Self {
+    pub fn new(spec: &BatchSpec, group: &[usize], incidence: Incidence) -> Self {
         let chans: Vec<&ChannelSpec> = group.iter().map(|&i| &spec.channels[i]).collect();
         let first = chans[0].layer;
         let albedo: Vec<f64> = chans.iter().map(|c| c.layer.albedo()).collect();
@@ -146,11 +147,14 @@ impl GroupJob {
             };
             (walk, chans.iter().map(|c| 1.0 / c.layer.mu_t()).collect())
         };
-        let medium = Medium::new(&Sample {
-            n_above: spec.n_above,
-            n_below: spec.n_below,
-            layers: vec![layer],
-        });
+        let medium = Medium::at(
+            &Sample {
+                n_above: spec.n_above,
+                n_below: spec.n_below,
+                layers: vec![layer],
+            },
+            incidence,
+        );
         // Strides are the largest sizes of the group; each channel bins and normalizes on its own grid.
         let max = |f: fn(&Grid) -> usize| chans.iter().map(|c| f(&c.grid)).max().unwrap_or(1);
         let layout = Layout {

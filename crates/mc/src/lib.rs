@@ -35,6 +35,7 @@ mod config;
 mod error;
 mod fresnel;
 mod grid;
+pub mod incidence;
 mod layer;
 mod material;
 pub mod mci;
@@ -60,6 +61,6 @@ pub use photon::{PATH_ROULETTE_INTERVAL, ROULETTE_SURVIVAL, ROULETTE_THRESHOLD};
 pub use rng::CHUNK_PHOTONS;
 pub use simulate::{
     ROUND_CHUNKS, RunSpec, accumulate, accumulate_batch, batch_outputs, chunk_count,
-    relative_error, run, run_batch, run_batch_to_error,
+    relative_error, run, run_at, run_batch, run_batch_at, run_batch_to_error,
 };
 pub use tally::{Accumulator, Layout, TallySet};

@@ -11,6 +11,7 @@ use rand::RngExt;
 use rand_distr::{Distribution, Exp1};
 
 use crate::fresnel::{COS_ZERO, cos_critical, fresnel, specular};
+use crate::incidence::Incidence;
 use crate::layer::Sample;
 use crate::phase::sample_cos_theta;
 
@@ -50,9 +51,28 @@ pub(crate) struct Medium {
     pub rsp: f64,
     /// Index of the first layer a photon is launched into (1 when layer 0 is glass, as MCML does).
     pub first: usize,
+    /// Launch direction inside the first layer, in the x–z plane: (sin θt, cos θt).
+    pub launch_ux: f64,
+    pub launch_uz: f64,
 }
 
 impl Medium {
+    /// The sample under a beam at `incidence`: at θ = 0 MCML's setup exactly (Rsp with a glass
+    /// top layer's multiple reflections, launch along +z); at θ > 0 the beam is refracted into the
+    /// first layer by Snell's law and Rsp is the unpolarized Fresnel reflectance at θ. A glass
+    /// top layer is refused at θ > 0 ([`Incidence::validate_for`]).
+    pub fn at(sample: &Sample, incidence: Incidence) -> Self {
+        let mut m = Self::new(sample);
+        if incidence.theta_deg > 0.0 {
+            let cos_i = incidence.theta_deg.to_radians().cos();
+            let (r, cos_t) = fresnel(sample.n_above, sample.layers[0].n, cos_i);
+            m.rsp = r;
+            m.launch_uz = cos_t;
+            m.launch_ux = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+        }
+        m
+    }
+
     pub fn new(sample: &Sample) -> Self {
         let ls = &sample.layers;
         let mut z = 0.0;
@@ -92,6 +112,8 @@ impl Medium {
             slabs,
             rsp,
             first: usize::from(glass_first),
+            launch_ux: 0.0,
+            launch_uz: 1.0,
         }
     }
 }
@@ -155,15 +177,16 @@ pub(crate) fn trace<S: Scorer>(m: &Medium, rng: &mut Rng, scorer: &mut S) {
     scorer.finish(&p);
 }
 
-/// Pencil beam at the origin, normal incidence, weight 1 − Rsp (MCML's `LaunchPhoton`).
+/// Pencil beam at the origin, weight 1 − Rsp (MCML's `LaunchPhoton`), along the refracted
+/// direction (+z at normal incidence).
 fn launch(m: &Medium) -> Photon {
     Photon {
         x: 0.0,
         y: 0.0,
         z: m.slabs[m.first].z0,
-        ux: 0.0,
+        ux: m.launch_ux,
         uy: 0.0,
-        uz: 1.0,
+        uz: m.launch_uz,
         w: 1.0 - m.rsp,
         layer: m.first,
         s_left: 0.0,

@@ -18,6 +18,7 @@ use crate::rng::Rng;
 use crate::batch::{BatchSpec, GroupJob};
 use crate::error::{McError, Result};
 use crate::grid::Grid;
+use crate::incidence::Incidence;
 use crate::layer::Sample;
 use crate::output::Output;
 use crate::photon::{Medium, trace};
@@ -139,8 +140,29 @@ fn accumulate_job<J: Job>(
 
 /// Runs an MCML run and normalizes it.
 pub fn run(spec: &RunSpec, progress: &(dyn Fn(u64) + Sync)) -> Result<Output> {
-    let acc = accumulate(spec, 0..chunk_count(spec.photons), progress)?;
-    Ok(Output::from_accumulator(&acc, 0, spec.grid, spec.rsp()))
+    run_at(spec, Incidence::NORMAL, progress)
+}
+
+/// Runs an MCML run under a beam at `incidence` and normalizes it.
+pub fn run_at(
+    spec: &RunSpec,
+    incidence: Incidence,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Output> {
+    spec.validate()?;
+    incidence.validate_for(&spec.sample)?;
+    let job = McmlJob {
+        medium: Medium::at(&spec.sample, incidence),
+        spec,
+    };
+    let acc = accumulate_job(
+        &job,
+        spec.photons,
+        spec.seed,
+        0..chunk_count(spec.photons),
+        progress,
+    );
+    Ok(Output::from_accumulator(&acc, 0, spec.grid, job.medium.rsp))
 }
 
 /// Traces the chunks `chunks` (a shard) of an MCML run.
@@ -187,14 +209,30 @@ pub fn accumulate_batch(
     chunks: Range<u64>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<Accumulator>> {
+    accumulate_batch_at(spec, Incidence::NORMAL, chunks, progress)
+}
+
+fn accumulate_batch_at(
+    spec: &BatchSpec,
+    incidence: Incidence,
+    chunks: Range<u64>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<Accumulator>> {
     spec.validate()?;
+    for c in &spec.channels {
+        incidence.validate_for(&Sample {
+            n_above: spec.n_above,
+            n_below: spec.n_below,
+            layers: vec![c.layer],
+        })?;
+    }
     check_chunks(&chunks, spec.photons)?;
     Ok(spec
         .groups()
         .iter()
         .enumerate()
         .map(|(g, group)| {
-            let job = GroupJob::new(spec, group);
+            let job = GroupJob::new(spec, group, incidence);
             accumulate_job(
                 &job,
                 spec.photons,
@@ -208,9 +246,13 @@ pub fn accumulate_batch(
 
 /// Normalizes a batch's group accumulators into one [`Output`] per channel, in channel order.
 pub fn batch_outputs(spec: &BatchSpec, accs: &[Accumulator]) -> Vec<Output> {
+    batch_outputs_at(spec, Incidence::NORMAL, accs)
+}
+
+fn batch_outputs_at(spec: &BatchSpec, incidence: Incidence, accs: &[Accumulator]) -> Vec<Output> {
     let mut out: Vec<Option<Output>> = vec![None; spec.channels.len()];
     for (group, acc) in spec.groups().iter().zip(accs) {
-        let job = GroupJob::new(spec, group);
+        let job = GroupJob::new(spec, group, incidence);
         for (k, &ch) in group.iter().enumerate() {
             out[ch] = Some(job.output(acc, k));
         }
@@ -222,8 +264,17 @@ pub fn batch_outputs(spec: &BatchSpec, accs: &[Accumulator]) -> Vec<Output> {
 
 /// Runs every channel of a batch, grouped by similarity, for `spec.photons` photons each.
 pub fn run_batch(spec: &BatchSpec, progress: &(dyn Fn(u64) + Sync)) -> Result<Vec<Output>> {
-    let accs = accumulate_batch(spec, 0..chunk_count(spec.photons), progress)?;
-    Ok(batch_outputs(spec, &accs))
+    run_batch_at(spec, Incidence::NORMAL, progress)
+}
+
+/// [`run_batch`] under a beam at `incidence`.
+pub fn run_batch_at(
+    spec: &BatchSpec,
+    incidence: Incidence,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<Output>> {
+    let accs = accumulate_batch_at(spec, incidence, 0..chunk_count(spec.photons), progress)?;
+    Ok(batch_outputs_at(spec, incidence, &accs))
 }
 
 /// The stopping statistic of an error-targeted run for one channel: the larger of
@@ -269,7 +320,7 @@ pub fn run_batch_to_error(
     let total = chunk_count(spec.photons);
     let mut out: Vec<Option<Output>> = vec![None; spec.channels.len()];
     for (g, group) in spec.groups().iter().enumerate() {
-        let job = GroupJob::new(spec, group);
+        let job = GroupJob::new(spec, group, Incidence::NORMAL);
         let mut acc = Accumulator::new(job.layout());
         let mut next = 0;
         loop {

@@ -262,3 +262,105 @@ fn artist_color_is_the_diffuse_albedo_of_exact_transport() {
     }
     eprintln!("van de Hulst inversion: worst |A_exact − A| = {worst:.4}");
 }
+
+fn run_at(sample: Sample, grid: Grid, photons: u64, seed: u64, theta_deg: f64) -> Output {
+    let spec = RunSpec {
+        sample,
+        grid,
+        photons,
+        seed,
+        tallies: TallySet::default(),
+    };
+    mc::run_at(&spec, mc::incidence::Incidence { theta_deg }, &|_| {}).unwrap()
+}
+
+/// Oblique incidence on an isotropic, index-matched half-space: total diffuse reflectance for an
+/// incidence cosine μ₀ is exactly 1 − H(μ₀)·√(1−a) (Chandrasekhar 1960), here at 30°, 60° and
+/// 75° for three albedos, and it grows towards grazing incidence.
+#[test]
+fn oblique_half_space_matches_chandrasekhar() {
+    for (i, &a) in [0.5, 0.9, 0.99].iter().enumerate() {
+        let layer = Layer {
+            n: 1.0,
+            mu_a: 10.0 * (1.0 - a),
+            mu_s: 10.0 * a,
+            g: 0.0,
+            thickness: 1.0e8,
+        };
+        let mut last = 0.0;
+        for (j, &theta) in [30.0f64, 60.0, 75.0].iter().enumerate() {
+            let o = run_at(
+                Sample::single(layer),
+                small_grid(),
+                200_000,
+                300 + (3 * i + j) as u64,
+                theta,
+            );
+            let mu0 = theta.to_radians().cos();
+            let exact = 1.0 - (1.0 - a).sqrt() * h_function(a, mu0);
+            within(
+                &format!("Rd(a={a}, θ={theta}°)"),
+                o.rd.value,
+                o.rd.se,
+                exact,
+                3.0,
+            );
+            assert_eq!(o.rsp, 0.0);
+            assert!(exact > last);
+            last = exact;
+        }
+    }
+}
+
+/// At oblique incidence Rsp is the unpolarized Fresnel reflectance (Rs + Rp)/2 of the beam's
+/// angle, and energy is conserved in a stack of layers with different η, g.
+#[test]
+fn oblique_incidence_conserves_energy_with_fresnel_entry() {
+    let s = Sample {
+        n_above: 1.0,
+        n_below: 1.4,
+        layers: vec![
+            Layer {
+                n: 1.37,
+                mu_a: 1.0,
+                mu_s: 100.0,
+                g: 0.9,
+                thickness: 0.1,
+            },
+            Layer {
+                n: 1.45,
+                mu_a: 2.0,
+                mu_s: 10.0,
+                g: -0.3,
+                thickness: 0.05,
+            },
+        ],
+    };
+    for (k, theta) in [45.0f64, 80.0].into_iter().enumerate() {
+        let o = run_at(s.clone(), small_grid(), 100_000, 40 + k as u64, theta);
+        let (n1, n2) = (1.0, 1.37);
+        let ci = theta.to_radians().cos();
+        let st = n1 / n2 * theta.to_radians().sin();
+        let ct = (1.0 - st * st).sqrt();
+        let rs = ((n1 * ci - n2 * ct) / (n1 * ci + n2 * ct)).powi(2);
+        let rp = ((n1 * ct - n2 * ci) / (n1 * ct + n2 * ci)).powi(2);
+        assert!(
+            (o.rsp - 0.5 * (rs + rp)).abs() < 1e-12,
+            "θ={theta}: {}",
+            o.rsp
+        );
+        let total = o.rsp + o.rd.value + o.a.value + o.tt.value;
+        let se = o.rd.se.max(o.a.se).max(o.tt.se);
+        within(&format!("Rsp+Rd+A+Tt at {theta}°"), total, se, 1.0, 3.0);
+    }
+    // Angles outside [0, 90) are refused, naming the field.
+    let spec = RunSpec {
+        sample: s,
+        grid: small_grid(),
+        photons: 10,
+        seed: 1,
+        tallies: TallySet::default(),
+    };
+    let e = mc::run_at(&spec, mc::incidence::Incidence { theta_deg: 90.0 }, &|_| {}).unwrap_err();
+    assert!(e.to_string().contains("incidence angle"), "{e}");
+}
