@@ -70,7 +70,10 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 grid,
                 photons,
                 seed: 1,
-                tallies: TallySet { absorption_rz: rz },
+                tallies: TallySet {
+                    absorption_rz: rz,
+                    surface_xy: 0,
+                },
             };
             let t = Instant::now();
             let o = single.install(|| mc::run(&spec, &|_| {}))?;
@@ -118,6 +121,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 seed: 1,
                 tallies: TallySet {
                     absorption_rz: false,
+                    surface_xy: 0,
                 },
             };
             let t = Instant::now();
@@ -164,6 +168,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         seed: 1,
         tallies: TallySet {
             absorption_rz: false,
+            surface_xy: 0,
         },
     };
     eprintln!(

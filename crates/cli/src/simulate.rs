@@ -224,6 +224,7 @@ pub fn batch_spec(
         seed,
         tallies: TallySet {
             absorption_rz: !profile_only,
+            surface_xy: 0,
         },
     };
     spec.validate()?;

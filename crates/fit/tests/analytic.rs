@@ -234,6 +234,7 @@ fn mc_profile(m: &Material, photons: u64) -> (Profile, [(f64, f64); 3]) {
         seed: 11,
         tallies: TallySet {
             absorption_rz: false,
+            surface_xy: 0,
         },
     };
     let out = mc::run_batch(&spec, &|_| {}).unwrap();

@@ -54,6 +54,7 @@ fn svd_rank_1_has_the_lowest_kernel_rms_of_the_rank_1_models() {
         seed: 7,
         tallies: TallySet {
             absorption_rz: false,
+            surface_xy: 0,
         },
     };
     let out = mc::run_batch(&spec, &|_| {}).unwrap();

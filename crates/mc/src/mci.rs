@@ -115,6 +115,7 @@ pub fn parse(text: &str, source_name: &str, seed: u64) -> Result<Vec<MciRun>> {
             seed,
             tallies: TallySet {
                 absorption_rz: true,
+                surface_xy: 0,
             },
         };
         spec.validate().map_err(|e| match e {

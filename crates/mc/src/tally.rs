@@ -18,12 +18,18 @@ pub struct TallySet {
     /// Record absorption on the (r, z) grid (MCML's `A_rz` and `A_z`). Costs a scratch write per
     /// interaction; turn it off when only profiles are needed.
     pub absorption_rz: bool,
+    /// Record diffuse reflectance on a square surface grid Rd(x, y) of 2n + 1 cells per side
+    /// with the radial grid's spacing dr, centred on the beam (n = this value; 0 = off). Needed
+    /// when the profile is not radially symmetric (oblique incidence).
+    #[serde(default)]
+    pub surface_xy: usize,
 }
 
 impl Default for TallySet {
     fn default() -> Self {
         TallySet {
             absorption_rz: true,
+            surface_xy: 0,
         }
     }
 }

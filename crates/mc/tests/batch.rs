@@ -74,6 +74,7 @@ fn batch_equals_independent_runs_within_statistics() {
         seed: 1,
         tallies: TallySet {
             absorption_rz: true,
+            surface_xy: 0,
         },
     };
     assert_eq!(
@@ -147,6 +148,7 @@ fn grouping_respects_g_eta_and_thickness() {
         seed: 1,
         tallies: TallySet {
             absorption_rz: false,
+            surface_xy: 0,
         },
     };
     assert_eq!(
@@ -232,6 +234,7 @@ fn error_target_is_met() {
         seed: 8,
         tallies: TallySet {
             absorption_rz: false,
+            surface_xy: 0,
         },
     };
     let r_max: Vec<f64> = spec.channels.iter().map(|c| 3.0 / c.layer.mu_t()).collect();
