@@ -164,6 +164,7 @@ impl GroupJob {
             layers: 1,
             rz: spec.tallies.absorption_rz,
             channels: chans.len(),
+            xy: spec.tallies.surface_xy,
         };
         GroupJob {
             medium,
@@ -328,6 +329,13 @@ impl Scorer for BatchScorer<'_> {
             let i = o + g.ir(r * job.scale[k]) * l.na + g.ia(cos_exit);
             self.tally.sum[i] += w;
             self.tally.sum_sq[i] += w * w;
+            if top
+                && l.xy > 0
+                && let Some(j) = g.ixy(p.x * job.scale[k], p.y * job.scale[k], l.xy)
+            {
+                self.tally.sum[l.rd_xy(k) + j] += w;
+                self.tally.sum_sq[l.rd_xy(k) + j] += w * w;
+            }
         }
     }
 

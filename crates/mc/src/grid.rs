@@ -104,6 +104,18 @@ impl GridIndex {
         ((r * self.inv_dr) as usize).min(self.nr - 1)
     }
 
+    /// Cell of the surface grid Rd(x, y) (2n + 1 cells of side dr per axis, centred on the beam)
+    /// holding (x, y) [cm], row-major [iy][ix]; `None` outside it.
+    #[inline]
+    pub fn ixy(&self, x: f64, y: f64, n: usize) -> Option<usize> {
+        let side = 2 * n + 1;
+        let cell = |v: f64| {
+            let i = (v * self.inv_dr + n as f64 + 0.5).floor();
+            (i >= 0.0 && i < side as f64).then_some(i as usize)
+        };
+        Some(cell(y)? * side + cell(x)?)
+    }
+
     /// Depth bin of depth `z` [cm], clamped to the last bin.
     #[inline]
     pub fn iz(&self, z: f64) -> usize {

@@ -61,6 +61,9 @@ pub struct Output {
     pub tt_a: Vec<Estimate>,
     /// [cm⁻² sr⁻¹], [ir][ia] row-major.
     pub tt_ra: Vec<Estimate>,
+    /// Diffuse reflectance on the surface grid [cm⁻²], [iy][ix] row-major, 2n + 1 cells of side
+    /// dr per axis, cell (i, j) centred at ((j − n)·dr, (i − n)·dr); empty when not tallied.
+    pub rd_xy: Vec<Estimate>,
 }
 
 /// Mean and standard error of per-photon scores from Σx, Σx², N, times `scale`.
@@ -151,7 +154,12 @@ impl Output {
         } else {
             (Vec::new(), Vec::new())
         };
+        let o = l.rd_xy(c);
+        let rd_xy = (0..l.xy_cells())
+            .map(|i| estimate(acc.s(o + i), acc.s2(o + i), n, 1.0 / (grid.dr * grid.dr)))
+            .collect();
         Output {
+            rd_xy,
             grid,
             photons: acc.photons,
             interactions: acc.interactions,

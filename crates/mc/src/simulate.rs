@@ -81,6 +81,7 @@ impl Job for McmlJob<'_> {
             layers: self.spec.sample.layers.len(),
             rz: self.spec.tallies.absorption_rz,
             channels: 1,
+            xy: self.spec.tallies.surface_xy,
         }
     }
 

@@ -49,6 +49,9 @@ pub struct Layout {
     pub rz: bool,
     /// Number of channels tallied side by side (1 except for batch runs).
     pub channels: usize,
+    /// Half-width n of the surface grid Rd(x, y), (2n + 1)² cells; 0 = not recorded.
+    #[serde(default)]
+    pub xy: usize,
 }
 
 impl Layout {
@@ -62,6 +65,15 @@ impl Layout {
             } else {
                 0
             }
+            + self.xy_cells()
+    }
+    /// Cells of the surface grid (0 when not recorded).
+    pub fn xy_cells(&self) -> usize {
+        if self.xy > 0 {
+            (2 * self.xy + 1).pow(2)
+        } else {
+            0
+        }
     }
     /// Total entries of the flat tally vectors.
     pub fn entries(&self) -> usize {
@@ -90,6 +102,16 @@ impl Layout {
     /// Offset of channel `c`'s A(z); only when `rz`.
     pub fn a_z(&self, c: usize) -> usize {
         self.a_rz(c) + self.nr * self.nz
+    }
+    /// Offset of channel `c`'s surface grid Rd(x, y), stored [iy][ix]; only when `xy` > 0.
+    pub fn rd_xy(&self, c: usize) -> usize {
+        self.a_total(c)
+            + 1
+            + if self.rz {
+                self.nr * self.nz + self.nz
+            } else {
+                0
+            }
     }
 }
 
@@ -277,6 +299,13 @@ impl Scorer for McmlScorer<'_> {
         let o = if top { l.rd_ra(0) } else { l.tt_ra(0) };
         self.tally.sum[o + i] += p.w;
         self.tally.sum_sq[o + i] += p.w * p.w;
+        if top
+            && l.xy > 0
+            && let Some(j) = self.grid.ixy(p.x, p.y, l.xy)
+        {
+            self.tally.sum[l.rd_xy(0) + j] += p.w;
+            self.tally.sum_sq[l.rd_xy(0) + j] += p.w * p.w;
+        }
     }
 
     fn finish(&mut self, p: &Photon) {

@@ -264,3 +264,47 @@ fn error_target_is_met() {
         .fold(0.0, f64::max);
     assert!(worst > target, "{worst}");
 }
+
+/// At oblique incidence the batch walk scores every channel's surface grid Rd(x, y) on that
+/// channel's own grid: χ² against independent runs, and the same Rsp.
+#[test]
+fn oblique_batch_surface_grids_equal_independent_runs() {
+    let chans: Vec<ChannelSpec> = channels()
+        .into_iter()
+        .map(|mut c| {
+            c.layer.n = 1.4;
+            c
+        })
+        .collect();
+    let (photons, theta) = (60_000, mc::incidence::Incidence { theta_deg: 60.0 });
+    let tallies = TallySet {
+        absorption_rz: false,
+        surface_xy: 20,
+    };
+    let spec = BatchSpec {
+        n_above: 1.0,
+        n_below: 1.0,
+        channels: chans.clone(),
+        photons,
+        seed: 3,
+        tallies,
+    };
+    let batch = mc::run_batch_at(&spec, theta, &|_| {}).unwrap();
+    for (i, c) in chans.iter().enumerate() {
+        let single = RunSpec {
+            sample: Sample::single(c.layer),
+            grid: c.grid,
+            photons,
+            seed: 77 + i as u64,
+            tallies,
+        };
+        let single = mc::run_at(&single, theta, &|_| {}).unwrap();
+        assert_eq!(batch[i].rsp, single.rsp);
+        let (chi, dof) = chi2(&batch[i].rd_xy, &single.rd_xy);
+        assert!(dof >= 15, "channel {i}: only {dof} cells");
+        assert!(
+            chi < dof as f64 + 5.0 * (2.0 * dof as f64).sqrt(),
+            "channel {i}: χ² = {chi:.1} over {dof} cells"
+        );
+    }
+}
