@@ -20,6 +20,48 @@ use crate::fit::{build_kernel, plain};
 use crate::library;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum OnOff {
+    On,
+    Off,
+}
+
+/// ρ(θ)/ρ(0) per channel at θ = 0°, 10°, …, 80° for a material, by `mc` (profile-only batch runs
+/// on the material's grid, `photons` per channel and angle).
+fn incidence_table(
+    named: &library::Named,
+    photons: u64,
+    seed: u64,
+) -> Result<[[f32; 3]; gpu::INCIDENCE_STEPS]> {
+    let config = library::config(None)?;
+    let spec =
+        crate::simulate::batch_spec(std::slice::from_ref(named), &config, photons, seed, true)?;
+    let angles: Vec<f64> = (0..gpu::INCIDENCE_STEPS).map(|k| 10.0 * k as f64).collect();
+    let bar = crate::progress::photons(
+        photons * spec.groups().len() as u64 * angles.len() as u64,
+        "incidence table",
+    );
+    let rows = mc::incidence::rd_table(&spec, &angles, &|k| bar.inc(k))?;
+    bar.finish_and_clear();
+    let rd0 = &rows[0].rd;
+    if rd0.iter().any(|e| !(e.value > 0.0)) {
+        bail!(
+            "--incidence-aware: {} has no diffuse reflectance at normal incidence in some channel",
+            named.slug
+        );
+    }
+    let mut table = [[1.0f32; 3]; gpu::INCIDENCE_STEPS];
+    eprintln!("incidence table of {} (ρ(θ)/ρ(0), R G B):", named.slug);
+    for (k, row) in rows.iter().enumerate() {
+        table[k] = [0, 1, 2].map(|c| (row.rd[c].value / rd0[c].value) as f32);
+        eprintln!(
+            "  {:>4.0}°  {:.3} {:.3} {:.3}",
+            row.theta_deg, table[k][0], table[k][1], table[k][2]
+        );
+    }
+    Ok(table)
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Albedo {
     /// Albedo applied before scattering (blurs texture detail)
     Pre,
@@ -126,6 +168,16 @@ pub struct RenderArgs {
     /// MIN_X,MIN_Y,MIN_Z:MAX_X,MAX_Y,MAX_Z [cm]
     #[arg(long = "box", value_parser = parse_box)]
     boxes: Vec<(Vec3, Vec3)>,
+
+    /// Incidence-aware shading: scale each light's irradiance on SSS surfaces by the material's
+    /// total diffuse reflectance at that incidence angle relative to normal incidence,
+    /// ρ(θ)/ρ(0) per channel, from `mc` at θ = 0°, 10°, …, 80° (Fresnel entry included)
+    #[arg(long, value_enum, default_value = "off")]
+    incidence_aware: OnOff,
+
+    /// Photons per channel and angle for the incidence table of --incidence-aware on
+    #[arg(long, value_parser = crate::parse_count, default_value = "100000")]
+    incidence_photons: u64,
 
     /// Plain Lambertian shading: no scattering at all (a baseline)
     #[arg(long, conflicts_with_all = ["kernel", "compare_models", "bench"])]
@@ -376,6 +428,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
         jitter: a.jitter,
         fixed_depth: None,
         exposure: a.exposure,
+        incidence: match a.incidence_aware {
+            OnOff::On if !a.no_sss => incidence_table(&named, a.incidence_photons, a.source.seed)?,
+            _ => [[1.0; 3]; gpu::INCIDENCE_STEPS],
+        },
     };
     let profile = || a.source.profile(&named);
     if a.bench {

@@ -21,5 +21,8 @@ pub use blur::{BlurParams, DepthMode, GpuKernel, blur_image};
 pub use context::Gpu;
 pub use error::{GpuError, Result};
 pub use mesh::{Mesh, Vertex};
-pub use render::{Frame, PassTime, RenderParams, render};
+pub use render::{
+    Frame, INCIDENCE_STEPS, PassTime, RenderParams, incidence_hemispherical, incidence_ratio,
+    render,
+};
 pub use scene::{AlbedoMode, Camera, Light, Scene};

@@ -25,6 +25,42 @@ pub struct RenderParams {
     pub fixed_depth: Option<f32>,
     /// Exposure before tone mapping.
     pub exposure: f32,
+    /// Incidence-aware shading: the SSS material's total diffuse reflectance at incidence
+    /// θ = 0°, 10°, …, 80° relative to normal incidence, ρ(θ)/ρ(0) per channel (beyond 80° the
+    /// last value). The scene pass multiplies each light's irradiance on SSS surfaces by it, and
+    /// the ambient light by its cosine-weighted hemispherical mean. All ones: off.
+    pub incidence: [[f32; 3]; INCIDENCE_STEPS],
+}
+
+/// Entries of [`RenderParams::incidence`]: θ = 0°, 10°, …, 80°.
+pub const INCIDENCE_STEPS: usize = 9;
+
+/// ρ(θ)/ρ(0) at cos θ = `cos_i` from an incidence table, linear in θ between entries (what the
+/// scene shader evaluates).
+pub fn incidence_ratio(table: &[[f32; 3]; INCIDENCE_STEPS], cos_i: f32) -> [f32; 3] {
+    let t = cos_i.clamp(0.0, 1.0).acos().to_degrees() / 10.0;
+    let i = (t.floor() as usize).min(INCIDENCE_STEPS - 1);
+    if i + 1 >= INCIDENCE_STEPS {
+        return table[INCIDENCE_STEPS - 1];
+    }
+    let f = t - i as f32;
+    [0, 1, 2].map(|c| table[i][c] * (1.0 - f) + table[i + 1][c] * f)
+}
+
+/// The cosine-weighted hemispherical mean 2∫₀^{π/2} f(θ) cos θ sin θ dθ of an incidence table:
+/// the factor for diffuse (ambient) light.
+pub fn incidence_hemispherical(table: &[[f32; 3]; INCIDENCE_STEPS]) -> [f32; 3] {
+    let n = 900;
+    let mut acc = [0.0f64; 3];
+    for k in 0..n {
+        let theta = (k as f64 + 0.5) / n as f64 * std::f64::consts::FRAC_PI_2;
+        let f = incidence_ratio(table, theta.cos() as f32);
+        let w = 2.0 * theta.cos() * theta.sin() * std::f64::consts::FRAC_PI_2 / n as f64;
+        for c in 0..3 {
+            acc[c] += w * f[c] as f64;
+        }
+    }
+    acc.map(|x| x as f32)
 }
 
 impl Default for RenderParams {
@@ -39,6 +75,7 @@ impl Default for RenderParams {
             jitter: 0.0,
             fixed_depth: None,
             exposure: 1.0,
+            incidence: [[1.0; 3]; INCIDENCE_STEPS],
         }
     }
 }
@@ -146,6 +183,10 @@ struct Globals {
     params: [f32; 4],
     ambient: [f32; 4],
     lights: [LightU; 4],
+    /// ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80° (rgb) for SSS surfaces.
+    incidence: [[f32; 4]; INCIDENCE_STEPS],
+    /// The ambient light's factor on SSS surfaces (rgb).
+    incidence_ambient: [f32; 4],
 }
 
 /// Scene targets: diffuse; specular + strength; view depth + packed post-scatter albedo.
@@ -365,6 +406,11 @@ pub fn render(
         ],
         ambient: scene.ambient.extend(0.0).into(),
         lights,
+        incidence: params.incidence.map(|r| [r[0], r[1], r[2], 0.0]),
+        incidence_ambient: {
+            let h = incidence_hemispherical(&params.incidence);
+            [h[0], h[1], h[2], 0.0]
+        },
     };
     let gbuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("globals"),
@@ -631,4 +677,41 @@ pub fn render(
             None => Vec::new(),
         },
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn incidence_table_lookup_and_hemispherical_mean() {
+        // A constant table is that constant everywhere; 2∫cos θ sin θ dθ = 1.
+        let ones = [[1.0f32; 3]; INCIDENCE_STEPS];
+        assert_eq!(incidence_ratio(&ones, 0.3), [1.0; 3]);
+        for h in incidence_hemispherical(&ones) {
+            assert!((h - 1.0).abs() < 1e-5, "{h}");
+        }
+        // A table linear in θ is reproduced between entries and held beyond 80°.
+        let table: [[f32; 3]; INCIDENCE_STEPS] =
+            std::array::from_fn(|k| [1.0 + 0.1 * k as f32, 1.0, 2.0 - 0.1 * k as f32]);
+        let r = incidence_ratio(&table, 35f32.to_radians().cos());
+        assert!(
+            (r[0] - 1.35).abs() < 1e-4 && (r[2] - 1.65).abs() < 1e-4,
+            "{r:?}"
+        );
+        assert_eq!(incidence_ratio(&table, 0.0), table[8]);
+        // Hemispherical mean of f(θ) = 1 + θ/100 rad⁻¹… checked against direct quadrature of the
+        // interpolant: for R, 2∫(1 + 0.01·θ°)cos θ sin θ dθ with θ° clamped at 80.
+        let n = 20_000;
+        let direct: f64 = (0..n)
+            .map(|k| {
+                let t = (k as f64 + 0.5) / n as f64 * std::f64::consts::FRAC_PI_2;
+                let deg = t.to_degrees().min(80.0);
+                (1.0 + 0.01 * deg) * 2.0 * t.cos() * t.sin() * std::f64::consts::FRAC_PI_2
+                    / n as f64
+            })
+            .sum();
+        let h = incidence_hemispherical(&table);
+        assert!((h[0] as f64 - direct).abs() < 1e-4, "{} vs {direct}", h[0]);
+    }
 }

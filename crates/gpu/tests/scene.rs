@@ -76,3 +76,58 @@ fn irradiance_follows_the_cosine_law_and_shadows_fall_where_geometry_puts_them()
     assert!((g[0] - view_depth).abs() < 0.05, "{} vs {view_depth}", g[0]);
     assert_eq!(g[1], 1.0);
 }
+
+/// Incidence-aware shading: on SSS surfaces each light's irradiance is scaled by the table's
+/// ρ(θ)/ρ(0) at that light's incidence angle and the ambient by its hemispherical mean; the
+/// non-scattering floor is untouched.
+#[test]
+fn incidence_table_scales_irradiance_on_sss_surfaces_only() {
+    let Some(gpu) = gpu() else { return };
+    let scene = Scene::sphere();
+    let Light::Directional {
+        towards,
+        irradiance,
+        ..
+    } = scene.lights[0]
+    else {
+        panic!()
+    };
+    let table: [[f32; 3]; gpu::INCIDENCE_STEPS] =
+        std::array::from_fn(|k| [1.0 + 0.1 * k as f32, 1.0, 1.0 + 0.05 * k as f32]);
+    let params = RenderParams {
+        width: W,
+        height: H,
+        albedo: AlbedoMode::Post,
+        incidence: table,
+        ..RenderParams::default()
+    };
+    let frame = render(&gpu, &scene, None, &params).unwrap();
+    let at = |(x, y): (usize, usize)| frame.irradiance[y * W as usize + x];
+    let hemi = gpu::incidence_hemispherical(&table);
+    let centre = Vec3::new(0.0, 5.0, 0.0);
+    for dir in [
+        Vec3::new(0.0, 0.3, 1.0),
+        Vec3::new(-0.5, 0.5, 1.0),
+        Vec3::new(-0.3, 0.4, 0.9),
+    ] {
+        let n = dir.normalize();
+        let cos_i = n.dot(towards).max(0.0);
+        let e = at(pixel(&scene, centre + 5.0 * n));
+        let f = gpu::incidence_ratio(&table, cos_i);
+        for c in [0, 2] {
+            let want = irradiance.x * cos_i * f[c] + scene.ambient.x * hemi[c];
+            assert!(
+                (e[c] - want).abs() < 0.02 * want,
+                "n = {n}, channel {c}: {} vs {want}",
+                e[c]
+            );
+        }
+    }
+    let lit = at(pixel(&scene, Vec3::new(-9.0, 0.0, 3.0)));
+    let want = irradiance.x * towards.y + scene.ambient.x;
+    assert!(
+        (lit[0] - want).abs() < 1e-3 * want,
+        "floor: {} vs {want}",
+        lit[0]
+    );
+}

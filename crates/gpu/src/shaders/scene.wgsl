@@ -20,6 +20,10 @@ struct Globals {
     params: vec4<f32>,
     ambient: vec4<f32>,
     lights: array<Light, 4>,
+    // Incidence-aware shading of SSS surfaces: ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80° (rgb), and the
+    // ambient light's cosine-weighted mean of it (all ones: off).
+    incidence: array<vec4<f32>, 9>,
+    incidence_ambient: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> g: Globals;
@@ -77,6 +81,16 @@ fn shadow(i: u32, world: vec3<f32>, n_dot_l: f32) -> f32 {
     return lit / 9.0;
 }
 
+// ρ(θ)/ρ(0) at cos θ = cos_i: linear in θ between the table's 10° steps, the 80° value beyond.
+fn incidence_ratio(cos_i: f32) -> vec3<f32> {
+    let t = degrees(acos(clamp(cos_i, 0.0, 1.0))) / 10.0;
+    let i = min(u32(floor(t)), 8u);
+    if i >= 8u {
+        return g.incidence[8].rgb;
+    }
+    return mix(g.incidence[i].rgb, g.incidence[i + 1u].rgb, t - f32(i));
+}
+
 struct FOut {
     @location(0) diffuse: vec4<f32>,
     @location(1) specular: vec4<f32>,
@@ -90,7 +104,8 @@ fn fs(v: VOut, @builtin(front_facing) front: bool) -> FOut {
         n = -n;
     }
     let view_dir = normalize(g.camera_pos.xyz - v.world);
-    var irradiance = g.ambient.rgb;
+    let sss = v.strength > 0.0;
+    var irradiance = g.ambient.rgb * select(vec3<f32>(1.0), g.incidence_ambient.rgb, sss);
     var spec = vec3<f32>(0.0);
     for (var i = 0u; i < u32(g.params.x); i++) {
         let l4 = g.lights[i].pos_or_dir;
@@ -106,7 +121,7 @@ fn fs(v: VOut, @builtin(front_facing) front: bool) -> FOut {
             continue;
         }
         let vis = shadow(i, v.world, n_dot_l);
-        irradiance += scale * n_dot_l * vis;
+        irradiance += scale * n_dot_l * vis * select(vec3<f32>(1.0), incidence_ratio(n_dot_l), sss);
         let h = normalize(l + view_dir);
         spec += scale * g.params.z * pow(max(dot(n, h), 0.0), g.params.w) * n_dot_l * vis;
     }
