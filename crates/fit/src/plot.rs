@@ -1,6 +1,7 @@
 //! Comparison plots as PNG (plotters, bitmap backend, an embedded DejaVu Sans so output does not
 //! depend on system fonts): profiles (thesis Fig. 6.1), kernel slices against the ground truth
-//! (Fig. 6.2), singular-value decay (Fig. 5.1), and convolution/difference sheets (Fig. 6.3–6.10).
+//! (Fig. 6.2), singular-value decay (Fig. 5.1), convolution/difference sheets (Fig. 6.3–6.10), and
+//! total diffuse reflectance against the incidence angle ([`incidence`], returned as PNG bytes).
 
 use std::path::Path;
 use std::sync::Once;
@@ -533,4 +534,166 @@ pub fn image_sheet(cells: &[SheetCell], columns: usize, path: &Path) -> Result<(
         root.draw(&elem).map_err(|e| err(path, e))?;
     }
     root.present().map_err(|e| err(path, e))
+}
+
+/// Total diffuse reflectance of the three channels at one incidence angle (plain data for
+/// [`incidence`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IncidencePoint {
+    /// Polar angle θ of the beam [degrees].
+    pub theta_deg: f64,
+    /// Rd per unit incident power, without Rsp, per channel (R, G, B) [-].
+    pub rd: [f64; 3],
+    /// Standard error of `rd` per channel [-].
+    pub se: [f64; 3],
+}
+
+/// Rd(θ)/Rd(0°) per channel (left) and absolute Rd(θ) (right) against the incidence angle θ
+/// [degrees], with ±2 standard-error bars, as PNG bytes. The ratio's error combines both rows'
+/// standard errors (every angle is an independent run). Without a 0° point only the absolute panel
+/// is drawn, and the title says so.
+pub fn incidence(points: &[IncidencePoint], title: &str) -> Result<Vec<u8>> {
+    font();
+    let fail = |e: &dyn std::fmt::Display| FitError::Plot {
+        path: format!("{title} incidence plot"),
+        message: e.to_string(),
+    };
+    let mut pts = points.to_vec();
+    pts.sort_by(|a, b| a.theta_deg.total_cmp(&b.theta_deg));
+    let normal = pts.iter().find(|p| p.theta_deg == 0.0).copied();
+    let (w, h) = (if normal.is_some() { 1200 } else { 640 }, 520u32);
+    let mut rgb = vec![0u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| fail(&e))?;
+        let heading = match normal {
+            Some(_) => format!("{title}: diffuse reflectance against incidence angle (±2 SE)"),
+            None => {
+                format!("{title}: Rd against incidence angle (±2 SE); no 0° angle, so no ratio")
+            }
+        };
+        let root = root
+            .titled(&heading, ("sans-serif", 20))
+            .map_err(|e| fail(&e))?;
+        // One panel per series: (θ, value, 2 SE) per channel, y label, caption, y axis from 0.
+        let absolute: Vec<[(f64, f64, f64); 3]> = pts
+            .iter()
+            .map(|p| [0, 1, 2].map(|c| (p.theta_deg, p.rd[c], 2.0 * p.se[c])))
+            .collect();
+        let mut panels = Vec::new();
+        if let Some(n) = normal {
+            let ratio = pts
+                .iter()
+                .map(|p| {
+                    [0, 1, 2].map(|c| {
+                        let r = p.rd[c] / n.rd[c];
+                        let rel = if p.theta_deg == 0.0 {
+                            0.0
+                        } else {
+                            ((p.se[c] / p.rd[c]).powi(2) + (n.se[c] / n.rd[c]).powi(2)).sqrt()
+                        };
+                        (p.theta_deg, r, 2.0 * r * rel)
+                    })
+                })
+                .collect();
+            panels.push((
+                ratio,
+                "Rd(θ)/Rd(0°)",
+                "Rd(θ) / Rd(0°), per unit incident power",
+                false,
+            ));
+        }
+        panels.push((absolute, "Rd [-]", "Rd(θ), per unit incident power", true));
+        let areas = root.split_evenly((1, panels.len()));
+        for (area, (series, y_desc, caption, from_zero)) in areas.iter().zip(&panels) {
+            let (lo, hi) = series
+                .iter()
+                .flatten()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(_, v, e)| {
+                    (a.min(v - e), b.max(v + e))
+                });
+            let pad = 0.08 * (hi - lo).max(1e-3 * hi.abs().max(1e-12));
+            let y = if *from_zero {
+                0.0..hi + pad
+            } else {
+                lo - pad..hi + pad
+            };
+            let mut ch = ChartBuilder::on(area)
+                .caption(*caption, ("sans-serif", 16))
+                .margin(12)
+                .x_label_area_size(45)
+                .y_label_area_size(70)
+                .build_cartesian_2d(0.0..90.0, y)
+                .map_err(|e| fail(&e))?;
+            ch.configure_mesh()
+                .x_desc("incidence angle θ [deg]")
+                .y_desc(*y_desc)
+                .x_label_formatter(&|v| format!("{v:.0}"))
+                .y_label_formatter(&|v| format!("{v:.3}"))
+                .draw()
+                .map_err(|e| fail(&e))?;
+            for c in 0..3 {
+                let color = CHANNEL_COLORS[c];
+                let line: Vec<(f64, f64)> = series.iter().map(|s| (s[c].0, s[c].1)).collect();
+                ch.draw_series(LineSeries::new(line.clone(), color.stroke_width(2)))
+                    .map_err(|e| fail(&e))?
+                    .label(["R", "G", "B"][c])
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                    });
+                ch.draw_series(line.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                    .map_err(|e| fail(&e))?;
+                // Error bars: a vertical stroke with caps 0.6° wide.
+                ch.draw_series(series.iter().flat_map(|s| {
+                    let (x, v, e) = s[c];
+                    [
+                        PathElement::new(vec![(x, v - e), (x, v + e)], color.stroke_width(1)),
+                        PathElement::new(vec![(x - 0.6, v - e), (x + 0.6, v - e)], color),
+                        PathElement::new(vec![(x - 0.6, v + e), (x + 0.6, v + e)], color),
+                    ]
+                }))
+                .map_err(|e| fail(&e))?;
+            }
+            ch.configure_series_labels()
+                .position(SeriesLabelPosition::UpperLeft)
+                .border_style(BLACK)
+                .background_style(WHITE.mix(0.8))
+                .draw()
+                .map_err(|e| fail(&e))?;
+        }
+        root.present().map_err(|e| fail(&e))?;
+    }
+    let mut png_bytes = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut png_bytes, w, h);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        enc.write_header()
+            .and_then(|mut wr| wr.write_image_data(&rgb))
+            .map_err(|e| fail(&e))?;
+    }
+    Ok(png_bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn incidence_plot_is_a_png() {
+        let row = |theta_deg: f64, k: f64| IncidencePoint {
+            theta_deg,
+            rd: [0.45 * k, 0.28 * k, 0.18 * k],
+            se: [0.002, 0.002, 0.001],
+        };
+        let pts = [row(0.0, 1.0), row(45.0, 1.05), row(80.0, 1.4)];
+        let png = incidence(&pts, "test").unwrap();
+        assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"));
+        // Without 0° there is no ratio panel, but still a picture.
+        assert!(
+            incidence(&pts[1..], "test")
+                .unwrap()
+                .starts_with(b"\x89PNG")
+        );
+    }
 }

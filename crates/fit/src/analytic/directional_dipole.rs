@@ -10,6 +10,11 @@
 //! x_v = x_i + 2Ad_e n, ω_v = ω₁₂ − 2(ω₁₂·n)n. The BSSRDF is T(ω_i)·S_d·T(ω_o); integrating T(ω_o)
 //! cos θ_o over the exit hemisphere gives 4πC_φ(1/η), so Rd(r) = T(0)·4πC_φ(1/η)·S_d.
 //! (The draft's eq. 3.9 writes ∫R(n·ω)dω in C_E where (n·ω)² is meant.)
+//!
+//! At oblique incidence ([`DirectionalDipole::rd_xy`]) the beam refracts to
+//! ω₁₂ = (sin θt, 0, −cos θt), μ₀ = cos θt, cos β = −√((r² − (x·ω₁₂)²)/(r² + d_e²)), the virtual
+//! source's direction is ω_v = (sin θt, 0, cos θt), and T(0) becomes T(θi) = 1 − F(θi). On a flat
+//! surface the modified tangent-plane normal n* equals n.
 
 use super::Medium;
 use super::fresnel_moments::{c_e, c_phi};
@@ -24,8 +29,11 @@ pub struct DirectionalDipole {
     a: f64,
     c_phi: f64,
     c_e: f64,
-    /// T(0)·4πC_φ(1/η)/(4C_φ(1/η)·4π²) = T(0)/(4π): everything outside the bracket but e/ρ³.
+    /// 4πC_φ(1/η)/(4C_φ(1/η)·4π²) = 1/(4π): everything outside the bracket but e/ρ³ and T(θi)
+    /// (0 for a medium that does not scatter).
     scale: f64,
+    /// Relative index η.
+    eta: f64,
 }
 
 impl DirectionalDipole {
@@ -43,11 +51,11 @@ impl DirectionalDipole {
             c_e: ce,
             // A medium that does not scatter (α′ = 0) has no diffuse profile.
             scale: if albedo > 0.0 {
-                m.entry_transmittance() * 4.0 * PI * c_phi(1.0 / m.eta)
-                    / (4.0 * c_phi(1.0 / m.eta) * 4.0 * PI * PI)
+                4.0 * PI * c_phi(1.0 / m.eta) / (4.0 * c_phi(1.0 / m.eta) * 4.0 * PI * PI)
             } else {
                 0.0
             },
+            eta: m.eta,
         }
     }
 
@@ -61,18 +69,30 @@ impl DirectionalDipole {
         (-s).exp() / (rho * rho * rho) * bracket
     }
 
-    /// Rd(r) [cm⁻²].
+    /// Rd(r) [cm⁻²] at normal incidence.
     pub fn rd(&self, r: f64) -> f64 {
+        self.rd_xy(r, 0.0, 0.0)
+    }
+
+    /// Rd(x, y) [cm⁻²] per unit incident power for a beam at polar angle `theta_i_deg` in the
+    /// plane x–z, travelling towards +x, entering at the origin.
+    pub fn rd_xy(&self, x: f64, y: f64, theta_i_deg: f64) -> f64 {
         if self.scale == 0.0 {
             return 0.0;
         }
+        let cos_i = theta_i_deg.to_radians().cos();
+        let (f, cos_t) = mc::fresnel(1.0, self.eta, cos_i);
+        let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
         let (d, de) = (self.d, self.d_e);
-        let cos_beta = -(r * r / (r * r + de * de)).sqrt();
-        let d_r = (r * r + d * (d - 2.0 * de * cos_beta)).sqrt();
-        let real = self.source(d_r, 0.0, -1.0, 0.0);
+        let r2 = x * x + y * y;
+        let x_w = x * sin_t; // (x_o − x_i)·ω₁₂
+        let cos_beta = -((r2 - x_w * x_w).max(0.0) / (r2 + de * de)).sqrt();
+        let mu0 = cos_t;
+        let d_r = (r2 + d * mu0 * (d * mu0 - 2.0 * de * cos_beta)).sqrt();
+        let real = self.source(d_r, x_w, -cos_t, 0.0);
         let zv = 2.0 * self.a * de;
-        let d_v = (r * r + zv * zv).sqrt();
-        let virt = self.source(d_v, -zv, 1.0, -zv);
-        self.scale * (real - virt).max(0.0)
+        let d_v = (r2 + zv * zv).sqrt();
+        let virt = self.source(d_v, x_w - zv * cos_t, cos_t, -zv);
+        (1.0 - f) * self.scale * (real - virt).max(0.0)
     }
 }
