@@ -723,6 +723,12 @@ fn compare(
 
 /// Per-pass GPU times at 1920×1080 for 17/33 taps and rank 1/3 (median of 5 frames).
 fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> Result<()> {
+    // With --json, stdout carries only the JSON: the table goes to stderr.
+    macro_rules! table {
+        ($($t:tt)*) => {
+            if a.json { eprintln!($($t)*) } else { println!($($t)*) }
+        };
+    }
     let params = RenderParams {
         width: 1920,
         height: 1080,
@@ -732,13 +738,19 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
         eprintln!("this adapter has no timestamp queries: reporting whole-frame wall time instead");
     }
     let mut rows = Vec::new();
-    println!(
+    table!(
         "SSS passes at 1920×1080 on {} ({slug}, median of 5 frames)",
         gpu.adapter_name
     );
-    println!(
+    table!(
         "  {:<10} {:>5} {:>5} {:>14} {:>14} {:>12} {:>15}",
-        "kernel", "taps", "rank", "horizontal ms", "vertical ms", "SSS ms", "frame wall ms"
+        "kernel",
+        "taps",
+        "rank",
+        "horizontal ms",
+        "vertical ms",
+        "SSS ms",
+        "frame wall ms"
     );
     for (label, model) in [
         ("preint", KernelModel::Preint),
@@ -774,7 +786,7 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
             let ver = median(frames.iter().map(|f| sum(&f.0, "vertical")).collect());
             let wall = median(frames.iter().map(|f| f.1).collect());
             let total = if gpu.timestamps { hor + ver } else { wall };
-            println!(
+            table!(
                 "  {label:<10} {taps:>5} {rank:>5} {:>14} {:>14} {total:>12.3} {wall:>15.1}",
                 if gpu.timestamps {
                     format!("{hor:.3}")

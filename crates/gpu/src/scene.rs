@@ -19,9 +19,14 @@ pub struct Camera {
 }
 
 impl Camera {
-    /// View matrix (right-handed, looking down −z).
+    /// View matrix (right-handed, looking down −z), with +y up unless the camera looks (nearly)
+    /// straight up or down, where +z is up instead.
     pub fn view(&self) -> Mat4 {
-        Mat4::look_at_rh(self.position, self.target, Vec3::Y)
+        Mat4::look_at_rh(
+            self.position,
+            self.target,
+            up_for(self.target - self.position),
+        )
     }
 
     /// Projection with wgpu's [0, 1] depth.
@@ -181,25 +186,28 @@ impl Scene {
         };
         let centre = 0.5 * (lo + hi);
         let radius = 0.5 * (hi - lo).length() * 1.5;
-        let up = |d: Vec3| {
-            if d.normalize().y.abs() > 0.99 {
-                Vec3::Z
-            } else {
-                Vec3::Y
-            }
-        };
         match *light {
             Light::Directional { towards, .. } => {
                 let eye = centre + towards.normalize() * 3.0 * radius;
                 Mat4::orthographic_rh(-radius, radius, -radius, radius, 0.1, 6.0 * radius)
-                    * Mat4::look_at_rh(eye, centre, up(towards))
+                    * Mat4::look_at_rh(eye, centre, up_for(towards))
             }
             Light::Point { position, .. } => {
                 let d = (centre - position).length().max(1e-3);
                 let fov = (2.0 * (radius / d).min(0.99).asin()).min(2.9);
                 Mat4::perspective_rh(fov, 1.0, (d - radius).max(0.1), d + 3.0 * radius)
-                    * Mat4::look_at_rh(position, centre, up(centre - position))
+                    * Mat4::look_at_rh(position, centre, up_for(centre - position))
             }
         }
+    }
+}
+
+/// An up vector for a view along `direction`: +y, or +z when the view is within ~8° of vertical
+/// (where +y would make the view matrix degenerate).
+fn up_for(direction: Vec3) -> Vec3 {
+    if direction.normalize_or_zero().y.abs() > 0.99 {
+        Vec3::Z
+    } else {
+        Vec3::Y
     }
 }

@@ -131,3 +131,28 @@ fn incidence_table_scales_irradiance_on_sss_surfaces_only() {
         lit[0]
     );
 }
+
+/// A camera straight above the sphere looks down at it (regression: a +y up vector made the view
+/// matrix degenerate and the image black).
+#[test]
+fn a_camera_straight_above_sees_the_sphere() {
+    let Some(gpu) = gpu() else { return };
+    let mut scene = Scene::sphere();
+    scene.camera.position = Vec3::new(0.0, 30.0, 0.0);
+    scene.camera.target = Vec3::ZERO;
+    let params = RenderParams {
+        width: W,
+        height: H,
+        ..RenderParams::default()
+    };
+    let frame = render(&gpu, &scene, None, &params).unwrap();
+    let centre = (H as usize / 2) * W as usize + W as usize / 2;
+    // The sphere's top (y = 10) is 20 cm below the camera, and it scatters (strength 1).
+    assert!(
+        (frame.geometry[centre][0] - 20.0).abs() < 0.1,
+        "{:?}",
+        frame.geometry[centre]
+    );
+    assert_eq!(frame.geometry[centre][1], 1.0);
+    assert!(frame.irradiance[centre][0] > 0.0);
+}
