@@ -43,7 +43,7 @@ fn incidence_table(
     let rows = mc::incidence::rd_table(&spec, &angles, &|k| bar.inc(k))?;
     bar.finish_and_clear();
     let rd0 = &rows[0].rd;
-    if rd0.iter().any(|e| !(e.value > 0.0)) {
+    if rd0.iter().any(|e| e.value.is_nan() || e.value <= 0.0) {
         bail!(
             "--incidence-aware: {} has no diffuse reflectance at normal incidence in some channel",
             named.slug

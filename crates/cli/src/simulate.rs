@@ -1,16 +1,18 @@
 //! `sss simulate` and `sss merge`: run the photon tracer for materials (batched by similarity)
-//! or for an MCML `.mci` file, and write profiles, summaries and MCML `.mco` files.
+//! or for an MCML `.mci` file, and write profiles, summaries and MCML `.mco` files; with
+//! `--incidence-angles`, also total Rd against the incidence angle per material (CSV, plot).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
+use mc::incidence::IncidenceRow;
 use mc::shard::{self, Shard};
 use mc::{BatchSpec, CHANNELS, ChannelSpec, Output, TallySet};
 use serde_json::{Value, json};
 
-use crate::files::write_all;
+use crate::files::{write_all, write_atomic};
 use crate::library::{self, Named};
 use crate::{parse_count, progress};
 
@@ -59,6 +61,14 @@ pub struct SimulateArgs {
     /// Run only the I-th of N deterministic slices of the photon chunks and write a shard file; combine with `sss merge`
     #[arg(long, value_name = "I/N", conflicts_with = "mci")]
     shard: Option<String>,
+
+    /// Also measure total Rd(θ) per material for a beam at these polar angles [degrees, each in [0, 90)], e.g. 0,15,30,45,60,75,85: NAME.incidence.csv, .png and the summary's "incidence"
+    #[arg(long, value_name = "DEG[,DEG…]", value_delimiter = ',', value_parser = parse_angle, allow_negative_numbers = true, conflicts_with_all = ["mci", "shard"])]
+    incidence_angles: Vec<f64>,
+
+    /// Photon packets per channel and angle for --incidence-angles; separate from --photons, since only total Rd is needed; accepts 1e5
+    #[arg(long, value_name = "N", default_value = "1e5", value_parser = parse_count)]
+    incidence_photons: u64,
 
     /// Print a machine-readable summary on stdout
     #[arg(long)]
@@ -110,6 +120,24 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
         .flat_map(|n| CHANNELS.iter().map(move |c| format!("{}:{c}", n.slug)))
         .collect();
     let groups = spec.groups().len() as u64;
+    // Rd(θ): one profile-only batch per material, so its table does not depend on which other
+    // materials share the command line.
+    let incidence_specs = if args.incidence_angles.is_empty() {
+        Vec::new()
+    } else {
+        named
+            .iter()
+            .map(|n| {
+                batch_spec(
+                    std::slice::from_ref(n),
+                    &config,
+                    args.incidence_photons,
+                    seed,
+                    true,
+                )
+            })
+            .collect::<Result<Vec<_>>>()?
+    };
 
     let start = Instant::now();
     if let Some(s) = &args.shard {
@@ -162,11 +190,28 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
         None => mc::run_batch(&spec, &|k| bar.inc(k)),
     })?;
     bar.finish_and_clear();
+    // The summaries' and .mco files' run time is the profile run's, with or without Rd(θ).
+    let seconds = start.elapsed().as_secs_f64();
+    let incidence = incidence_specs
+        .iter()
+        .zip(&named)
+        .map(|(s, n)| {
+            let angles = &args.incidence_angles;
+            let bar = progress::photons(
+                s.photons * s.groups().len() as u64 * angles.len() as u64,
+                &format!("{}: Rd(θ) at {} angle(s)", n.slug, angles.len()),
+            );
+            let rows = pool.install(|| mc::incidence::rd_table(s, angles, &|k| bar.inc(k)))?;
+            bar.finish_and_clear();
+            Ok(rows)
+        })
+        .collect::<Result<Vec<_>>>()?;
     finish(
         &spec,
         &labels,
         &outputs,
-        start.elapsed().as_secs_f64(),
+        &incidence,
+        seconds,
         pool.current_num_threads(),
         &args.out,
         args.json,
@@ -191,6 +236,7 @@ pub fn merge(args: MergeArgs) -> Result<()> {
         &spec,
         &labels,
         &outputs,
+        &[],
         start.elapsed().as_secs_f64(),
         1,
         &args.out,
@@ -231,19 +277,21 @@ pub fn batch_spec(
     Ok(spec)
 }
 
-/// Writes each material's CSV profile, JSON summary and .mco files, and reports.
+/// Writes each material's CSV profile, JSON summary and .mco files (and its Rd(θ) CSV and plot
+/// when `incidence` holds a table per material), and reports.
 #[allow(clippy::too_many_arguments)]
 fn finish(
     spec: &BatchSpec,
     labels: &[String],
     outputs: &[Output],
+    incidence: &[Vec<IncidenceRow>],
     seconds: f64,
     threads: usize,
     out: &Path,
     json_out: bool,
     profile_only: bool,
 ) -> Result<()> {
-    let mut files = Vec::new();
+    let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
     let mut summaries = Vec::new();
     for m in 0..outputs.len() / 3 {
         let slug = labels[3 * m]
@@ -253,7 +301,10 @@ fn finish(
             .to_string();
         let chans: Vec<&Output> = outputs[3 * m..3 * m + 3].iter().collect();
         let specs = &spec.channels[3 * m..3 * m + 3];
-        files.push((out.join(format!("{slug}.profile.csv")), profile_csv(&chans)));
+        files.push((
+            out.join(format!("{slug}.profile.csv")),
+            profile_csv(&chans).into_bytes(),
+        ));
         let mut mco_files = Vec::new();
         if !profile_only {
             for (c, ch) in CHANNELS.iter().enumerate() {
@@ -271,19 +322,32 @@ fn finish(
                 };
                 files.push((
                     out.join(&name),
-                    mc::mco::write(&name, &run, chans[c], seconds)?,
+                    mc::mco::write(&name, &run, chans[c], seconds)?.into_bytes(),
                 ));
                 mco_files.push(name);
             }
         }
-        let summary = summary_json(&slug, spec, specs, &chans, seconds, threads, &mco_files);
+        let mut summary = summary_json(&slug, spec, specs, &chans, seconds, threads, &mco_files);
+        if let Some(rows) = incidence.get(m) {
+            let (csv, png) = (
+                format!("{slug}.incidence.csv"),
+                format!("{slug}.incidence.png"),
+            );
+            files.push((out.join(&csv), incidence_csv(rows).into_bytes()));
+            files.push((out.join(&png), incidence_png(rows, &slug)?));
+            summary["incidence"] = incidence_json(rows);
+            summary["files"]["incidence"] = json!(csv);
+            summary["files"]["incidence_plot"] = json!(png);
+        }
         files.push((
             out.join(format!("{slug}.summary.json")),
-            serde_json::to_string_pretty(&summary)? + "\n",
+            (serde_json::to_string_pretty(&summary)? + "\n").into_bytes(),
         ));
         summaries.push(summary);
     }
-    write_all(&files)?;
+    for (path, bytes) in &files {
+        write_atomic(path, bytes)?;
+    }
     if json_out {
         let v = if summaries.len() == 1 {
             summaries.remove(0)
@@ -294,6 +358,7 @@ fn finish(
     } else {
         for s in &summaries {
             print_summary(s);
+            print_incidence(s);
         }
         eprintln!(
             "wrote {} file(s) to {} in {seconds:.1} s",
@@ -354,6 +419,95 @@ fn summary_json(
         "walk_groups": spec.groups().len(),
         "files": { "profile": format!("{slug}.profile.csv"), "mco": mco },
     })
+}
+
+/// `theta_deg,R,G,B,R_se,G_se,B_se,R_rsp,G_rsp,B_rsp`: total Rd per unit incident power (without
+/// Rsp) with standard errors, and the specular reflectance Rsp, per angle [degrees].
+fn incidence_csv(rows: &[IncidenceRow]) -> String {
+    let mut s = String::from("theta_deg,R,G,B,R_se,G_se,B_se,R_rsp,G_rsp,B_rsp\n");
+    for r in rows {
+        s += &format!(
+            "{},{},{},{},{},{},{},{},{},{}\n",
+            r.theta_deg,
+            r.rd[0].value,
+            r.rd[1].value,
+            r.rd[2].value,
+            r.rd[0].se,
+            r.rd[1].se,
+            r.rd[2].se,
+            r.rsp[0],
+            r.rsp[1],
+            r.rsp[2]
+        );
+    }
+    s
+}
+
+fn incidence_json(rows: &[IncidenceRow]) -> Value {
+    let rgb = |v: [f64; 3]| json!({ "R": v[0], "G": v[1], "B": v[2] });
+    rows.iter()
+        .map(|r| {
+            json!({
+                "theta_deg": r.theta_deg,
+                "rd": rgb([0, 1, 2].map(|c| r.rd[c].value)),
+                "rd_se": rgb([0, 1, 2].map(|c| r.rd[c].se)),
+                "rsp": rgb([0, 1, 2].map(|c| r.rsp[c])),
+            })
+        })
+        .collect()
+}
+
+fn incidence_png(rows: &[IncidenceRow], slug: &str) -> Result<Vec<u8>> {
+    let points: Vec<fit::plot::IncidencePoint> = rows
+        .iter()
+        .map(|r| fit::plot::IncidencePoint {
+            theta_deg: r.theta_deg,
+            rd: [0, 1, 2].map(|c| r.rd[c].value),
+            se: [0, 1, 2].map(|c| r.rd[c].se),
+        })
+        .collect();
+    Ok(fit::plot::incidence(&points, slug)?)
+}
+
+/// The summary's Rd(θ) table on stderr, with the ratio to normal incidence when 0° was run.
+fn print_incidence(s: &Value) {
+    let Some(rows) = s["incidence"].as_array() else {
+        return;
+    };
+    let rd = |r: &Value, ch: &str| r["rd"][ch].as_f64().unwrap_or(f64::NAN);
+    let normal = rows.iter().find(|r| r["theta_deg"].as_f64() == Some(0.0));
+    eprintln!(
+        "{}: Rd(θ) per unit incident power{}",
+        s["material"].as_str().unwrap_or("?"),
+        if normal.is_some() {
+            ", and Rd(θ)/Rd(0°)"
+        } else {
+            " (no 0° angle: no ratio)"
+        }
+    );
+    eprintln!(
+        "  θ [deg]   Rd R     Rd G     Rd B{}",
+        if normal.is_some() {
+            "     ratio R  ratio G  ratio B"
+        } else {
+            ""
+        }
+    );
+    for r in rows {
+        let mut line = format!(
+            "  {:>7.2}  {:.5}  {:.5}  {:.5}",
+            r["theta_deg"].as_f64().unwrap_or(f64::NAN),
+            rd(r, "R"),
+            rd(r, "G"),
+            rd(r, "B")
+        );
+        if let Some(n) = normal {
+            for ch in CHANNELS {
+                line += &format!("  {:>7.4}", rd(r, ch) / rd(n, ch));
+            }
+        }
+        eprintln!("{line}");
+    }
 }
 
 fn print_summary(s: &Value) {
@@ -433,6 +587,18 @@ fn run_mci(path: &Path, args: &SimulateArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// One incidence angle [degrees] in [0, 90).
+fn parse_angle(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?} is not a number (angles in degrees, e.g. 0,30,60)"))?;
+    if !(v.is_finite() && (0.0..90.0).contains(&v)) {
+        return Err(format!("{s:?} must be in [0, 90) degrees"));
+    }
+    Ok(v)
 }
 
 fn parse_shard(s: &str) -> Result<(u64, u64)> {

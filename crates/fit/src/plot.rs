@@ -576,26 +576,36 @@ pub fn incidence(points: &[IncidencePoint], title: &str) -> Result<Vec<u8>> {
             .titled(&heading, ("sans-serif", 20))
             .map_err(|e| fail(&e))?;
         // One panel per series: (θ, value, 2 SE) per channel, y label, caption, y axis from 0.
-        let absolute: Vec<[(f64, f64, f64); 3]> = pts
-            .iter()
-            .map(|p| [0, 1, 2].map(|c| (p.theta_deg, p.rd[c], 2.0 * p.se[c])))
-            .collect();
+        // A channel without reflectance at 0° has no ratio: its non-finite points are left out.
+        let finite = |v: Vec<(f64, f64, f64)>| -> Vec<(f64, f64, f64)> {
+            v.into_iter()
+                .filter(|p| p.1.is_finite() && p.2.is_finite())
+                .collect()
+        };
+        let absolute = [0, 1, 2].map(|c| {
+            finite(
+                pts.iter()
+                    .map(|p| (p.theta_deg, p.rd[c], 2.0 * p.se[c]))
+                    .collect(),
+            )
+        });
         let mut panels = Vec::new();
         if let Some(n) = normal {
-            let ratio = pts
-                .iter()
-                .map(|p| {
-                    [0, 1, 2].map(|c| {
-                        let r = p.rd[c] / n.rd[c];
-                        let rel = if p.theta_deg == 0.0 {
-                            0.0
-                        } else {
-                            ((p.se[c] / p.rd[c]).powi(2) + (n.se[c] / n.rd[c]).powi(2)).sqrt()
-                        };
-                        (p.theta_deg, r, 2.0 * r * rel)
-                    })
-                })
-                .collect();
+            let ratio = [0, 1, 2].map(|c| {
+                finite(
+                    pts.iter()
+                        .map(|p| {
+                            let r = p.rd[c] / n.rd[c];
+                            let rel = if p.theta_deg == 0.0 {
+                                0.0
+                            } else {
+                                (p.se[c] / p.rd[c]).hypot(n.se[c] / n.rd[c])
+                            };
+                            (p.theta_deg, r, 2.0 * r * rel)
+                        })
+                        .collect(),
+                )
+            });
             panels.push((
                 ratio,
                 "Rd(θ)/Rd(0°)",
@@ -606,13 +616,16 @@ pub fn incidence(points: &[IncidencePoint], title: &str) -> Result<Vec<u8>> {
         panels.push((absolute, "Rd [-]", "Rd(θ), per unit incident power", true));
         let areas = root.split_evenly((1, panels.len()));
         for (area, (series, y_desc, caption, from_zero)) in areas.iter().zip(&panels) {
-            let (lo, hi) = series
+            let (lo, hi) = match series
                 .iter()
                 .flatten()
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(_, v, e)| {
                     (a.min(v - e), b.max(v + e))
-                });
-            let pad = 0.08 * (hi - lo).max(1e-3 * hi.abs().max(1e-12));
+                }) {
+                (lo, hi) if lo <= hi => (lo, hi),
+                _ => (0.0, 1.0),
+            };
+            let pad = (0.08 * (hi - lo)).max(0.02 * hi.abs()).max(1e-12);
             let y = if *from_zero {
                 0.0..hi + pad
             } else {
@@ -629,12 +642,18 @@ pub fn incidence(points: &[IncidencePoint], title: &str) -> Result<Vec<u8>> {
                 .x_desc("incidence angle θ [deg]")
                 .y_desc(*y_desc)
                 .x_label_formatter(&|v| format!("{v:.0}"))
-                .y_label_formatter(&|v| format!("{v:.3}"))
+                .y_label_formatter(&|v| {
+                    if hi.abs() < 0.01 {
+                        format!("{v:.1e}")
+                    } else {
+                        format!("{v:.3}")
+                    }
+                })
                 .draw()
                 .map_err(|e| fail(&e))?;
             for c in 0..3 {
                 let color = CHANNEL_COLORS[c];
-                let line: Vec<(f64, f64)> = series.iter().map(|s| (s[c].0, s[c].1)).collect();
+                let line: Vec<(f64, f64)> = series[c].iter().map(|s| (s.0, s.1)).collect();
                 ch.draw_series(LineSeries::new(line.clone(), color.stroke_width(2)))
                     .map_err(|e| fail(&e))?
                     .label(["R", "G", "B"][c])
@@ -644,8 +663,7 @@ pub fn incidence(points: &[IncidencePoint], title: &str) -> Result<Vec<u8>> {
                 ch.draw_series(line.iter().map(|&p| Circle::new(p, 3, color.filled())))
                     .map_err(|e| fail(&e))?;
                 // Error bars: a vertical stroke with caps 0.6° wide.
-                ch.draw_series(series.iter().flat_map(|s| {
-                    let (x, v, e) = s[c];
+                ch.draw_series(series[c].iter().flat_map(|&(x, v, e)| {
                     [
                         PathElement::new(vec![(x, v - e), (x, v + e)], color.stroke_width(1)),
                         PathElement::new(vec![(x - 0.6, v - e), (x + 0.6, v - e)], color),
@@ -695,5 +713,9 @@ mod tests {
                 .unwrap()
                 .starts_with(b"\x89PNG")
         );
+        // A channel with no reflectance at 0° has no ratio, and the plot still draws.
+        let mut dark = pts;
+        dark[0].rd[2] = 0.0;
+        assert!(incidence(&dark, "test").unwrap().starts_with(b"\x89PNG"));
     }
 }
