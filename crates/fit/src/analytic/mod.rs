@@ -18,7 +18,7 @@ pub mod fresnel_moments;
 pub use beam_diffusion::BeamDiffusion;
 pub use better_dipole::BetterDipole;
 pub use dipole::Dipole;
-pub use directional_dipole::DirectionalDipole;
+pub use directional_dipole::{DipoleConstants, DirectionalDipole, SurfacePoint};
 
 use crate::burley::Burley;
 use crate::error::{FitError, Result};
