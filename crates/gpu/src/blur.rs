@@ -114,6 +114,10 @@ struct Uniform {
     _pad: u32,
 }
 
+/// The size of blur.wgsl's `Params` (checked against naga's layout in a test).
+pub(crate) const BLUR_UNIFORM_SIZE: usize = 64;
+const _: () = assert!(std::mem::size_of::<Uniform>() == BLUR_UNIFORM_SIZE);
+
 /// The compiled blur pipeline.
 pub(crate) struct Blur {
     pipeline: wgpu::ComputePipeline,
@@ -122,7 +126,7 @@ pub(crate) struct Blur {
 impl Blur {
     pub(crate) fn new(gpu: &Gpu) -> Blur {
         Blur {
-            pipeline: crate::render::compute_pipeline(
+            pipeline: crate::context::compute_pipeline(
                 &gpu.device,
                 wgpu::include_wgsl!("shaders/blur.wgsl"),
                 "blur",
@@ -144,7 +148,7 @@ impl Blur {
         geometry: &wgpu::Buffer,
         tmp: &wgpu::Buffer,
         dst: &wgpu::Buffer,
-        timer: &mut Option<&mut crate::render::Timer>,
+        timer: &mut Option<&mut crate::timing::Timer>,
     ) {
         enc.clear_buffer(dst, 0, None);
         let mode = match params.depth_mode {

@@ -94,3 +94,20 @@ impl Gpu {
             .map_err(|e| GpuError::Readback(e.to_string()))
     }
 }
+
+/// A compute pipeline from a WGSL module's `main`, its layout derived from the shader.
+pub(crate) fn compute_pipeline(
+    dev: &wgpu::Device,
+    module: wgpu::ShaderModuleDescriptor,
+    label: &str,
+) -> wgpu::ComputePipeline {
+    let module = dev.create_shader_module(module);
+    dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: None,
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}

@@ -7,22 +7,90 @@
 //! (× post-scatter albedo, + specular, tone map). World units are cm; kernel tap offsets are cm on
 //! the surface. Everything runs without a window; results are read back as float images.
 //!
+//! The other method, [`Scatter::DirectionalDipole`] ([`dipole`]), replaces the separable passes:
+//! position/normal maps from the camera and from each light, then progressive Monte Carlo frames
+//! that integrate the directional dipole over the lit surface points around each pixel.
+//!
 //! Conventions: images are row-major, top row first, RGBA f32 per pixel. A pixel at view depth z
 //! spans z/f cm with f = height/(2·tan(fov_y/2)) (`px_per_cm_at_unit_depth`).
 
 mod blur;
 mod context;
+pub mod dipole;
 mod error;
 mod mesh;
 mod render;
 mod scene;
+mod timing;
 
 pub use blur::{BlurParams, DepthMode, GpuKernel, blur_image};
 pub use context::Gpu;
 pub use error::{GpuError, Result};
 pub use mesh::{Mesh, Vertex};
+pub use dipole::DipoleSetup;
 pub use render::{
-    Frame, INCIDENCE_STEPS, PassTime, RenderParams, incidence_hemispherical, incidence_ratio,
+    Frame, INCIDENCE_STEPS, RenderParams, Scatter, incidence_hemispherical, incidence_ratio,
     render,
 };
+pub use timing::PassTime;
 pub use scene::{AlbedoMode, Camera, Light, Scene};
+
+#[cfg(test)]
+mod tests {
+    /// Every shader with the Rust twin of its uniform struct (name, byte size; None: no twin).
+    const SHADERS: [(&str, &str, Option<(&str, usize)>); 7] = [
+        (
+            "scene.wgsl",
+            include_str!("shaders/scene.wgsl"),
+            Some(("Globals", crate::render::GLOBALS_SIZE)),
+        ),
+        ("shadow.wgsl", include_str!("shaders/shadow.wgsl"), None),
+        ("unpack.wgsl", include_str!("shaders/unpack.wgsl"), None),
+        (
+            "blur.wgsl",
+            include_str!("shaders/blur.wgsl"),
+            Some(("Params", crate::blur::BLUR_UNIFORM_SIZE)),
+        ),
+        (
+            "combine.wgsl",
+            include_str!("shaders/combine.wgsl"),
+            Some(("Params", 16)),
+        ),
+        (
+            "dipole_maps.wgsl",
+            include_str!("shaders/dipole_maps.wgsl"),
+            Some(("View", 64)),
+        ),
+        (
+            "dipole.wgsl",
+            include_str!("shaders/dipole.wgsl"),
+            Some(("Dipole", crate::dipole::DIPOLE_UNIFORM_SIZE)),
+        ),
+    ];
+
+    /// Without an adapter: every shader parses and validates with naga, and each uniform struct
+    /// has the byte size of the `#[repr(C)]` struct Rust uploads into it.
+    #[test]
+    fn every_shader_validates_and_its_uniform_matches_rust() {
+        for (name, src, uniform) in SHADERS {
+            let module = naga::front::wgsl::parse_str(src)
+                .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(src)));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::default(),
+            )
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+            if let Some((ty, size)) = uniform {
+                let mut layouter = naga::proc::Layouter::default();
+                layouter.update(module.to_ctx()).unwrap();
+                let (handle, _) = module
+                    .types
+                    .iter()
+                    .find(|(_, t)| t.name.as_deref() == Some(ty))
+                    .unwrap_or_else(|| panic!("{name}: no struct {ty}"));
+                assert_eq!(layouter[handle].size as usize, size, "{name}: {ty}");
+            }
+        }
+    }
+}

@@ -21,6 +21,20 @@ pub struct Vertex {
     pub strength: f32,
 }
 
+impl Vertex {
+    const ATTRIBUTES: [wgpu::VertexAttribute; 4] =
+        wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32];
+
+    /// The vertex buffer layout every pass that draws meshes uses.
+    pub(crate) fn layout() -> wgpu::VertexBufferLayout<'static> {
+        wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &Self::ATTRIBUTES,
+        }
+    }
+}
+
 /// An indexed triangle list.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {

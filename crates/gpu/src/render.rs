@@ -4,10 +4,25 @@ use glam::Mat4;
 use wgpu::util::DeviceExt;
 
 use crate::blur::{Blur, BlurParams, DepthMode, GpuKernel, pixels};
-use crate::context::Gpu;
+use crate::context::{Gpu, compute_pipeline};
+use crate::dipole::{DipoleSetup, MeshBuffers};
 use crate::error::{GpuError, Result};
 use crate::mesh::Vertex;
 use crate::scene::{AlbedoMode, Light, Scene};
+use crate::timing::{PassTime, Timer};
+
+/// How the diffuse light of SSS surfaces is scattered.
+#[derive(Clone, Copy, Debug)]
+pub enum Scatter<'a> {
+    /// Not at all: plain Lambertian shading.
+    None,
+    /// A separable screen-space kernel (thesis §4.2–4.4).
+    Separable(&'a GpuKernel),
+    /// The directional dipole evaluated per pixel over lit surface points ([`crate::dipole`]);
+    /// the albedo split and incidence table of [`RenderParams`] do not apply (the colour and the
+    /// dependence on incidence come from the model).
+    DirectionalDipole(&'a DipoleSetup),
+}
 
 /// Render settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -80,13 +95,6 @@ impl Default for RenderParams {
     }
 }
 
-/// GPU time of one pass [ms] (timestamp queries).
-#[derive(Clone, Debug, PartialEq)]
-pub struct PassTime {
-    pub label: String,
-    pub ms: f64,
-}
-
 /// A rendered frame: row-major, top row first.
 #[derive(Clone, Debug)]
 pub struct Frame {
@@ -105,65 +113,6 @@ pub struct Frame {
     pub geometry: Vec<[f32; 4]>,
     /// Per-pass GPU times; empty where the adapter has no timestamp queries.
     pub times: Vec<PassTime>,
-}
-
-/// Timestamp bookkeeping: two queries per timed pass.
-pub(crate) struct Timer {
-    set: wgpu::QuerySet,
-    labels: Vec<String>,
-}
-
-const MAX_TIMED: u32 = 64;
-
-impl Timer {
-    fn new(gpu: &Gpu) -> Option<Timer> {
-        gpu.timestamps.then(|| Timer {
-            set: gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2 * MAX_TIMED,
-            }),
-            labels: Vec::new(),
-        })
-    }
-
-    pub(crate) fn writes(&mut self, label: &str) -> wgpu::ComputePassTimestampWrites<'_> {
-        let k = (self.labels.len() as u32).min(MAX_TIMED - 1);
-        self.labels.push(label.to_string());
-        wgpu::ComputePassTimestampWrites {
-            query_set: &self.set,
-            beginning_of_pass_write_index: Some(2 * k),
-            end_of_pass_write_index: Some(2 * k + 1),
-        }
-    }
-
-    fn read(&self, gpu: &Gpu) -> Result<Vec<PassTime>> {
-        let n = (self.labels.len() as u32).min(MAX_TIMED);
-        if n == 0 {
-            return Ok(Vec::new());
-        }
-        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("timestamps"),
-            size: 16 * n as u64,
-            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let mut enc = gpu.device.create_command_encoder(&Default::default());
-        enc.resolve_query_set(&self.set, 0..2 * n, &buf, 0);
-        gpu.queue.submit([enc.finish()]);
-        let bytes = gpu.read_buffer(&buf, 16 * n as u64)?;
-        let ticks: &[u64] = bytemuck::cast_slice(&bytes);
-        let period = gpu.queue.get_timestamp_period() as f64;
-        Ok(self
-            .labels
-            .iter()
-            .zip(ticks.chunks(2))
-            .map(|(l, t)| PassTime {
-                label: l.clone(),
-                ms: t[1].wrapping_sub(t[0]) as f64 * period * 1e-6,
-            })
-            .collect())
-    }
 }
 
 #[repr(C)]
@@ -189,6 +138,11 @@ struct Globals {
     incidence_ambient: [f32; 4],
 }
 
+/// The size of scene.wgsl's `Globals`: 3 mat4 + 3 vec4 + 4 lights × 96 + 10 vec4 (checked
+/// against naga's layout in a test).
+pub(crate) const GLOBALS_SIZE: usize = 2 * 64 + 3 * 16 + 4 * 96 + 10 * 16;
+const _: () = assert!(std::mem::size_of::<Globals>() == GLOBALS_SIZE);
+
 /// Scene targets: diffuse; specular + strength; view depth + packed post-scatter albedo.
 const FORMATS: [wgpu::TextureFormat; 3] = [
     wgpu::TextureFormat::Rgba32Float,
@@ -210,30 +164,14 @@ fn depth_test() -> wgpu::DepthStencilState {
     }
 }
 
-/// A compute pipeline from a WGSL module's `main`, its layout derived from the shader.
-pub(crate) fn compute_pipeline(
-    dev: &wgpu::Device,
-    module: wgpu::ShaderModuleDescriptor,
-    label: &str,
-) -> wgpu::ComputePipeline {
-    let module = dev.create_shader_module(module);
-    dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(label),
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    })
-}
-
-/// Renders `scene`, scattering the diffuse light with `kernel` (None: plain Lambertian shading).
+/// Renders `scene`, scattering the diffuse light of SSS surfaces as `scatter` says.
 pub fn render(
     gpu: &Gpu,
     scene: &Scene,
-    kernel: Option<&GpuKernel>,
+    scatter: Scatter,
     params: &RenderParams,
 ) -> Result<Frame> {
+    let dipole = matches!(scatter, Scatter::DirectionalDipole(_));
     let (w, h) = (params.width, params.height);
     let max = gpu.device.limits().max_texture_dimension_2d;
     if w == 0 || h == 0 || w > max || h > max {
@@ -299,11 +237,7 @@ pub fn render(
         view_formats: &[],
     });
     let shadow_module = dev.create_shader_module(wgpu::include_wgsl!("shaders/shadow.wgsl"));
-    let vertex_layout = wgpu::VertexBufferLayout {
-        array_stride: std::mem::size_of::<Vertex>() as u64,
-        step_mode: wgpu::VertexStepMode::Vertex,
-        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32],
-    };
+    let vertex_layout = Vertex::layout();
     let shadow_pipeline = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some("shadow"),
         layout: None,
@@ -396,7 +330,9 @@ pub fn render(
         camera_pos: cam.position.extend(1.0).into(),
         params: [
             scene.lights.len() as f32,
+            // The dipole's output carries its own colour: no post-scatter albedo.
             match params.albedo {
+                _ if dipole => 0.0,
                 AlbedoMode::Pre => 0.0,
                 AlbedoMode::Post => 1.0,
                 AlbedoMode::PrePost => 2.0,
@@ -406,9 +342,17 @@ pub fn render(
         ],
         ambient: scene.ambient.extend(0.0).into(),
         lights,
-        incidence: params.incidence.map(|r| [r[0], r[1], r[2], 0.0]),
+        incidence: if dipole {
+            [[1.0; 4]; INCIDENCE_STEPS]
+        } else {
+            params.incidence.map(|r| [r[0], r[1], r[2], 0.0])
+        },
         incidence_ambient: {
-            let h = incidence_hemispherical(&params.incidence);
+            let h = if dipole {
+                [1.0; 3]
+            } else {
+                incidence_hemispherical(&params.incidence)
+            };
             [h[0], h[1], h[2], 0.0]
         },
     };
@@ -575,8 +519,8 @@ pub fn render(
     let scattered = pixels(gpu, n, "scattered");
     let tmp = pixels(gpu, n, "tmp");
     let mut timer = Timer::new(gpu);
-    match kernel {
-        Some(k) => {
+    match scatter {
+        Scatter::Separable(k) => {
             let blur_params = BlurParams {
                 px_per_cm_at_unit_depth: cam.px_per_cm_at_unit_depth(h),
                 sss_width: params.sss_width,
@@ -598,7 +542,24 @@ pub fn render(
                 &mut timer.as_mut(),
             );
         }
-        None => enc.copy_buffer_to_buffer(&bufs[0], 0, &scattered, 0, (n * 16) as u64),
+        Scatter::DirectionalDipole(setup) => crate::dipole::encode(
+            gpu,
+            &mut enc,
+            scene,
+            setup,
+            proj * view,
+            (w, h),
+            &MeshBuffers {
+                vertices: &vbuf,
+                indices: &ibuf,
+                count: index_count,
+            },
+            &scattered,
+            &mut timer.as_mut(),
+        )?,
+        Scatter::None => {
+            enc.copy_buffer_to_buffer(&bufs[0], 0, &scattered, 0, (n * 16) as u64)
+        }
     }
 
     // Recombine.

@@ -2,7 +2,7 @@
 //! the sphere's shadow on the floor. Under CI=true a missing adapter fails.
 
 use glam::{Vec3, Vec4Swizzles};
-use gpu::{AlbedoMode, Light, RenderParams, Scene, render};
+use gpu::{AlbedoMode, Light, RenderParams, Scatter, Scene, render};
 
 mod common;
 use common::gpu;
@@ -39,7 +39,7 @@ fn irradiance_follows_the_cosine_law_and_shadows_fall_where_geometry_puts_them()
         albedo: AlbedoMode::Post,
         ..RenderParams::default()
     };
-    let frame = render(&gpu, &scene, None, &params).unwrap();
+    let frame = render(&gpu, &scene, Scatter::None, &params).unwrap();
     let at = |(x, y): (usize, usize)| frame.irradiance[y * W as usize + x];
     // Points on the sphere (centre (0, 5, 0), radius 5) facing the camera: E = E₀·max(n·l, 0) + ambient.
     let centre = Vec3::new(0.0, 5.0, 0.0);
@@ -101,7 +101,7 @@ fn incidence_table_scales_irradiance_on_sss_surfaces_only() {
         incidence: table,
         ..RenderParams::default()
     };
-    let frame = render(&gpu, &scene, None, &params).unwrap();
+    let frame = render(&gpu, &scene, Scatter::None, &params).unwrap();
     let at = |(x, y): (usize, usize)| frame.irradiance[y * W as usize + x];
     let hemi = gpu::incidence_hemispherical(&table);
     let centre = Vec3::new(0.0, 5.0, 0.0);
@@ -145,7 +145,7 @@ fn a_camera_straight_above_sees_the_sphere() {
         height: H,
         ..RenderParams::default()
     };
-    let frame = render(&gpu, &scene, None, &params).unwrap();
+    let frame = render(&gpu, &scene, Scatter::None, &params).unwrap();
     let centre = (H as usize / 2) * W as usize + W as usize / 2;
     // The sphere's top (y = 10) is 20 cm below the camera, and it scatters (strength 1).
     assert!(

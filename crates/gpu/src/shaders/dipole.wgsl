@@ -1,0 +1,225 @@
+// The directional dipole evaluated in real time (draft §4.2–4.3), one progressive frame: for each
+// SSS pixel x_o and each light, `samples` points p on a disc of radius r* around x_o in the
+// plane perpendicular to the light ray, radii drawn from a mixture over channels of truncated
+// exponentials σtr·e^{−σtr r}; each p is carried along the light ray onto the first surface the
+// light sees (the light's position/normal map), the lit entry point x_i. The flux through the
+// disc element dA⊥ is E⊥·dA⊥ (directional) or I·cos α·dA⊥/|p − x_light|² (point), so
+//   L_o ≈ T(ω_o)·(1/N)·Σ flux density · T(ω_i)·S_d(x_i, ω_i; x_o) / pdf_A(p),
+// pdf_A the sample's density per unit disc area. Light the map marks as a non-SSS surface (an
+// occluder, the floor) contributes nothing: shadows come for free. Each frame adds
+// π·L_o/frames into `out` (π·L_o: the exitance convention of the separable pipeline).
+
+struct Light {
+    view_proj: mat4x4<f32>,
+    // xyz: direction towards the light (w = 0) or its position (w = 1) [cm].
+    pos_or_dir: vec4<f32>,
+    // rgb: irradiance at normal incidence (directional) or intensity [irradiance × cm²] (point);
+    // w: layer of the light maps.
+    color: vec4<f32>,
+};
+
+struct Dipole {
+    lights: array<Light, 4>,
+    camera_pos: vec4<f32>,
+    // Per channel (rgb): D [cm], σtr [cm⁻¹], d_e [cm], back-lit depth 1/(3σt) [cm],
+    // 1/(4C_φ(1/η)·4π²) [sr⁻¹], sampling rate of the radius [cm⁻¹].
+    d: vec4<f32>,
+    sigma_tr: vec4<f32>,
+    d_e: vec4<f32>,
+    backlit: vec4<f32>,
+    norm: vec4<f32>,
+    rate: vec4<f32>,
+    // x: A, y: C_φ(η), z: C_E(η), w: η.
+    boundary: vec4<f32>,
+    // x: r* [cm], y: weight of one sample in the final image, 1/(samples·frames).
+    disc: vec4<f32>,
+    // width, height, light count, samples per pixel and light.
+    size: vec4<u32>,
+    // frame index, seed, light-map size, 0.
+    frame: vec4<u32>,
+};
+
+@group(0) @binding(0) var<uniform> u: Dipole;
+@group(0) @binding(1) var cam_pos: texture_2d<f32>;
+@group(0) @binding(2) var cam_normal: texture_2d<f32>;
+@group(0) @binding(3) var light_pos: texture_2d_array<f32>;
+@group(0) @binding(4) var light_normal: texture_2d_array<f32>;
+@group(0) @binding(5) var<storage, read_write> out: array<vec4<f32>>;
+
+const PI: f32 = 3.14159265358979;
+
+// PCG hash (Jarzynski & Olano 2020).
+fn pcg(v: u32) -> u32 {
+    let s = v * 747796405u + 2891336453u;
+    let w = ((s >> ((s >> 28u) + 4u)) ^ s) * 277803737u;
+    return (w >> 22u) ^ w;
+}
+
+fn uniform01(state: ptr<function, u32>) -> f32 {
+    *state = pcg(*state);
+    return f32(*state >> 8u) / 16777216.0;
+}
+
+// Unpolarized Fresnel reflectance from outside (index 1) into index η at cos θ_i = c.
+fn fresnel(eta: f32, c: f32) -> f32 {
+    let ci = clamp(c, 0.0, 1.0);
+    let st2 = (1.0 - ci * ci) / (eta * eta);
+    if st2 >= 1.0 {
+        return 1.0;
+    }
+    let ct = sqrt(1.0 - st2);
+    let rs = (ci - eta * ct) / (ci + eta * ct);
+    let rp = (eta * ci - ct) / (eta * ci + ct);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+// S′_d of eq. 3.7 for channel c without its normalisation.
+fn source(c: u32, rho: f32, x_w: f32, w_n: f32, x_n: f32) -> f32 {
+    let d = u.d[c];
+    let s = u.sigma_tr[c] * rho;
+    let bracket = u.boundary.y * (rho * rho / d + 3.0 * (1.0 + s) * x_w)
+        - u.boundary.z * (3.0 * d * (1.0 + s) * w_n
+            - ((1.0 + s) + 3.0 * d * (3.0 * (1.0 + s) + s * s) / (rho * rho) * x_w) * x_n);
+    return exp(-s) / (rho * rho * rho) * bracket;
+}
+
+// S_d(x_i, ω₁₂; x_o) per channel [cm⁻² sr⁻¹] (fit::analytic::DirectionalDipole).
+fn s_d(xi: vec3<f32>, ni: vec3<f32>, w12: vec3<f32>, xo: vec3<f32>, no: vec3<f32>) -> vec3<f32> {
+    let x = xo - xi;
+    let r2 = dot(x, x);
+    let r = sqrt(r2);
+    let side = cross(ni, x);
+    var n_star = ni;
+    if r > 0.0 && length(side) > 1e-6 * r {
+        n_star = cross(x / r, normalize(side));
+    }
+    let x_w = dot(x, w12);
+    let mu0 = -dot(w12, no);
+    let w_v = w12 - 2.0 * dot(w12, n_star) * n_star;
+    var result = vec3<f32>(0.0);
+    for (var c = 0u; c < 3u; c++) {
+        if u.norm[c] == 0.0 {
+            continue;
+        }
+        var d_r: f32;
+        if mu0 > 0.0 {
+            let de = u.d_e[c];
+            let cos_beta = -sqrt(max(r2 - x_w * x_w, 0.0) / (r2 + de * de));
+            d_r = sqrt(r2 + u.d[c] * mu0 * (u.d[c] * mu0 - 2.0 * de * cos_beta));
+        } else {
+            d_r = sqrt(r2 + u.backlit[c] * u.backlit[c]);
+        }
+        let real = source(c, d_r, x_w, dot(w12, no), dot(x, no));
+        let xv = xo - (xi + 2.0 * u.boundary.x * u.d_e[c] * n_star);
+        let virt = source(c, length(xv), dot(xv, w_v), dot(w_v, no), dot(xv, no));
+        result[c] = max(u.norm[c] * (real - virt), 0.0);
+    }
+    return result;
+}
+
+// The sample density per unit disc area at radius r: the mean over channels of the truncated
+// exponential σ·e^{−σr}/(1 − e^{−σr*}) spread over the circle 2πr.
+fn pdf_area(r: f32) -> f32 {
+    var p = 0.0;
+    for (var c = 0u; c < 3u; c++) {
+        let s = u.rate[c];
+        p += s * exp(-s * r) / (1.0 - exp(-s * u.disc.x));
+    }
+    return p / (3.0 * 2.0 * PI * r);
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let width = u.size.x;
+    if id.x >= width || id.y >= u.size.y {
+        return;
+    }
+    let i = id.y * width + id.x;
+    let po = textureLoad(cam_pos, vec2<i32>(id.xy), 0);
+    if po.w < 0.5 {
+        return;
+    }
+    let xo = po.xyz;
+    let no = normalize(textureLoad(cam_normal, vec2<i32>(id.xy), 0).xyz);
+    let wo = normalize(u.camera_pos.xyz - xo);
+    let eta = u.boundary.w;
+    // Leaving at exterior angle θ_o transmits as entering at θ_o does (Stokes reciprocity).
+    let t_out = 1.0 - fresnel(eta, dot(wo, no));
+    var state = pcg(i ^ pcg(u.frame.x * 9781u + pcg(u.frame.y)));
+    var sum = vec3<f32>(0.0);
+    let r_max = u.disc.x;
+    let map = f32(u.frame.z);
+    for (var l = 0u; l < u.size.z; l++) {
+        let light = u.lights[l];
+        let point = light.pos_or_dir.w > 0.5;
+        var axis = normalize(light.pos_or_dir.xyz);
+        if point {
+            axis = normalize(light.pos_or_dir.xyz - xo);
+        }
+        // An orthonormal basis of the disc's plane (Duff et al. 2017).
+        let sgn = select(-1.0, 1.0, axis.z >= 0.0);
+        let a = -1.0 / (sgn + axis.z);
+        let b = axis.x * axis.y * a;
+        let t1 = vec3<f32>(1.0 + sgn * axis.x * axis.x * a, sgn * b, -sgn * axis.x);
+        let t2 = vec3<f32>(b, sgn + axis.y * axis.y * a, -axis.y);
+        for (var k = 0u; k < u.size.w; k++) {
+            let c = min(u32(uniform01(&state) * 3.0), 2u);
+            let s = u.rate[c];
+            let r = -log(1.0 - uniform01(&state) * (1.0 - exp(-s * r_max))) / s;
+            let phi = 2.0 * PI * uniform01(&state);
+            if !(r > 0.0) {
+                continue;
+            }
+            let p = xo + r * (cos(phi) * t1 + sin(phi) * t2);
+            let clip = light.view_proj * vec4<f32>(p, 1.0);
+            if clip.w <= 0.0 {
+                continue;
+            }
+            let ndc = clip.xyz / clip.w;
+            let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+            if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
+                continue;
+            }
+            let texel = vec2<i32>(uv * map);
+            let layer = i32(light.color.w);
+            let pi = textureLoad(light_pos, texel, layer, 0);
+            if pi.w < 0.5 {
+                continue;
+            }
+            let ni = normalize(textureLoad(light_normal, texel, layer, 0).xyz);
+            // The texel holds the surface at its centre; snapping x_i there would integrate S_d
+            // by the midpoint rule on the map's grid, which overweights its peak at x_o. Instead
+            // the light ray through p meets the texel's tangent plane (exact on flat parts; kept
+            // at the centre where the ray grazes the plane).
+            var ray_o = p;
+            var ray_d = axis;
+            if point {
+                ray_o = light.pos_or_dir.xyz;
+                ray_d = normalize(p - ray_o);
+            }
+            var xi = pi.xyz;
+            let facing = dot(ray_d, ni);
+            if abs(facing) > 0.1 {
+                xi = ray_o + ray_d * (dot(pi.xyz - ray_o, ni) / facing);
+            }
+            var wi = axis;
+            var flux = light.color.rgb;
+            if point {
+                let to_light = light.pos_or_dir.xyz - p;
+                wi = normalize(light.pos_or_dir.xyz - xi);
+                flux = flux * abs(dot(normalize(to_light), axis)) / dot(to_light, to_light);
+            }
+            let cos_i = dot(wi, ni);
+            if cos_i <= 0.0 {
+                continue;
+            }
+            let t_in = 1.0 - fresnel(eta, cos_i);
+            // ω₁₂: the refracted direction of light arriving from wi.
+            let inv = 1.0 / eta;
+            let ct = sqrt(max(1.0 - inv * inv * (1.0 - cos_i * cos_i), 0.0));
+            let w12 = normalize(-wi * inv + ni * (inv * cos_i - ct));
+            sum += flux * t_in * s_d(xi, ni, w12, xo, no) / pdf_area(r);
+        }
+    }
+    out[i] += vec4<f32>(PI * t_out * sum * u.disc.y, 0.0);
+}
