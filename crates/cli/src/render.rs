@@ -11,7 +11,9 @@ use fit::metrics::bin_kernel;
 use fit::taps::ShaderKernel;
 use fit::{KernelModel, Profile};
 use glam::Vec3;
-use gpu::{AlbedoMode, DepthMode, Gpu, GpuKernel, Light, RenderParams, Scene};
+use gpu::{
+    AlbedoMode, DepthMode, DipoleSetup, Gpu, GpuKernel, Light, RenderParams, Scatter, Scene,
+};
 use serde_json::json;
 
 use crate::eval::ProfileSource;
@@ -59,6 +61,16 @@ fn incidence_table(
         );
     }
     Ok(table)
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Method {
+    /// A separable screen-space kernel (thesis §4.2–4.4): --kernel, or pre-integration fitted here
+    Separable,
+    /// The directional dipole (Frisvad et al. 2014) integrated per pixel over lit surface points
+    /// found through light-space position maps, progressive over --frames (draft §4.2–4.3);
+    /// colours come from the material's coefficients, ambient light is not scattered
+    DirectionalDipole,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -178,6 +190,27 @@ pub struct RenderArgs {
     /// Photons per channel and angle for the incidence table of --incidence-aware on
     #[arg(long, value_parser = crate::parse_count, default_value = "100000")]
     incidence_photons: u64,
+
+    /// How SSS surfaces scatter light
+    #[arg(long, value_enum, default_value_t = Method::Separable)]
+    method: Method,
+
+    /// directional-dipole: samples per pixel, light and frame
+    #[arg(long, default_value_t = 16)]
+    samples: u32,
+
+    /// directional-dipole: frames accumulated (the image is their mean)
+    #[arg(long, default_value_t = 16)]
+    frames: u32,
+
+    /// directional-dipole: radius r* [cm] of the disc of lit points around each pixel
+    /// [default: ln(1000)/σtr of the material's slowest-decaying channel]
+    #[arg(long)]
+    dipole_radius: Option<f32>,
+
+    /// directional-dipole: side of each light's position/normal map [texels]
+    #[arg(long, default_value_t = 1024)]
+    light_map: u32,
 
     /// Plain Lambertian shading: no scattering at all (a baseline)
     #[arg(long, conflicts_with_all = ["kernel", "compare_models", "bench"])]
@@ -408,6 +441,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
         bail!("invalid --camera/--target: they coincide");
     }
     let named = library::material(&a.material)?;
+    let dipole = match a.method {
+        Method::Separable => None,
+        Method::DirectionalDipole => Some(dipole_setup(&named, &a)?),
+    };
     let gpu = Gpu::new()?;
     eprintln!("GPU: {}", gpu.adapter_name);
     let params = RenderParams {
@@ -435,12 +472,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
     };
     let profile = || a.source.profile(&named);
     if a.bench {
-        return bench(&gpu, &scene, &profile()?, &named.slug, &a);
+        return match &dipole {
+            Some(setup) => bench_dipole(&gpu, &scene, setup, &named.slug, &a),
+            None => bench(&gpu, &scene, &profile()?, &named.slug, &a),
+        };
     }
     std::fs::create_dir_all(&a.out)
         .with_context(|| format!("cannot create {}", a.out.display()))?;
     let kernel = match &a.kernel {
-        _ if a.no_sss => None,
+        _ if a.no_sss || dipole.is_some() => None,
         Some(path) => {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("cannot read {}", path.display()))?;
@@ -458,7 +498,12 @@ pub fn run(a: RenderArgs) -> Result<()> {
         .map(GpuKernel::from_shader_kernel)
         .transpose()?;
     let start = std::time::Instant::now();
-    let frame = gpu::render(&gpu, &scene, gpu_kernel.as_ref(), &params)?;
+    let scatter = match (&dipole, &gpu_kernel) {
+        (Some(setup), _) => Scatter::DirectionalDipole(setup),
+        (None, Some(k)) => Scatter::Separable(k),
+        (None, None) => Scatter::None,
+    };
+    let frame = gpu::render(&gpu, &scene, scatter, &params)?;
     let seconds = start.elapsed().as_secs_f64();
     let png_path = a.out.join("render.png");
     write_atomic(
@@ -469,14 +514,19 @@ pub fn run(a: RenderArgs) -> Result<()> {
         &a.out.join("render.pfm"),
         &pfm(frame.width, frame.height, &frame.linear),
     )?;
-    let what = kernel.as_ref().map_or("no SSS".to_string(), |k| {
-        format!(
+    let what = match (&dipole, &kernel) {
+        (Some(d), _) => format!(
+            "directional dipole ({} samples × {} frames per pixel and light, r* = {:.3} cm)",
+            d.samples, d.frames, d.radius_cm
+        ),
+        (None, Some(k)) => format!(
             "{} kernel ({} pass(es) × {} taps)",
             k.model,
             k.pass.len(),
             k.taps
-        )
-    });
+        ),
+        (None, None) => "no SSS".to_string(),
+    };
     eprintln!(
         "{what} on {} at {}×{} in {seconds:.2} s → {}",
         a.scene,
@@ -485,7 +535,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
         png_path.display()
     );
     let mut summary = json!({
-        "adapter": gpu.adapter_name, "scene": a.scene, "kernel": kernel.as_ref().map(|k| k.model.to_string()), "width": a.width, "height": a.height,
+        "adapter": gpu.adapter_name, "scene": a.scene, "method": if dipole.is_some() { "directional-dipole" } else { "separable" },
+        "kernel": kernel.as_ref().map(|k| k.model.to_string()), "width": a.width, "height": a.height,
+        "dipole": dipole.as_ref().map(|d| json!({"samples": d.samples, "frames": d.frames, "radius_cm": d.radius_cm, "light_map": d.map_size})),
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
     });
     if a.compare_models {
@@ -538,7 +590,7 @@ fn compare(
         p.dr * bin as f64,
         p.dr
     );
-    let lambert = gpu::render(gpu, scene, None, &params)?;
+    let lambert = gpu::render(gpu, scene, Scatter::None, &params)?;
     let sss: Vec<bool> = lambert.geometry.iter().map(|g| g[1] > 0.0).collect();
     // The ground truth: each channel convolved with the 2D kernel, SSS pixels only.
     let mut truth = lambert.irradiance.clone();
@@ -680,7 +732,7 @@ fn compare(
         let frame = gpu::render(
             gpu,
             scene,
-            Some(&GpuKernel::from_shader_kernel(&k)?),
+            Scatter::Separable(&GpuKernel::from_shader_kernel(&k)?),
             &params,
         )?;
         // What the image shows: scattered light on SSS pixels, the unscattered elsewhere.
@@ -719,6 +771,134 @@ fn compare(
     )?;
     eprintln!("comparison sheet → {}", sheet.display());
     Ok(v)
+}
+
+/// The directional-dipole settings from the material and the flags; warns where the model is
+/// outside its domain.
+fn dipole_setup(named: &library::Named, a: &RenderArgs) -> Result<DipoleSetup> {
+    if a.kernel.is_some() || a.compare_models || a.no_sss {
+        bail!("--method directional-dipole does not use --kernel, --compare-models or --no-sss");
+    }
+    if a.incidence_aware == OnOff::On {
+        bail!(
+            "--incidence-aware is for the separable method: the directional dipole depends on the incidence itself"
+        );
+    }
+    let media: [fit::analytic::Medium; 3] =
+        [0, 1, 2].map(|c| fit::analytic::Medium::channel(&named.material, c));
+    let mut setup = DipoleSetup::new(&media)?;
+    setup.samples = a.samples;
+    setup.frames = a.frames;
+    setup.map_size = a.light_map;
+    setup.seed = a.source.seed as u32;
+    if let Some(r) = a.dipole_radius {
+        setup.radius_cm = r;
+    }
+    setup
+        .validate()
+        .context("invalid --samples/--frames/--dipole-radius/--light-map")?;
+    for (c, m) in media.iter().enumerate() {
+        let albedo = m.albedo_reduced();
+        if albedo < 0.5 {
+            eprintln!(
+                "warning: {} channel {} has reduced albedo {albedo:.3}: the directional dipole is a high-albedo model and overestimates its reflectance there",
+                named.slug,
+                ["R", "G", "B"][c]
+            );
+        }
+    }
+    Ok(setup)
+}
+
+/// Directional-dipole frame times at 1920×1080 (median of 3 renders of `frames` frames each):
+/// 8 and 16 samples per pixel and light, with the scene's lights and with 4 lights (the draft's
+/// target is 3–5 lights under 100 ms per frame, ideally 16 ms).
+fn bench_dipole(
+    gpu: &Gpu,
+    scene: &Scene,
+    base: &DipoleSetup,
+    slug: &str,
+    a: &RenderArgs,
+) -> Result<()> {
+    macro_rules! table {
+        ($($t:tt)*) => {
+            if a.json { eprintln!($($t)*) } else { println!($($t)*) }
+        };
+    }
+    let params = RenderParams {
+        width: 1920,
+        height: 1080,
+        ..RenderParams::default()
+    };
+    if !gpu.timestamps {
+        eprintln!(
+            "this adapter has no timestamp queries: reporting whole-render wall time instead"
+        );
+    }
+    let mut four = scene.clone();
+    while four.lights.len() < 4 {
+        let k = four.lights.len() as f32;
+        four.lights.push(Light::Directional {
+            towards: Vec3::new((1.7 * k).cos(), 1.0, (1.7 * k).sin()).normalize(),
+            irradiance: Vec3::splat(0.4),
+            shadow: true,
+        });
+    }
+    table!(
+        "directional dipole at 1920×1080 on {} ({slug}, {} frames per render, median of 3 renders)",
+        gpu.adapter_name,
+        base.frames
+    );
+    table!(
+        "  {:>6} {:>8} {:>18} {:>18}",
+        "lights",
+        "samples",
+        "dipole ms/frame",
+        "render wall ms"
+    );
+    let mut rows = Vec::new();
+    for s in [scene, &four] {
+        for samples in [8, 16] {
+            let setup = DipoleSetup { samples, ..*base };
+            let mut runs = Vec::new();
+            for _ in 0..3 {
+                let t = std::time::Instant::now();
+                let f = gpu::render(gpu, s, Scatter::DirectionalDipole(&setup), &params)?;
+                let wall = t.elapsed().as_secs_f64() * 1e3;
+                let dipole: f64 = f
+                    .times
+                    .iter()
+                    .filter(|t| t.label.starts_with("directional dipole"))
+                    .map(|t| t.ms)
+                    .sum();
+                runs.push((dipole / setup.frames as f64, wall));
+            }
+            let median = |mut v: Vec<f64>| {
+                v.sort_by(f64::total_cmp);
+                v[v.len() / 2]
+            };
+            let per_frame = median(runs.iter().map(|r| r.0).collect());
+            let wall = median(runs.iter().map(|r| r.1).collect());
+            let lights = s.lights.len();
+            table!(
+                "  {lights:>6} {samples:>8} {:>18} {wall:>18.1}",
+                if gpu.timestamps {
+                    format!("{per_frame:.3}")
+                } else {
+                    "-".into()
+                }
+            );
+            rows.push(json!({"method": "directional-dipole", "lights": lights, "samples": samples, "frames": setup.frames,
+                "dipole_ms_per_frame": gpu.timestamps.then_some(per_frame), "render_wall_ms": wall, "timestamps": gpu.timestamps}));
+        }
+    }
+    if a.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&json!({"adapter": gpu.adapter_name, "rows": rows}))?
+        );
+    }
+    Ok(())
 }
 
 /// Per-pass GPU times at 1920×1080 for 17/33 taps and rank 1/3 (median of 5 frames).
@@ -768,7 +948,7 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
             let mut frames = Vec::new();
             for _ in 0..5 {
                 let t = std::time::Instant::now();
-                let f = gpu::render(gpu, scene, Some(&k), &params)?;
+                let f = gpu::render(gpu, scene, Scatter::Separable(&k), &params)?;
                 frames.push((f.times, t.elapsed().as_secs_f64() * 1e3));
             }
             let median = |mut v: Vec<f64>| {

@@ -34,8 +34,8 @@ use wgpu::util::DeviceExt;
 use crate::context::{Gpu, compute_pipeline};
 use crate::error::{GpuError, Result};
 use crate::mesh::Vertex;
-use crate::timing::Timer;
 use crate::scene::{Light, Scene};
+use crate::timing::Timer;
 
 /// Settings of the directional-dipole method for one material.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -77,10 +77,18 @@ impl DipoleSetup {
     /// Checks the settings; the error names the field.
     pub fn validate(&self) -> Result<()> {
         if !(1..=4096).contains(&self.samples) {
-            return Err(GpuError::invalid("samples", self.samples, "must lie in 1..=4096"));
+            return Err(GpuError::invalid(
+                "samples",
+                self.samples,
+                "must lie in 1..=4096",
+            ));
         }
         if !(1..=65536).contains(&self.frames) {
-            return Err(GpuError::invalid("frames", self.frames, "must lie in 1..=65536"));
+            return Err(GpuError::invalid(
+                "frames",
+                self.frames,
+                "must lie in 1..=65536",
+            ));
         }
         if !(self.radius_cm.is_finite() && self.radius_cm > 0.0) {
             return Err(GpuError::invalid(
@@ -331,13 +339,7 @@ pub(crate) fn encode(
         .iter()
         .map(|l| scene.light_view_proj(l))
         .collect();
-    let lights = draw_maps(
-        gpu,
-        enc,
-        mesh,
-        &light_vps,
-        (setup.map_size, setup.map_size),
-    );
+    let lights = draw_maps(gpu, enc, mesh, &light_vps, (setup.map_size, setup.map_size));
     let mut u_lights = [DipoleLight {
         view_proj: Mat4::IDENTITY.to_cols_array_2d(),
         pos_or_dir: [0.0; 4],
@@ -376,7 +378,12 @@ pub(crate) fn encode(
         backlit: rgb(&|c| c.backlit_depth),
         norm: rgb(&|c| c.norm),
         rate: [rates[0] as f32, rates[1] as f32, rates[2] as f32, 0.0],
-        boundary: [k[0].a as f32, k[0].c_phi as f32, k[0].c_e as f32, k[0].eta as f32],
+        boundary: [
+            k[0].a as f32,
+            k[0].c_phi as f32,
+            k[0].c_e as f32,
+            k[0].eta as f32,
+        ],
         disc: [
             setup.radius_cm,
             1.0 / (setup.samples as f32 * setup.frames as f32),

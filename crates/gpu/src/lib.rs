@@ -25,15 +25,14 @@ mod timing;
 
 pub use blur::{BlurParams, DepthMode, GpuKernel, blur_image};
 pub use context::Gpu;
+pub use dipole::DipoleSetup;
 pub use error::{GpuError, Result};
 pub use mesh::{Mesh, Vertex};
-pub use dipole::DipoleSetup;
 pub use render::{
-    Frame, INCIDENCE_STEPS, RenderParams, Scatter, incidence_hemispherical, incidence_ratio,
-    render,
+    Frame, INCIDENCE_STEPS, RenderParams, Scatter, incidence_hemispherical, incidence_ratio, render,
 };
-pub use timing::PassTime;
 pub use scene::{AlbedoMode, Camera, Light, Scene};
+pub use timing::PassTime;
 
 #[cfg(test)]
 mod tests {

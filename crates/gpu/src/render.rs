@@ -165,12 +165,7 @@ fn depth_test() -> wgpu::DepthStencilState {
 }
 
 /// Renders `scene`, scattering the diffuse light of SSS surfaces as `scatter` says.
-pub fn render(
-    gpu: &Gpu,
-    scene: &Scene,
-    scatter: Scatter,
-    params: &RenderParams,
-) -> Result<Frame> {
+pub fn render(gpu: &Gpu, scene: &Scene, scatter: Scatter, params: &RenderParams) -> Result<Frame> {
     let dipole = matches!(scatter, Scatter::DirectionalDipole(_));
     let (w, h) = (params.width, params.height);
     let max = gpu.device.limits().max_texture_dimension_2d;
@@ -557,9 +552,7 @@ pub fn render(
             &scattered,
             &mut timer.as_mut(),
         )?,
-        Scatter::None => {
-            enc.copy_buffer_to_buffer(&bufs[0], 0, &scattered, 0, (n * 16) as u64)
-        }
+        Scatter::None => enc.copy_buffer_to_buffer(&bufs[0], 0, &scattered, 0, (n * 16) as u64),
     }
 
     // Recombine.

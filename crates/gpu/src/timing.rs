@@ -90,4 +90,3 @@ impl Timer {
             .collect())
     }
 }
-

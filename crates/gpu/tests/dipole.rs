@@ -55,7 +55,10 @@ fn quadrature(
         let mut sum = 0.0;
         for i in 0..nr {
             // Radii graded towards the centre, where S_d peaks.
-            let (a, b) = ((i as f64 / nr as f64).powi(2), ((i + 1) as f64 / nr as f64).powi(2));
+            let (a, b) = (
+                (i as f64 / nr as f64).powi(2),
+                ((i + 1) as f64 / nr as f64).powi(2),
+            );
             let (r, dr) = (0.5 * (a + b) * r_max, (b - a) * r_max);
             for j in 0..nphi {
                 let phi = (j as f64 + 0.5) / nphi as f64 * 2.0 * PI;
@@ -131,13 +134,23 @@ fn front_lit_slab_matches_the_quadrature_and_the_models_total_reflectance() {
     let towards = Vector3::new(1.0, 1.0, 0.0).normalize();
     let mut setup = DipoleSetup::new(&media).unwrap();
     // The quadrature on a large disc is the model's total reflectance at 45°.
-    let big = quadrature(&media, towards, 0.0, 0.0, Vector3::y(), 8.0 * setup.radius_cm as f64);
+    let big = quadrature(
+        &media,
+        towards,
+        0.0,
+        0.0,
+        Vector3::y(),
+        8.0 * setup.radius_cm as f64,
+    );
     for (c, m) in media.iter().enumerate() {
         let dd = DirectionalDipole::new(m);
         let (n, r_max) = (3000, 8.0 * setup.radius_cm as f64);
         let mut total = 0.0;
         for i in 0..n {
-            let (a, b) = ((i as f64 / n as f64).powi(2), ((i + 1) as f64 / n as f64).powi(2));
+            let (a, b) = (
+                (i as f64 / n as f64).powi(2),
+                ((i + 1) as f64 / n as f64).powi(2),
+            );
             let (r, dr) = (0.5 * (a + b) * r_max, (b - a) * r_max);
             for j in 0..128 {
                 let phi = (j as f64 + 0.5) / 128.0 * 2.0 * PI;
@@ -146,7 +159,11 @@ fn front_lit_slab_matches_the_quadrature_and_the_models_total_reflectance() {
         }
         let t_out = 1.0 - mc::fresnel(1.0, m.eta, 1.0).0;
         let want = 45f64.to_radians().cos() * t_out * total / (4.0 * c_phi(1.0 / m.eta));
-        assert!((big[c] / want - 1.0).abs() < 0.01, "{c}: {} vs {want}", big[c]);
+        assert!(
+            (big[c] / want - 1.0).abs() < 0.01,
+            "{c}: {} vs {want}",
+            big[c]
+        );
     }
     let Some(gpu) = gpu() else { return };
     setup.samples = 32;
@@ -159,7 +176,14 @@ fn front_lit_slab_matches_the_quadrature_and_the_models_total_reflectance() {
         ..RenderParams::default()
     };
     let frame = render(&gpu, &scene, Scatter::DirectionalDipole(&setup), &params).unwrap();
-    let want = quadrature(&media, towards, 0.0, 0.0, Vector3::y(), setup.radius_cm as f64);
+    let want = quadrature(
+        &media,
+        towards,
+        0.0,
+        0.0,
+        Vector3::y(),
+        setup.radius_cm as f64,
+    );
     check("front-lit", centre_mean(&frame), want, 0.02);
     // A point light 300 cm away along the same direction with intensity E·(300 cm)²: across the
     // disc its direction turns by < 0.5° and its irradiance changes by < 2 %.
@@ -207,11 +231,22 @@ fn light_through_a_thin_slab_matches_the_quadrature() {
 fn bad_settings_are_refused() {
     let mut setup = DipoleSetup::new(&skin1()).unwrap();
     setup.samples = 0;
-    assert!(setup.validate().unwrap_err().to_string().contains("samples"));
+    assert!(
+        setup
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("samples")
+    );
     setup.samples = 4;
     setup.radius_cm = f32::NAN;
     assert!(setup.validate().unwrap_err().to_string().contains("radius"));
     let mut bad = skin1();
     bad[1].sigma_a = -1.0;
-    assert!(DipoleSetup::new(&bad).unwrap_err().to_string().contains("sigma_a"));
+    assert!(
+        DipoleSetup::new(&bad)
+            .unwrap_err()
+            .to_string()
+            .contains("sigma_a")
+    );
 }

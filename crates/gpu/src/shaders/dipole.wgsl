@@ -128,6 +128,64 @@ fn pdf_area(r: f32) -> f32 {
     return p / (3.0 * 2.0 * PI * r);
 }
 
+struct Entry {
+    x: vec3<f32>,
+    n: vec3<f32>,
+    ok: u32,
+};
+
+// The lit entry point where the light ray (origin ray_o, unit direction ray_d) through the
+// disc point meets the surface, from the light's maps at continuous texel coordinate t. Where
+// the four surrounding texels are one smooth SSS surface, their positions and normals are
+// interpolated bilinearly: laterally exact for an orthographic light map, and a linear
+// interpolation of depth (snapping to a texel centre instead would integrate S_d by the midpoint
+// rule on the map's grid, overweighting its peak at x_o). Elsewhere (depth discontinuities, the
+// light-space silhouette) the ray meets the nearest texel's tangent plane, a point inside that
+// texel's footprint; snapping to the texel centre there instead draws the staircase of the
+// rasterized silhouette into the terminator as scalloped dots. Only where the ray runs within
+// 0.6° of that plane is the texel centre kept.
+fn entry_point(t: vec2<f32>, layer: i32, ray_o: vec3<f32>, ray_d: vec3<f32>) -> Entry {
+    var e: Entry;
+    e.ok = 0u;
+    let size = vec2<i32>(textureDimensions(light_pos));
+    let base = vec2<i32>(floor(t - 0.5));
+    let f = t - 0.5 - vec2<f32>(base);
+    let i00 = clamp(base, vec2<i32>(0), size - 1);
+    let i11 = clamp(base + 1, vec2<i32>(0), size - 1);
+    let p00 = textureLoad(light_pos, i00, layer, 0);
+    let p10 = textureLoad(light_pos, vec2<i32>(i11.x, i00.y), layer, 0);
+    let p01 = textureLoad(light_pos, vec2<i32>(i00.x, i11.y), layer, 0);
+    let p11 = textureLoad(light_pos, i11, layer, 0);
+    // A smooth patch: all four on SSS surfaces, neighbours no further apart along the ray than
+    // 8 times across it (surfaces up to ~83° from facing the light).
+    let across = length(cross(p10.xyz - p00.xyz, ray_d)) + length(cross(p01.xyz - p00.xyz, ray_d));
+    let along = abs(dot(p10.xyz - p00.xyz, ray_d)) + abs(dot(p01.xyz - p00.xyz, ray_d))
+        + abs(dot(p11.xyz - p00.xyz, ray_d));
+    if min(min(p00.w, p10.w), min(p01.w, p11.w)) > 0.5 && along <= 8.0 * across {
+        e.x = mix(mix(p00.xyz, p10.xyz, f.x), mix(p01.xyz, p11.xyz, f.x), f.y);
+        let n00 = textureLoad(light_normal, i00, layer, 0).xyz;
+        let n10 = textureLoad(light_normal, vec2<i32>(i11.x, i00.y), layer, 0).xyz;
+        let n01 = textureLoad(light_normal, vec2<i32>(i00.x, i11.y), layer, 0).xyz;
+        let n11 = textureLoad(light_normal, i11, layer, 0).xyz;
+        e.n = normalize(mix(mix(n00, n10, f.x), mix(n01, n11, f.x), f.y));
+        e.ok = 1u;
+        return e;
+    }
+    let near = clamp(vec2<i32>(floor(t)), vec2<i32>(0), size - 1);
+    let pc = textureLoad(light_pos, near, layer, 0);
+    if pc.w < 0.5 {
+        return e;
+    }
+    e.n = normalize(textureLoad(light_normal, near, layer, 0).xyz);
+    e.x = pc.xyz;
+    let facing = dot(ray_d, e.n);
+    if abs(facing) > 0.01 {
+        e.x = ray_o + ray_d * (dot(pc.xyz - ray_o, e.n) / facing);
+    }
+    e.ok = 1u;
+    return e;
+}
+
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let width = u.size.x;
@@ -180,28 +238,19 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
                 continue;
             }
-            let texel = vec2<i32>(uv * map);
             let layer = i32(light.color.w);
-            let pi = textureLoad(light_pos, texel, layer, 0);
-            if pi.w < 0.5 {
-                continue;
-            }
-            let ni = normalize(textureLoad(light_normal, texel, layer, 0).xyz);
-            // The texel holds the surface at its centre; snapping x_i there would integrate S_d
-            // by the midpoint rule on the map's grid, which overweights its peak at x_o. Instead
-            // the light ray through p meets the texel's tangent plane (exact on flat parts; kept
-            // at the centre where the ray grazes the plane).
             var ray_o = p;
             var ray_d = axis;
             if point {
                 ray_o = light.pos_or_dir.xyz;
                 ray_d = normalize(p - ray_o);
             }
-            var xi = pi.xyz;
-            let facing = dot(ray_d, ni);
-            if abs(facing) > 0.1 {
-                xi = ray_o + ray_d * (dot(pi.xyz - ray_o, ni) / facing);
+            let hit = entry_point(uv * map, layer, ray_o, ray_d);
+            if hit.ok == 0u {
+                continue;
             }
+            let xi = hit.x;
+            let ni = hit.n;
             var wi = axis;
             var flux = light.color.rgb;
             if point {
