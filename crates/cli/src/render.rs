@@ -74,6 +74,15 @@ pub enum Method {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DipoleEnergy {
+    /// Frisvad et al.'s model unchanged
+    Published,
+    /// Each channel scaled so its total diffuse reflectance equals `mc`'s (the profile of
+    /// --material, simulated or read from --profiles)
+    MonteCarlo,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Albedo {
     /// Albedo applied before scattering (blurs texture detail)
     Pre,
@@ -207,6 +216,11 @@ pub struct RenderArgs {
     /// [default: ln(1000)/σtr of the material's slowest-decaying channel]
     #[arg(long)]
     dipole_radius: Option<f32>,
+
+    /// directional-dipole: its energy, as published (overestimates total reflectance, e.g.
+    /// Skin1 at η = 1 by 1.6–2.8×) or rescaled per channel to the Monte Carlo profile's total Rd
+    #[arg(long, value_enum, default_value_t = DipoleEnergy::MonteCarlo)]
+    dipole_energy: DipoleEnergy,
 
     /// directional-dipole: side of each light's position/normal map [texels]
     #[arg(long, default_value_t = 1024)]
@@ -537,7 +551,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let mut summary = json!({
         "adapter": gpu.adapter_name, "scene": a.scene, "method": if dipole.is_some() { "directional-dipole" } else { "separable" },
         "kernel": kernel.as_ref().map(|k| k.model.to_string()), "width": a.width, "height": a.height,
-        "dipole": dipole.as_ref().map(|d| json!({"samples": d.samples, "frames": d.frames, "radius_cm": d.radius_cm, "light_map": d.map_size})),
+        "dipole": dipole.as_ref().map(|d| json!({"samples": d.samples, "frames": d.frames, "radius_cm": d.radius_cm, "light_map": d.map_size, "scale": d.scale})),
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
     });
     if a.compare_models {
@@ -797,6 +811,14 @@ fn dipole_setup(named: &library::Named, a: &RenderArgs) -> Result<DipoleSetup> {
     setup
         .validate()
         .context("invalid --samples/--frames/--dipole-radius/--light-map")?;
+    if a.dipole_energy == DipoleEnergy::MonteCarlo {
+        let p = a.source.profile(named)?;
+        setup = setup.renormalized(&media, [0, 1, 2].map(|c| p.total(c)))?;
+        eprintln!(
+            "directional dipole rescaled to mc's total Rd: R ×{:.3}, G ×{:.3}, B ×{:.3}",
+            setup.scale[0], setup.scale[1], setup.scale[2]
+        );
+    }
     for (c, m) in media.iter().enumerate() {
         let albedo = m.albedo_reduced();
         if albedo < 0.5 {
