@@ -6,8 +6,27 @@ use std::process::Command;
 #[test]
 fn quick_report_is_complete_and_the_claims_hold() {
     let dir = tempfile::tempdir().unwrap();
+    // A comparison against Mitsuba as images.py writes it (two models).
+    let images = serde_json::json!({
+        "width": 192, "height": 108, "spp": 384, "reference_noise_rel": 0.28,
+        "models": [
+            {"model": "preint", "rmse_rel": 0.34, "rmse_noise_corrected_rel": 0.198,
+             "rmse_noise_corrected_se": 0.005, "ssim": 0.913, "energy_ratio": [0.901, 0.851, 0.834]},
+            {"model": "preint-incidence", "rmse_rel": 0.30, "rmse_noise_corrected_rel": 0.110,
+             "rmse_noise_corrected_se": 0.003, "ssim": 0.929, "energy_ratio": [0.990, 0.997, 1.018]}
+        ],
+        "rankings": {"incidence-aware closer than preint": true}
+    });
+    std::fs::write(dir.path().join("images.json"), images.to_string()).unwrap();
     let o = Command::new(env!("CARGO_BIN_EXE_sss"))
-        .args(["reproduce", "--quick", "--out", "report"])
+        .args([
+            "reproduce",
+            "--quick",
+            "--out",
+            "report",
+            "--references",
+            "images.json",
+        ])
         .current_dir(dir.path())
         .output()
         .unwrap();
@@ -107,9 +126,13 @@ fn quick_report_is_complete_and_the_claims_hold() {
         "Fig. 6.3",
         "Fig. 6.1",
         "What agrees",
+        "Rendered scenes against Mitsuba 3",
+        "preint-incidence",
+        "11.00 ± 0.30 %",
     ] {
         assert!(html.contains(section), "missing {section}");
     }
+    assert_eq!(r["rendered"]["models"].as_array().unwrap().len(), 2);
     for src in html
         .split("src=\"")
         .skip(1)
@@ -118,4 +141,31 @@ fn quick_report_is_complete_and_the_claims_hold() {
         let bytes = std::fs::read(report.join(src)).unwrap_or_else(|_| panic!("missing {src}"));
         assert_eq!(&bytes[..4], b"\x89PNG", "{src}");
     }
+}
+
+/// A --references file that is not images.py's output is refused before anything is written.
+#[test]
+fn reproduce_refuses_a_bad_references_file() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("bad.json"),
+        r#"{"models": [{"model": "x"}]}"#,
+    )
+    .unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_sss"))
+        .args([
+            "reproduce",
+            "--quick",
+            "--out",
+            "report",
+            "--references",
+            "bad.json",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("--references"), "{e}");
+    assert!(!dir.path().join("report").exists());
 }

@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use clap::Args;
 use fit::Profile;
 use fit::evaluate::{Evaluation, ImageSize, Row, evaluate};
@@ -41,9 +41,41 @@ pub struct ReproduceArgs {
     #[arg(long, value_name = "DIR")]
     profiles: Option<PathBuf>,
 
+    /// Include the rendered-scene comparison against Mitsuba 3 that
+    /// `python3 scripts/references/images.py` wrote (its images.json)
+    #[arg(long, value_name = "IMAGES.json")]
+    references: Option<PathBuf>,
+
     /// Also print the report's numbers (report.json) on stdout
     #[arg(long)]
     json: bool,
+}
+
+/// The image comparison against Mitsuba (`images.py`'s JSON), checked for the fields the report
+/// shows.
+fn read_references(path: &std::path::Path) -> Result<Value> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read --references {}", path.display()))?;
+    let v: Value = serde_json::from_str(&text)
+        .with_context(|| format!("--references {}: not JSON", path.display()))?;
+    let models = v["models"].as_array().with_context(|| {
+        format!(
+            "--references {}: no \"models\" list (expected images.py's images.json)",
+            path.display()
+        )
+    })?;
+    for m in models {
+        if m["model"].as_str().is_none()
+            || m["rmse_noise_corrected_rel"].as_f64().is_none()
+            || m["energy_ratio"].as_array().is_none_or(|e| e.len() != 3)
+        {
+            bail!(
+                "--references {}: a model entry lacks model, rmse_noise_corrected_rel or energy_ratio (rerun images.py)",
+                path.display()
+            );
+        }
+    }
+    Ok(v)
 }
 
 /// The five materials of the thesis's main results.
@@ -107,6 +139,7 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
     let photons = a
         .photons
         .unwrap_or(if a.quick { 20_000 } else { config.photons });
+    let references = a.references.as_deref().map(read_references).transpose()?;
     std::fs::create_dir_all(&a.out)
         .with_context(|| format!("cannot create {}", a.out.display()))?;
 
@@ -164,7 +197,10 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
         evals.push(ev);
     }
 
-    let report = build(&all, &evals, &published, photons, simulate_seconds, a.quick);
+    let mut report = build(&all, &evals, &published, photons, simulate_seconds, a.quick);
+    if let Some(r) = references {
+        report["rendered"] = r;
+    }
     write_atomic(
         &a.out.join("report.json"),
         serde_json::to_string_pretty(&report)?.as_bytes(),
@@ -545,6 +581,60 @@ fn html(r: &Value, all: &[library::Named]) -> String {
     for n in all {
         let _ = write!(h, "<img src=\"{}.profile.png\" width=\"49%\">", n.slug);
     }
-    h += "<h2>Rendered scenes</h2><p>Not yet available: the GPU renderer (<code>sss render</code>) is not built.</p></body></html>\n";
+    h += &rendered_html(&r["rendered"]);
+    h += "</body></html>\n";
+    h
+}
+
+/// The rendered-scene section: `images.py`'s comparison against Mitsuba 3, or how to make it.
+fn rendered_html(v: &Value) -> String {
+    let mut h = String::from("<h2>Rendered scenes against Mitsuba 3</h2>");
+    let Some(models) = v["models"].as_array() else {
+        h += "<p>Not included: run <code>python3 scripts/references/images.py --quick</code> and pass its <code>out/references/images/images.json</code> with <code>--references</code>.</p>";
+        return h;
+    };
+    let _ = write!(
+        h,
+        "<p>The sphere scene with a hard shadow, η = 1, {}×{} pixels, Mitsuba with {} samples per pixel (mean of two seeds; its noise {:.1} % of the mean on 2×2 blocks). Errors relative to the reference's mean; noise-corrected = √(MSE − var(reference)) ± standard error.</p>",
+        v["width"],
+        v["height"],
+        v["spp"],
+        100.0 * v["reference_noise_rel"].as_f64().unwrap_or(f64::NAN)
+    );
+    h += "<table><tr><th>model</th><th>RMSE</th><th>noise-corrected RMSE</th><th>SSIM</th><th>energy R / G / B</th></tr>";
+    for m in models {
+        let e: Vec<String> = m["energy_ratio"]
+            .as_array()
+            .map(|e| {
+                e.iter()
+                    .map(|x| format!("{:.3}", x.as_f64().unwrap_or(f64::NAN)))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let pct = |k: &str| 100.0 * m[k].as_f64().unwrap_or(f64::NAN);
+        let _ = write!(
+            h,
+            "<tr><td style=\"text-align:left\">{}</td><td>{:.2} %</td><td>{:.2} ± {:.2} %</td><td>{:.4}</td><td>{}</td></tr>",
+            m["model"].as_str().unwrap_or("?"),
+            pct("rmse_rel"),
+            pct("rmse_noise_corrected_rel"),
+            pct("rmse_noise_corrected_se"),
+            m["ssim"].as_f64().unwrap_or(f64::NAN),
+            e.join(" / ")
+        );
+    }
+    h += "</table>";
+    if let Some(ranked) = v["rankings"].as_object() {
+        h += "<p>Rankings (paired over blocks, resolved at 3 standard errors):</p><ul>";
+        for (k, r) in ranked {
+            let verdict = match r.as_bool() {
+                Some(true) => "<span class=\"ok\">yes</span>",
+                Some(false) => "<span class=\"bad\">no</span>",
+                None => "undecided",
+            };
+            let _ = write!(h, "<li>{k}: {verdict}</li>");
+        }
+        h += "</ul>";
+    }
     h
 }
