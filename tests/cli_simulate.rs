@@ -307,7 +307,11 @@ fn incidence_angles_write_rd_of_theta() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next(),
-        Some("theta_deg,R,G,B,R_se,G_se,B_se,R_rsp,G_rsp,B_rsp")
+        Some(
+            "theta_deg,R,G,B,R_se,G_se,B_se,R_rsp,G_rsp,B_rsp,\
+             directional-dipole_R,directional-dipole_G,directional-dipole_B,\
+             dipole_R,dipole_G,dipole_B,better-dipole_R,better-dipole_G,better-dipole_B"
+        )
     );
     let rows: Vec<Vec<f64>> = lines
         .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
@@ -358,6 +362,20 @@ fn incidence_angles_write_rd_of_theta() {
         }
     }
     assert_eq!(inc[1]["rd"]["G"].as_f64().unwrap(), rows[1][2]);
+    // The analytic models beside it: the radial dipole depends on θ only through the entry
+    // transmittance, so its Rd(80°)/Rd(0°) is (1 − Rsp(80°))/(1 − Rsp(0°)) exactly.
+    let dipole = |r: &[f64], c: usize| r[13 + c];
+    for c in 0..3 {
+        let q = dipole(&rows[2], c) / dipole(&rows[0], c);
+        let t = (1.0 - rows[2][7 + c]) / (1.0 - rows[0][7 + c]);
+        assert!((q - t).abs() < 1e-9, "channel {c}: {q} vs {t}");
+        assert_eq!(
+            inc[2]["models"]["dipole"][["R", "G", "B"][c]]
+                .as_f64()
+                .unwrap(),
+            rows[2][13 + c]
+        );
+    }
     let printed: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(printed["incidence"], summary["incidence"]);
     let png = std::fs::read(res.join("skin1.incidence.png")).unwrap();

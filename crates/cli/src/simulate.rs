@@ -7,6 +7,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
+use fit::analytic::{Medium, Model, total_at};
+use fit::plot::IncidenceCurve;
 use mc::incidence::IncidenceRow;
 use mc::shard::{self, Shard};
 use mc::{BatchSpec, CHANNELS, ChannelSpec, Output, TallySet};
@@ -333,9 +335,19 @@ fn finish(
                 format!("{slug}.incidence.csv"),
                 format!("{slug}.incidence.png"),
             );
-            files.push((out.join(&csv), incidence_csv(rows).into_bytes()));
-            files.push((out.join(&png), incidence_png(rows, &slug)?));
-            summary["incidence"] = incidence_json(rows);
+            let media = [0, 1, 2].map(|c| {
+                let l = specs[c].layer;
+                Medium {
+                    sigma_a: l.mu_a,
+                    sigma_s: l.mu_s,
+                    g: l.g,
+                    eta: l.n / spec.n_above,
+                }
+            });
+            let models = incidence_models(&media, rows);
+            files.push((out.join(&csv), incidence_csv(rows, &models).into_bytes()));
+            files.push((out.join(&png), incidence_png(rows, &models, &slug)?));
+            summary["incidence"] = incidence_json(rows, &models);
             summary["files"]["incidence"] = json!(csv);
             summary["files"]["incidence_plot"] = json!(png);
         }
@@ -421,13 +433,46 @@ fn summary_json(
     })
 }
 
-/// `theta_deg,R,G,B,R_se,G_se,B_se,R_rsp,G_rsp,B_rsp`: total Rd per unit incident power (without
-/// Rsp) with standard errors, and the specular reflectance Rsp, per angle [degrees].
-fn incidence_csv(rows: &[IncidenceRow]) -> String {
-    let mut s = String::from("theta_deg,R,G,B,R_se,G_se,B_se,R_rsp,G_rsp,B_rsp\n");
-    for r in rows {
+/// The analytic models drawn and tabulated beside Monte Carlo's Rd(θ).
+const INCIDENCE_MODELS: [Model; 3] = [Model::DirectionalDipole, Model::Dipole, Model::BetterDipole];
+
+/// Each of [`INCIDENCE_MODELS`]' total Rd at every angle of `rows`, per channel; a model is left
+/// out where a channel is outside its domain (e.g. does not interact with light).
+fn incidence_models(media: &[Medium; 3], rows: &[IncidenceRow]) -> Vec<IncidenceCurve> {
+    INCIDENCE_MODELS
+        .iter()
+        .filter_map(|&model| {
+            let points = rows
+                .iter()
+                .map(|r| {
+                    let v: Option<Vec<f64>> = (0..3)
+                        .map(|c| total_at(model, &media[c], r.theta_deg).ok())
+                        .collect();
+                    v.map(|v| (r.theta_deg, [v[0], v[1], v[2]]))
+                })
+                .collect::<Option<Vec<_>>>()?;
+            Some(IncidenceCurve {
+                name: model.name().to_string(),
+                points,
+            })
+        })
+        .collect()
+}
+
+/// `theta_deg,R,G,B,R_se,G_se,B_se,R_rsp,G_rsp,B_rsp`, then `MODEL_R,MODEL_G,MODEL_B` per model:
+/// total Rd per unit incident power (without Rsp) with standard errors, the specular reflectance
+/// Rsp, and the analytic models' totals, per angle [degrees].
+fn incidence_csv(rows: &[IncidenceRow], models: &[IncidenceCurve]) -> String {
+    let mut s = String::from("theta_deg,R,G,B,R_se,G_se,B_se,R_rsp,G_rsp,B_rsp");
+    for m in models {
+        for c in ["R", "G", "B"] {
+            s += &format!(",{}_{c}", m.name);
+        }
+    }
+    s += "\n";
+    for (i, r) in rows.iter().enumerate() {
         s += &format!(
-            "{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{}",
             r.theta_deg,
             r.rd[0].value,
             r.rd[1].value,
@@ -439,25 +484,36 @@ fn incidence_csv(rows: &[IncidenceRow]) -> String {
             r.rsp[1],
             r.rsp[2]
         );
+        for m in models {
+            let v = m.points[i].1;
+            s += &format!(",{},{},{}", v[0], v[1], v[2]);
+        }
+        s += "\n";
     }
     s
 }
 
-fn incidence_json(rows: &[IncidenceRow]) -> Value {
+fn incidence_json(rows: &[IncidenceRow], models: &[IncidenceCurve]) -> Value {
     let rgb = |v: [f64; 3]| json!({ "R": v[0], "G": v[1], "B": v[2] });
     rows.iter()
-        .map(|r| {
+        .enumerate()
+        .map(|(i, r)| {
+            let analytic: serde_json::Map<String, Value> = models
+                .iter()
+                .map(|m| (m.name.clone(), rgb(m.points[i].1)))
+                .collect();
             json!({
                 "theta_deg": r.theta_deg,
                 "rd": rgb([0, 1, 2].map(|c| r.rd[c].value)),
                 "rd_se": rgb([0, 1, 2].map(|c| r.rd[c].se)),
                 "rsp": rgb([0, 1, 2].map(|c| r.rsp[c])),
+                "models": analytic,
             })
         })
         .collect()
 }
 
-fn incidence_png(rows: &[IncidenceRow], slug: &str) -> Result<Vec<u8>> {
+fn incidence_png(rows: &[IncidenceRow], models: &[IncidenceCurve], slug: &str) -> Result<Vec<u8>> {
     let points: Vec<fit::plot::IncidencePoint> = rows
         .iter()
         .map(|r| fit::plot::IncidencePoint {
@@ -466,7 +522,7 @@ fn incidence_png(rows: &[IncidenceRow], slug: &str) -> Result<Vec<u8>> {
             se: [0, 1, 2].map(|c| r.rd[c].se),
         })
         .collect();
-    Ok(fit::plot::incidence(&points, slug)?)
+    Ok(fit::plot::incidence(&points, models, slug)?)
 }
 
 /// The summary's Rd(θ) table on stderr, with the ratio to normal incidence when 0° was run.

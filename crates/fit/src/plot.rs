@@ -548,11 +548,30 @@ pub struct IncidencePoint {
     pub se: [f64; 3],
 }
 
+/// An analytic model's total Rd(θ) per channel at the measured angles, drawn beside the Monte
+/// Carlo points of [`incidence`] (plain data).
+#[derive(Clone, Debug, PartialEq)]
+pub struct IncidenceCurve {
+    /// Legend name.
+    pub name: String,
+    /// (θ [degrees], Rd per channel [-]).
+    pub points: Vec<(f64, [f64; 3])>,
+}
+
+/// Line styles of the model curves: dash length and gap [px] (the first is dashed, the second
+/// dotted, the third long-dashed).
+const CURVE_DASHES: [(u32, u32); 3] = [(8, 5), (2, 4), (16, 6)];
+
 /// Rd(θ)/Rd(0°) per channel (left) and absolute Rd(θ) (right) against the incidence angle θ
-/// [degrees], with ±2 standard-error bars, as PNG bytes. The ratio's error combines both rows'
-/// standard errors (every angle is an independent run). Without a 0° point only the absolute panel
-/// is drawn, and the title says so.
-pub fn incidence(points: &[IncidencePoint], title: &str) -> Result<Vec<u8>> {
+/// [degrees], with ±2 standard-error bars, as PNG bytes; `curves` (at most 3) are drawn as dashed
+/// or dotted lines in the channel colours, named in a second legend. The ratio's error combines
+/// both rows' standard errors (every angle is an independent run). Without a 0° point only the
+/// absolute panel is drawn, and the title says so.
+pub fn incidence(
+    points: &[IncidencePoint],
+    curves: &[IncidenceCurve],
+    title: &str,
+) -> Result<Vec<u8>> {
     font();
     let fail = |e: &dyn std::fmt::Display| FitError::Plot {
         path: format!("{title} incidence plot"),
@@ -567,7 +586,9 @@ pub fn incidence(points: &[IncidencePoint], title: &str) -> Result<Vec<u8>> {
         let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| fail(&e))?;
         let heading = match normal {
-            Some(_) => format!("{title}: diffuse reflectance against incidence angle (±2 SE)"),
+            Some(_) => format!(
+                "{title}: diffuse reflectance against incidence angle (Monte Carlo ±2 SE; dashed: models)"
+            ),
             None => {
                 format!("{title}: Rd against incidence angle (±2 SE); no 0° angle, so no ratio")
             }
@@ -606,20 +627,56 @@ pub fn incidence(points: &[IncidencePoint], title: &str) -> Result<Vec<u8>> {
                         .collect(),
                 )
             });
+            // A model's ratio is to its own normal-incidence value.
+            let model_ratio: Vec<[Vec<(f64, f64)>; 3]> = curves
+                .iter()
+                .map(|m| {
+                    let zero = m.points.iter().find(|p| p.0 == 0.0).map(|p| p.1);
+                    [0, 1, 2].map(|c| {
+                        m.points
+                            .iter()
+                            .filter_map(|p| zero.map(|z| (p.0, p.1[c] / z[c])))
+                            .filter(|p| p.1.is_finite())
+                            .collect()
+                    })
+                })
+                .collect();
             panels.push((
                 ratio,
+                model_ratio,
                 "Rd(θ)/Rd(0°)",
                 "Rd(θ) / Rd(0°), per unit incident power",
                 false,
             ));
         }
-        panels.push((absolute, "Rd [-]", "Rd(θ), per unit incident power", true));
+        let model_absolute: Vec<[Vec<(f64, f64)>; 3]> = curves
+            .iter()
+            .map(|m| {
+                [0, 1, 2].map(|c| {
+                    m.points
+                        .iter()
+                        .map(|p| (p.0, p.1[c]))
+                        .filter(|p| p.1.is_finite())
+                        .collect()
+                })
+            })
+            .collect();
+        panels.push((
+            absolute,
+            model_absolute,
+            "Rd [-]",
+            "Rd(θ), per unit incident power",
+            true,
+        ));
         let areas = root.split_evenly((1, panels.len()));
-        for (area, (series, y_desc, caption, from_zero)) in areas.iter().zip(&panels) {
+        for (area, (series, model, y_desc, caption, from_zero)) in areas.iter().zip(&panels) {
+            let model_values = model.iter().flatten().flatten().map(|&(_, v)| (v, 0.0));
             let (lo, hi) = match series
                 .iter()
                 .flatten()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(_, v, e)| {
+                .map(|&(_, v, e)| (v, e))
+                .chain(model_values)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (v, e)| {
                     (a.min(v - e), b.max(v + e))
                 }) {
                 (lo, hi) if lo <= hi => (lo, hi),
@@ -672,6 +729,31 @@ pub fn incidence(points: &[IncidencePoint], title: &str) -> Result<Vec<u8>> {
                 }))
                 .map_err(|e| fail(&e))?;
             }
+            for (k, (curve, lines)) in curves.iter().zip(model).enumerate() {
+                let (dash, gap) = CURVE_DASHES[k % CURVE_DASHES.len()];
+                for (c, line) in lines.iter().enumerate() {
+                    let style = CHANNEL_COLORS[c].stroke_width(2);
+                    let drawn = ch
+                        .draw_series(DashedLineSeries::new(line.clone(), dash, gap, style))
+                        .map_err(|e| fail(&e))?;
+                    // One legend entry per model, in black.
+                    if c == 0 {
+                        drawn.label(curve.name.clone()).legend(move |(x, y)| {
+                            // The curve's first three dashes, clipped to the 20 px
+                            // legend glyph, relative to the anchor.
+                            let (d, g) = (dash as i32, gap as i32);
+                            let seg = |a: i32| {
+                                let a = a.min(20);
+                                PathElement::new(
+                                    vec![(a, 0), ((a + d).min(20), 0)],
+                                    BLACK.stroke_width(2),
+                                )
+                            };
+                            EmptyElement::at((x, y)) + seg(0) + seg(d + g) + seg(2 * (d + g))
+                        });
+                    }
+                }
+            }
             ch.configure_series_labels()
                 .position(SeriesLabelPosition::UpperLeft)
                 .border_style(BLACK)
@@ -705,17 +787,31 @@ mod tests {
             se: [0.002, 0.002, 0.001],
         };
         let pts = [row(0.0, 1.0), row(45.0, 1.05), row(80.0, 1.4)];
-        let png = incidence(&pts, "test").unwrap();
+        let png = incidence(&pts, &[], "test").unwrap();
         assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"));
+        // Model curves change the picture.
+        let curve = IncidenceCurve {
+            name: "model".into(),
+            points: pts
+                .iter()
+                .map(|p| (p.theta_deg, p.rd.map(|v| 0.9 * v)))
+                .collect(),
+        };
+        let with = incidence(&pts, std::slice::from_ref(&curve), "test").unwrap();
+        assert!(with.starts_with(b"\x89PNG") && with != png);
         // Without 0° there is no ratio panel, but still a picture.
         assert!(
-            incidence(&pts[1..], "test")
+            incidence(&pts[1..], &[curve], "test")
                 .unwrap()
                 .starts_with(b"\x89PNG")
         );
         // A channel with no reflectance at 0° has no ratio, and the plot still draws.
         let mut dark = pts;
         dark[0].rd[2] = 0.0;
-        assert!(incidence(&dark, "test").unwrap().starts_with(b"\x89PNG"));
+        assert!(
+            incidence(&dark, &[], "test")
+                .unwrap()
+                .starts_with(b"\x89PNG")
+        );
     }
 }

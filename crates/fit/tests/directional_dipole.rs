@@ -272,3 +272,28 @@ fn apple_blue_absorption_of_the_draft_is_a_misprint() {
     let rd = Dipole::new(&draft).total() / draft.entry_transmittance();
     assert!(rd > 0.75, "{rd}");
 }
+
+/// The library's total (polar midpoint rule) against the Gauss–Legendre total of the radial
+/// profile at normal incidence, and `total_at` for the radial models follows T(θ)/T(0).
+#[test]
+fn total_reflectance_quadratures_agree() {
+    use fit::analytic::{Model, total_at};
+    for m in [medium(0.32, 7.4, 0.0, 1.3), medium(0.0021, 21.9, 0.0, 1.5)] {
+        let dd = DirectionalDipole::new(&m);
+        let gl = Model::DirectionalDipole
+            .radial(&m)
+            .unwrap()
+            .total(1e3 * m.transport_mfp());
+        assert!(
+            (dd.total_rd(0.0) / gl - 1.0).abs() < 1e-3,
+            "{} vs {gl}",
+            dd.total_rd(0.0)
+        );
+        let t = |deg: f64| 1.0 - mc::fresnel(1.0, m.eta, deg.to_radians().cos()).0;
+        let d0 = total_at(Model::Dipole, &m, 0.0).unwrap();
+        let d60 = total_at(Model::Dipole, &m, 60.0).unwrap();
+        assert!((d60 / d0 - t(60.0) / t(0.0)).abs() < 1e-12);
+        assert!((d0 - Dipole::new(&m).total()).abs() < 1e-3 * d0);
+    }
+    assert!(total_at(Model::Dipole, &medium(0.3, 7.0, 0.0, 1.3), 90.0).is_err());
+}

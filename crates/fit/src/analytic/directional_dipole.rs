@@ -205,6 +205,31 @@ impl DirectionalDipole {
         (-self.k.sigma_t_delta * s).exp()
     }
 
+    /// Total diffuse reflectance per unit incident power at incidence `theta_i_deg` [-]:
+    /// ∫∫ Rd(x, y; θ) dx dy by the midpoint rule on a polar grid around the entry point, radii
+    /// graded as t³ out to 10³ transport mean free paths (10³ × 64 cells; within 10⁻³ of the
+    /// Gauss–Legendre total at normal incidence, tested).
+    pub fn total_rd(&self, theta_i_deg: f64) -> f64 {
+        if self.k.norm == 0.0 {
+            return 0.0;
+        }
+        let r_max = 1e3 * 3.0 * self.k.d;
+        let (nr, nphi) = (1000, 64);
+        let mut sum = 0.0;
+        for i in 0..nr {
+            let (a, b) = (
+                (i as f64 / nr as f64).powi(3),
+                ((i + 1) as f64 / nr as f64).powi(3),
+            );
+            let (r, dr) = (0.5 * (a + b) * r_max, (b - a) * r_max);
+            for j in 0..nphi {
+                let phi = (j as f64 + 0.5) / nphi as f64 * 2.0 * PI;
+                sum += self.rd_xy(r * phi.cos(), r * phi.sin(), theta_i_deg) * r * dr;
+            }
+        }
+        sum * 2.0 * PI / nphi as f64
+    }
+
     /// Rd(r) [cm⁻²] at normal incidence.
     pub fn rd(&self, r: f64) -> f64 {
         self.rd_xy(r, 0.0, 0.0)

@@ -212,6 +212,28 @@ impl Radial {
     }
 }
 
+/// A model's total diffuse reflectance per unit incident power for a beam at polar angle
+/// `theta_deg` [-]. The directional dipole depends on the incidence itself
+/// ([`DirectionalDipole::total_rd`]); the radial models only through the entry transmittance,
+/// total(0°)·T(θ)/T(0°), T = 1 − Fresnel reflectance.
+pub fn total_at(model: Model, m: &Medium, theta_deg: f64) -> Result<f64> {
+    let radial = model.radial(m)?;
+    if !(theta_deg.is_finite() && (0.0..90.0).contains(&theta_deg)) {
+        return Err(FitError::invalid(
+            "incidence angle",
+            theta_deg,
+            "must lie in [0, 90) degrees",
+        ));
+    }
+    Ok(match radial {
+        Radial::DirectionalDipole(d) => d.total_rd(theta_deg),
+        other => {
+            let t = |deg: f64| 1.0 - mc::fresnel(1.0, m.eta, deg.to_radians().cos()).0;
+            other.total(1e3 * m.transport_mfp()) * t(theta_deg) / t(0.0)
+        }
+    })
+}
+
 /// The profile of `model` for a material on MCML's radial grid (bin width `dr` [cm], `nr` bins):
 /// each value is the annulus average, as MC bins count photons, placed at MCML's optimal
 /// coordinate; standard errors are 0.
