@@ -19,8 +19,9 @@ noise-corrected MSEs exceeds 3 standard errors; otherwise they are reported as u
 must hold: no ranking is resolved the wrong way round (every kernel model closer to Mitsuba than
 plain Lambertian shading, pre-integration and SVD rank-3 closer than SVD rank-1, incidence-aware
 shading closer than pre-integration), and incidence-aware shading brings every channel's energy
-ratio closer to 1. The rescaled directional dipole's rankings against pre-integration with and
-without incidence-aware shading are reported, not required.
+ratio within 2 % of 1 (or closer to 1 than pre-integration's). The rescaled directional dipole's
+rankings against pre-integration with and without incidence-aware shading are reported, not
+required.
 """
 
 import argparse
@@ -257,11 +258,12 @@ def main():
     ranked["preint closer than svd1"] = closer("preint", "svd1")
     ranked["svd3 closer than svd1"] = closer("svd3", "svd1")
     ranked["incidence-aware closer than preint"] = closer("preint-incidence", "preint")
-    # Energy is a sum over thousands of pixels, far less noisy than the RMSE: incidence-aware
-    # shading must bring every channel's energy ratio closer to 1 than plain pre-integration.
+    # Energy is a sum over thousands of pixels, far less noisy than the RMSE: with incidence-aware
+    # shading every channel's energy ratio must lie within 2 % of 1 (issue 15's goal) or at least
+    # closer to 1 than plain pre-integration's.
     e = {x["model"]: x["energy_ratio"] for x in rows}
-    checks = {"incidence-aware energy closer to Mitsuba": all(
-        abs(e["preint-incidence"][c] - 1) < abs(e["preint"][c] - 1) for c in range(3))}
+    checks = {"incidence-aware energy within 2 % of Mitsuba or closer than preint": all(
+        abs(e["preint-incidence"][c] - 1) < max(0.02, abs(e["preint"][c] - 1)) for c in range(3))}
     # A ranking fails only where it is resolved the wrong way round.
     checks.update({k: v is not False for k, v in ranked.items()})
     # Reported, not required: the best real-time methods against each other.
