@@ -63,6 +63,66 @@ fn incidence_table(
     Ok(table)
 }
 
+/// The translucency table of a material: Tt(d)/ρ per channel at 16 geometric thicknesses from a
+/// quarter of the shortest transport mean free path to ln(1000)/σtr of the slowest-decaying
+/// channel, by `mc` slab runs (`photons` per channel and thickness); ρ is the total diffuse
+/// reflectance of the material's profile.
+fn translucency_table(
+    named: &library::Named,
+    profile: &Profile,
+    photons: u64,
+    seed: u64,
+) -> Result<gpu::Translucency> {
+    let media: Vec<fit::analytic::Medium> = (0..3)
+        .map(|c| fit::analytic::Medium::channel(&named.material, c))
+        .collect();
+    let first = 0.25
+        * media
+            .iter()
+            .map(|m| m.transport_mfp())
+            .fold(f64::MAX, f64::min);
+    let slowest = media
+        .iter()
+        .map(|m| (3.0 * m.sigma_a * m.sigma_t_reduced()).sqrt())
+        .fold(f64::MAX, f64::min);
+    let last = (1000f64.ln() / slowest.max(1e-12)).clamp(20.0 * first, 1e3 * first);
+    let d = gpu::Translucency::thicknesses(first, last);
+    let config = library::config(None)?;
+    let spec =
+        crate::simulate::batch_spec(std::slice::from_ref(named), &config, photons, seed, true)?;
+    let bar = crate::progress::photons(
+        photons * spec.groups().len() as u64 * d.len() as u64,
+        "translucency table",
+    );
+    let rows = mc::slab::transmittance_table(&spec, &d, &|k| bar.inc(k))?;
+    bar.finish_and_clear();
+    let rho = [0, 1, 2].map(|c| profile.total(c));
+    if rho.iter().any(|r| !(r.is_finite() && *r > 0.0)) {
+        bail!(
+            "--translucency: {} has no diffuse reflectance in some channel ({rho:?})",
+            named.slug
+        );
+    }
+    let mut table = [[0.0f32; 3]; gpu::TRANSLUCENCY_STEPS];
+    eprintln!(
+        "translucency table of {} (slab Tt(d) / ρ; ρ = {:.3} {:.3} {:.3}):",
+        named.slug, rho[0], rho[1], rho[2]
+    );
+    for (k, row) in rows.iter().enumerate() {
+        table[k] = [0, 1, 2].map(|c| (row.tt[c].value / rho[c]) as f32);
+        eprintln!(
+            "  {:>8.4} cm  {:.4} {:.4} {:.4}",
+            row.thickness_cm, table[k][0], table[k][1], table[k][2]
+        );
+    }
+    Ok(gpu::Translucency {
+        first_cm: first as f32,
+        ratio: (d[1] / d[0]) as f32,
+        table,
+        eta: named.material.eta as f32,
+    })
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Method {
     /// A separable screen-space kernel (thesis §4.2–4.4): --kernel, or pre-integration fitted here
@@ -199,6 +259,17 @@ pub struct RenderArgs {
     /// Photons per channel and angle for the incidence table of --incidence-aware on
     #[arg(long, value_parser = crate::parse_count, default_value = "100000")]
     incidence_photons: u64,
+
+    /// Light through thin parts: on SSS surfaces facing away from a light, add the light the
+    /// material transmits through the part's thickness (read from the light's shadow map), from
+    /// `mc` slab simulations of --material at 16 thicknesses (exact when --object-albedo is the
+    /// material's total diffuse reflectance)
+    #[arg(long, value_enum, default_value = "off")]
+    translucency: OnOff,
+
+    /// Photons per channel and thickness for the table of --translucency on
+    #[arg(long, value_parser = crate::parse_count, default_value = "20000")]
+    translucency_photons: u64,
 
     /// How SSS surfaces scatter light
     #[arg(long, value_enum, default_value_t = Method::Separable)]
@@ -483,6 +554,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
             OnOff::On if !a.no_sss => incidence_table(&named, a.incidence_photons, a.source.seed)?,
             _ => [[1.0; 3]; gpu::INCIDENCE_STEPS],
         },
+        translucency: match a.translucency {
+            OnOff::On if !a.no_sss && dipole.is_none() => Some(translucency_table(
+                &named,
+                &a.source.profile(&named)?,
+                a.translucency_photons,
+                a.source.seed,
+            )?),
+            _ => None,
+        },
     };
     let profile = || a.source.profile(&named);
     if a.bench {
@@ -552,6 +632,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         "adapter": gpu.adapter_name, "scene": a.scene, "method": if dipole.is_some() { "directional-dipole" } else { "separable" },
         "kernel": kernel.as_ref().map(|k| k.model.to_string()), "width": a.width, "height": a.height,
         "dipole": dipole.as_ref().map(|d| json!({"samples": d.samples, "frames": d.frames, "radius_cm": d.radius_cm, "light_map": d.map_size, "scale": d.scale})),
+        "translucency": params.translucency.as_ref().map(|t| json!({"first_cm": t.first_cm, "ratio": t.ratio, "tt_over_rho": t.table})),
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
     });
     if a.compare_models {
@@ -796,6 +877,11 @@ fn dipole_setup(named: &library::Named, a: &RenderArgs) -> Result<DipoleSetup> {
     if a.incidence_aware == OnOff::On {
         bail!(
             "--incidence-aware is for the separable method: the directional dipole depends on the incidence itself"
+        );
+    }
+    if a.translucency == OnOff::On {
+        bail!(
+            "--translucency is for the separable method: the directional dipole carries light through thin parts itself"
         );
     }
     let media: [fit::analytic::Medium; 3] =

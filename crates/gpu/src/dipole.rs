@@ -209,6 +209,12 @@ pub(crate) struct DipoleUniform {
     frame: [u32; 4],
 }
 
+/// The dipole shader with the shared Fresnel function prepended.
+pub(crate) const DIPOLE_WGSL: &str = concat!(
+    include_str!("shaders/fresnel.wgsl"),
+    include_str!("shaders/dipole.wgsl")
+);
+
 /// WGSL's size of `Dipole`: 4 lights × 96 + 11 vec4 × 16 bytes (checked against naga's layout in
 /// a test).
 pub(crate) const DIPOLE_UNIFORM_SIZE: usize = 4 * 96 + 11 * 16;
@@ -433,7 +439,10 @@ pub(crate) fn encode(
     };
     let pipeline = compute_pipeline(
         dev,
-        wgpu::include_wgsl!("shaders/dipole.wgsl"),
+        wgpu::ShaderModuleDescriptor {
+            label: Some("directional dipole"),
+            source: wgpu::ShaderSource::Wgsl(DIPOLE_WGSL.into()),
+        },
         "directional dipole",
     );
     let array = |t: &wgpu::Texture, dim| {

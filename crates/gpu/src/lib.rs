@@ -29,7 +29,8 @@ pub use dipole::DipoleSetup;
 pub use error::{GpuError, Result};
 pub use mesh::{Mesh, Vertex};
 pub use render::{
-    Frame, INCIDENCE_STEPS, RenderParams, Scatter, incidence_hemispherical, incidence_ratio, render,
+    Frame, INCIDENCE_STEPS, RenderParams, Scatter, TRANSLUCENCY_STEPS, Translucency,
+    incidence_hemispherical, incidence_ratio, render,
 };
 pub use scene::{AlbedoMode, Camera, Light, Scene};
 pub use timing::PassTime;
@@ -40,7 +41,7 @@ mod tests {
     const SHADERS: [(&str, &str, Option<(&str, usize)>); 7] = [
         (
             "scene.wgsl",
-            include_str!("shaders/scene.wgsl"),
+            crate::render::SCENE_WGSL,
             Some(("Globals", crate::render::GLOBALS_SIZE)),
         ),
         ("shadow.wgsl", include_str!("shaders/shadow.wgsl"), None),
@@ -62,7 +63,7 @@ mod tests {
         ),
         (
             "dipole.wgsl",
-            include_str!("shaders/dipole.wgsl"),
+            crate::dipole::DIPOLE_WGSL,
             Some(("Dipole", crate::dipole::DIPOLE_UNIFORM_SIZE)),
         ),
     ];

@@ -45,10 +45,107 @@ pub struct RenderParams {
     /// last value). The scene pass multiplies each light's irradiance on SSS surfaces by it, and
     /// the ambient light by its cosine-weighted hemispherical mean. All ones: off.
     pub incidence: [[f32; 3]; INCIDENCE_STEPS],
+    /// Light through thin parts of SSS surfaces (None: off).
+    pub translucency: Option<Translucency>,
 }
 
 /// Entries of [`RenderParams::incidence`]: θ = 0°, 10°, …, 80°.
 pub const INCIDENCE_STEPS: usize = 9;
+
+/// Entries of a [`Translucency`] table.
+pub const TRANSLUCENCY_STEPS: usize = 16;
+
+/// Light through thin parts (thesis §4.2's first pass; the SSSS supplement's transmittance), from
+/// the material itself: a table of its slab transmittance against thickness.
+///
+/// For an SSS pixel facing away from a light with a shadow map, the shadow map gives the surface
+/// where that light enters; the thickness d is the distance between the two along the light ray,
+/// and the scene pass adds E·|n·l|·T(|n·l|)/T(1)·table(d) to the irradiance before the blur,
+/// T the Fresnel transmittance into the material. Along the ray is
+/// exact for light crossing a slab along its normal; at incidence θ it reads t/cos θ where the
+/// refracted path inside is t/cos θt (8 % longer than that at 30° and η = 1.3). Measuring the
+/// slab along the normal instead (d·|n·l|) would be exact for slabs but sends d → 0 at every
+/// terminator of a thick part, where Tt(0)/ρ (up to 1/ρ) paints a bright band: the light
+/// entering next to a terminator is the front-lit light the blur already spreads (there, too,
+/// the Fresnel factor of grazing entry fades the rest). The table holds Tt(d)/ρ per channel: the slab's total
+/// transmittance (`mc::slab`, normal incidence, per unit incident power) over the material's
+/// total diffuse reflectance ρ, because the pipeline multiplies the blurred irradiance by the
+/// object's albedo, which for a material is ρ; so a back-lit slab leaves with exitance E·Tt(d).
+/// The entering face's normal is not known from a depth map: it is taken as −n (a parallel
+/// face). Thicknesses are geometric, d_k = first·ratio^k, interpolated linearly in ln d, held
+/// below the first and beyond the last.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Translucency {
+    /// The first tabulated thickness [cm].
+    pub first_cm: f32,
+    /// The ratio between successive thicknesses (> 1).
+    pub ratio: f32,
+    /// Tt(d_k)/ρ per channel.
+    pub table: [[f32; 3]; TRANSLUCENCY_STEPS],
+    /// The material's relative index η: light entering the back face at incidence θ is scaled
+    /// by the Fresnel transmittance T(θ)/T(0) (the table holds normal incidence).
+    pub eta: f32,
+}
+
+impl Translucency {
+    /// The geometric thicknesses of a table from `first_cm` to `last_cm` [cm].
+    pub fn thicknesses(first_cm: f64, last_cm: f64) -> [f64; TRANSLUCENCY_STEPS] {
+        let q = (last_cm / first_cm).powf(1.0 / (TRANSLUCENCY_STEPS - 1) as f64);
+        std::array::from_fn(|k| first_cm * q.powi(k as i32))
+    }
+
+    /// Tt(d)/ρ at thickness `d_cm` (what the scene shader evaluates).
+    pub fn at(&self, d_cm: f32) -> [f32; 3] {
+        let t = (d_cm.max(1e-30) / self.first_cm).ln() / self.ratio.ln();
+        if !(t > 0.0) {
+            return self.table[0];
+        }
+        let i = t.floor() as usize;
+        if i + 1 >= TRANSLUCENCY_STEPS {
+            return self.table[TRANSLUCENCY_STEPS - 1];
+        }
+        let f = t - i as f32;
+        [0, 1, 2].map(|c| self.table[i][c] * (1.0 - f) + self.table[i + 1][c] * f)
+    }
+
+    /// Checks the table; the error names the field.
+    pub fn validate(&self) -> Result<()> {
+        if !(self.first_cm.is_finite() && self.first_cm > 0.0) {
+            return Err(GpuError::invalid(
+                "translucency first thickness",
+                self.first_cm,
+                "must be positive [cm]",
+            ));
+        }
+        if !(self.ratio.is_finite() && self.ratio > 1.0) {
+            return Err(GpuError::invalid(
+                "translucency ratio",
+                self.ratio,
+                "must exceed 1",
+            ));
+        }
+        if !(self.eta.is_finite() && self.eta > 0.0) {
+            return Err(GpuError::invalid(
+                "translucency eta",
+                self.eta,
+                "must be positive",
+            ));
+        }
+        if let Some(v) = self
+            .table
+            .iter()
+            .flatten()
+            .find(|v| !(v.is_finite() && **v >= 0.0))
+        {
+            return Err(GpuError::invalid(
+                "translucency table",
+                v,
+                "entries must be finite and ≥ 0",
+            ));
+        }
+        Ok(())
+    }
+}
 
 /// ρ(θ)/ρ(0) at cos θ = `cos_i` from an incidence table, linear in θ between entries (what the
 /// scene shader evaluates).
@@ -91,6 +188,7 @@ impl Default for RenderParams {
             fixed_depth: None,
             exposure: 1.0,
             incidence: [[1.0; 3]; INCIDENCE_STEPS],
+            translucency: None,
         }
     }
 }
@@ -119,6 +217,7 @@ pub struct Frame {
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct LightU {
     view_proj: [[f32; 4]; 4],
+    inv_view_proj: [[f32; 4]; 4],
     pos_or_dir: [f32; 4],
     color: [f32; 4],
 }
@@ -136,11 +235,21 @@ struct Globals {
     incidence: [[f32; 4]; INCIDENCE_STEPS],
     /// The ambient light's factor on SSS surfaces (rgb).
     incidence_ambient: [f32; 4],
+    /// Tt(d)/ρ at the geometric thicknesses of [`Translucency`] (rgb).
+    translucency: [[f32; 4]; TRANSLUCENCY_STEPS],
+    /// x: first thickness [cm], y: ln ratio, z: 1 on / 0 off.
+    translucency_params: [f32; 4],
 }
 
-/// The size of scene.wgsl's `Globals`: 3 mat4 + 3 vec4 + 4 lights × 96 + 10 vec4 (checked
-/// against naga's layout in a test).
-pub(crate) const GLOBALS_SIZE: usize = 2 * 64 + 3 * 16 + 4 * 96 + 10 * 16;
+/// The scene shader with the shared Fresnel function prepended.
+pub(crate) const SCENE_WGSL: &str = concat!(
+    include_str!("shaders/fresnel.wgsl"),
+    include_str!("shaders/scene.wgsl")
+);
+
+/// The size of scene.wgsl's `Globals`: 2 mat4 + 3 vec4 + 4 lights × 160 + 10 vec4 of incidence
+/// + 17 vec4 of translucency (checked against naga's layout in a test).
+pub(crate) const GLOBALS_SIZE: usize = 2 * 64 + 3 * 16 + 4 * 160 + 10 * 16 + 17 * 16;
 const _: () = assert!(std::mem::size_of::<Globals>() == GLOBALS_SIZE);
 
 /// Scene targets: diffuse; specular + strength; view depth + packed post-scatter albedo.
@@ -178,6 +287,9 @@ pub fn render(gpu: &Gpu, scene: &Scene, scatter: Scatter, params: &RenderParams)
     }
     if scene.lights.len() > 4 {
         return Err(GpuError::invalid("lights", scene.lights.len(), "at most 4"));
+    }
+    if let Some(t) = &params.translucency {
+        t.validate()?;
     }
     if !(params.sss_width.is_finite() && params.sss_width >= 0.0) {
         return Err(GpuError::invalid(
@@ -251,6 +363,7 @@ pub fn render(gpu: &Gpu, scene: &Scene, scatter: Scatter, params: &RenderParams)
     });
     let mut lights = [LightU {
         view_proj: Mat4::IDENTITY.to_cols_array_2d(),
+        inv_view_proj: Mat4::IDENTITY.to_cols_array_2d(),
         pos_or_dir: [0.0; 4],
         color: [0.0; 4],
     }; 4];
@@ -271,6 +384,7 @@ pub fn render(gpu: &Gpu, scene: &Scene, scatter: Scatter, params: &RenderParams)
         };
         lights[i] = LightU {
             view_proj: vp.to_cols_array_2d(),
+            inv_view_proj: vp.inverse().to_cols_array_2d(),
             pos_or_dir: pos_or_dir.into(),
             color: color.extend(if shadow { i as f32 } else { -1.0 }).into(),
         };
@@ -350,13 +464,24 @@ pub fn render(gpu: &Gpu, scene: &Scene, scatter: Scatter, params: &RenderParams)
             };
             [h[0], h[1], h[2], 0.0]
         },
+        translucency: match &params.translucency {
+            Some(t) if !dipole => t.table.map(|r| [r[0], r[1], r[2], 0.0]),
+            _ => [[0.0; 4]; TRANSLUCENCY_STEPS],
+        },
+        translucency_params: match &params.translucency {
+            Some(t) if !dipole => [t.first_cm, t.ratio.ln(), 1.0, t.eta],
+            _ => [1.0, 1.0, 0.0, 1.0],
+        },
     };
     let gbuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("globals"),
         contents: bytemuck::bytes_of(&globals),
         usage: wgpu::BufferUsages::UNIFORM,
     });
-    let scene_module = dev.create_shader_module(wgpu::include_wgsl!("shaders/scene.wgsl"));
+    let scene_module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("scene"),
+        source: wgpu::ShaderSource::Wgsl(SCENE_WGSL.into()),
+    });
     let targets: Vec<Option<wgpu::ColorTargetState>> =
         FORMATS.iter().map(|&f| Some(f.into())).collect();
     let scene_pipeline = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

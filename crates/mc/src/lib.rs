@@ -46,6 +46,7 @@ mod photon;
 mod rng;
 pub mod shard;
 mod simulate;
+pub mod slab;
 mod tally;
 
 pub use batch::{BatchSpec, ChannelSpec, QUASI_INFINITE_MFP};

@@ -60,19 +60,6 @@ fn uniform01(state: ptr<function, u32>) -> f32 {
     return f32(*state >> 8u) / 16777216.0;
 }
 
-// Unpolarized Fresnel reflectance from outside (index 1) into index η at cos θ_i = c.
-fn fresnel(eta: f32, c: f32) -> f32 {
-    let ci = clamp(c, 0.0, 1.0);
-    let st2 = (1.0 - ci * ci) / (eta * eta);
-    if st2 >= 1.0 {
-        return 1.0;
-    }
-    let ct = sqrt(1.0 - st2);
-    let rs = (ci - eta * ct) / (ci + eta * ct);
-    let rp = (eta * ci - ct) / (eta * ci + ct);
-    return 0.5 * (rs * rs + rp * rp);
-}
-
 // S′_d of eq. 3.7 for channel c without its normalisation.
 fn source(c: u32, rho: f32, x_w: f32, w_n: f32, x_n: f32) -> f32 {
     let d = u.d[c];

@@ -4,6 +4,7 @@
 
 struct Light {
     view_proj: mat4x4<f32>,
+    inv_view_proj: mat4x4<f32>,
     // xyz: direction towards the light (w = 0) or its position (w = 1).
     pos_or_dir: vec4<f32>,
     // rgb: radiance scale (irradiance at normal incidence for directional lights, intensity for
@@ -24,6 +25,10 @@ struct Globals {
     // ambient light's cosine-weighted mean of it (all ones: off).
     incidence: array<vec4<f32>, 9>,
     incidence_ambient: vec4<f32>,
+    // Light through thin SSS parts: Tt(d)/ρ at d_k = first·ratio^k (rgb), and x: first [cm],
+    // y: ln ratio, z: 1 on / 0 off, w: η (gpu::Translucency).
+    translucency: array<vec4<f32>, 16>,
+    translucency_params: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> g: Globals;
@@ -91,6 +96,50 @@ fn incidence_ratio(cos_i: f32) -> vec3<f32> {
     return mix(g.incidence[i].rgb, g.incidence[i + 1u].rgb, t - f32(i));
 }
 
+// Tt(d)/ρ at thickness d [cm]: linear in ln d between entries, held outside them.
+fn translucency(d: f32) -> vec3<f32> {
+    let t = log(max(d, 1e-30) / g.translucency_params.x) / g.translucency_params.y;
+    if !(t > 0.0) {
+        return g.translucency[0].rgb;
+    }
+    let i = u32(floor(t));
+    if i >= 15u {
+        return g.translucency[15].rgb;
+    }
+    return mix(g.translucency[i].rgb, g.translucency[i + 1u].rgb, t - f32(i));
+}
+
+// The thickness [cm] of an SSS part behind `world` as light `i` crosses it: the distance along
+// the light ray to where the light enters (its shadow map's first surface); < 0 without a shadow
+// map or outside it.
+fn thickness(i: u32, world: vec3<f32>) -> f32 {
+    let layer = g.lights[i].color.w;
+    if layer < 0.0 {
+        return -1.0;
+    }
+    let p = g.lights[i].view_proj * vec4<f32>(world, 1.0);
+    let ndc = p.xyz / p.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
+        return -1.0;
+    }
+    // The entry depth interpolated bilinearly between texel centres (exact on flat parts; the
+    // nearest texel alone is off by up to half a texel times the slope).
+    let size = vec2<i32>(textureDimensions(shadow_maps));
+    let t = uv * vec2<f32>(size) - 0.5;
+    let base = vec2<i32>(floor(t));
+    let f = t - vec2<f32>(base);
+    let lo = clamp(base, vec2<i32>(0), size - 1);
+    let hi = clamp(base + 1, vec2<i32>(0), size - 1);
+    let l = i32(layer);
+    let depth = mix(
+        mix(textureLoad(shadow_maps, lo, l, 0), textureLoad(shadow_maps, vec2<i32>(hi.x, lo.y), l, 0), f.x),
+        mix(textureLoad(shadow_maps, vec2<i32>(lo.x, hi.y), l, 0), textureLoad(shadow_maps, hi, l, 0), f.x),
+        f.y);
+    let e = g.lights[i].inv_view_proj * vec4<f32>(ndc.xy, depth, 1.0);
+    return length(world - e.xyz / e.w);
+}
+
 struct FOut {
     @location(0) diffuse: vec4<f32>,
     @location(1) specular: vec4<f32>,
@@ -118,6 +167,17 @@ fn fs(v: VOut, @builtin(front_facing) front: bool) -> FOut {
         }
         let n_dot_l = max(dot(n, l), 0.0);
         if n_dot_l <= 0.0 {
+            // Light from behind: what crosses a thin part.
+            if sss && g.translucency_params.z > 0.5 {
+                let d = thickness(i, v.world);
+                if d >= 0.0 {
+                    // Entering the (parallel) back face at incidence |n·l|, relative to normal.
+                    let c = -dot(n, l);
+                    let eta = g.translucency_params.w;
+                    let entry = (1.0 - fresnel(eta, c)) / (1.0 - fresnel(eta, 1.0));
+                    irradiance += scale * c * entry * translucency(d);
+                }
+            }
             continue;
         }
         let vis = shadow(i, v.world, n_dot_l);

@@ -1,0 +1,125 @@
+//! Light through thin parts in the scene pass: a thin SSS slab lit from behind receives, on the
+//! face the camera sees, E·|n·l|·T(θ)/T(0)·table(d) with d the light's path through the slab
+//! (thickness / cos θ), read from the shadow map, and T Fresnel's transmittance;
+//! a thick one the table's last entry; with translucency off, nothing. Under CI=true a missing
+//! adapter fails.
+
+use glam::Vec3;
+use gpu::{
+    AlbedoMode, Camera, Light, Mesh, RenderParams, Scatter, Scene, TRANSLUCENCY_STEPS,
+    Translucency, render,
+};
+
+mod common;
+use common::gpu;
+
+const SIZE: u32 = 32;
+
+/// A table with a known shape: e^{−d/0.1 cm} × (1, ½, ¼) at d = 0.01 … 2 cm.
+fn table() -> Translucency {
+    let d = Translucency::thicknesses(0.01, 2.0);
+    Translucency {
+        first_cm: 0.01,
+        ratio: (d[1] / d[0]) as f32,
+        table: std::array::from_fn(|k| {
+            let t = (-d[k] / 0.1).exp() as f32;
+            [t, 0.5 * t, 0.25 * t]
+        }),
+        eta: 1.3,
+    }
+}
+
+/// The slab y ∈ [−thickness, 0], seen from above, lit from below at 30° from the normal.
+fn slab(thickness: f32) -> Scene {
+    Scene {
+        mesh: Mesh::cuboid(
+            Vec3::new(-20.0, -thickness, -20.0),
+            Vec3::new(20.0, 0.0, 20.0),
+            [1.0; 3],
+            1.0,
+        ),
+        camera: Camera {
+            position: Vec3::new(0.0, 100.0, 0.0),
+            target: Vec3::ZERO,
+            fov_y_deg: 4.0,
+        },
+        lights: vec![Light::Directional {
+            towards: Vec3::new(30f32.to_radians().sin(), -30f32.to_radians().cos(), 0.0),
+            irradiance: Vec3::splat(2.0),
+            shadow: true,
+        }],
+        ambient: Vec3::ZERO,
+        specular: 0.0,
+        shininess: 1.0,
+    }
+}
+
+fn centre(frame: &gpu::Frame) -> [f32; 4] {
+    let s = SIZE as usize;
+    frame.irradiance[(s / 2) * s + s / 2]
+}
+
+#[test]
+fn a_slab_lit_from_behind_receives_its_transmitted_light() {
+    let Some(gpu) = gpu() else { return };
+    let t = table();
+    let params = RenderParams {
+        width: SIZE,
+        height: SIZE,
+        albedo: AlbedoMode::Post,
+        translucency: Some(t),
+        ..RenderParams::default()
+    };
+    let cos = 30f32.to_radians().cos();
+    for thickness in [0.05f32, 0.2, 0.7] {
+        let frame = render(&gpu, &slab(thickness), Scatter::None, &params).unwrap();
+        let got = centre(&frame);
+        // The light crosses the slab along a ray of length thickness/cos, entering at 30°.
+        let entry =
+            (1.0 - mc::fresnel(1.0, 1.3, cos as f64).0) / (1.0 - mc::fresnel(1.0, 1.3, 1.0).0);
+        let want = t.at(thickness / cos).map(|v| 2.0 * cos * entry as f32 * v);
+        for c in 0..3 {
+            assert!(
+                (got[c] - want[c]).abs() < 0.01 * want[c] + 1e-6,
+                "d = {thickness}: channel {c}: {} vs {}",
+                got[c],
+                want[c]
+            );
+        }
+    }
+    // Thicker than the table: its last entry.
+    let frame = render(&gpu, &slab(4.0), Scatter::None, &params).unwrap();
+    let entry = (1.0 - mc::fresnel(1.0, 1.3, cos as f64).0) / (1.0 - mc::fresnel(1.0, 1.3, 1.0).0);
+    let last = t.table[TRANSLUCENCY_STEPS - 1][0] * 2.0 * cos * entry as f32;
+    assert!((centre(&frame)[0] - last).abs() < 1e-6 + 0.01 * last);
+    // Off: a surface facing away from the only light is black.
+    let off = RenderParams {
+        translucency: None,
+        ..params
+    };
+    let frame = render(&gpu, &slab(0.05), Scatter::None, &off).unwrap();
+    assert_eq!(centre(&frame)[..3], [0.0; 3]);
+}
+
+#[test]
+fn table_lookup_interpolates_in_log_thickness_and_clamps() {
+    let t = table();
+    let d = Translucency::thicknesses(0.01, 2.0);
+    assert!((d[TRANSLUCENCY_STEPS - 1] - 2.0).abs() < 1e-9);
+    for k in 0..TRANSLUCENCY_STEPS {
+        let v = t.at(d[k] as f32);
+        assert!(
+            (v[1] - t.table[k][1]).abs() < 1e-4 * t.table[k][1].max(1e-3),
+            "{k}"
+        );
+    }
+    // Half-way in ln d between entries 3 and 4: their mean.
+    let mid = (d[3] * d[4]).sqrt() as f32;
+    let want = 0.5 * (t.table[3][0] + t.table[4][0]);
+    assert!((t.at(mid)[0] - want).abs() < 1e-4 * want);
+    assert_eq!(t.at(0.0), t.table[0]);
+    assert_eq!(t.at(1e3), t.table[TRANSLUCENCY_STEPS - 1]);
+    let mut bad = t;
+    bad.ratio = 1.0;
+    assert!(bad.validate().unwrap_err().to_string().contains("ratio"));
+}
