@@ -36,6 +36,7 @@ fn mitsuba_references_agree() {
         String::from_utf8_lossy(&o.stderr)
     );
     assert!(out.path().join("profiles.json").exists());
+    assert!(out.path().join("images-fin/images.json").exists());
     let images: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(out.path().join("images/images.json")).unwrap(),
     )

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Regenerates every Mitsuba 3 reference and prints the comparison tables: Rd(r) profiles
-(profiles.py) and images of the sphere scene (images.py). --quick is the CI size (a few minutes
-on 2 cores); without it, the full version (Skin1, Marble, Soy milk; larger images; much longer).
-Exits non-zero when an agreement test fails. Outputs: OUT/profiles.json, OUT/images/."""
+(profiles.py) and images of the sphere scene and of the fin scene (images.py). --quick is the CI
+size (a few minutes on 2 cores); without it, the full version (larger images, much longer).
+Exits non-zero when an agreement test fails. Outputs: OUT/profiles.json, OUT/images/,
+OUT/images-fin/."""
 
 import argparse
 import os
@@ -20,10 +21,11 @@ def main():
     a = ap.parse_args()
     extra = (["--quick"] if a.quick else []) + (["--sss", a.sss] if a.sss else []) + ["--out", a.out]
     failed = []
-    for script in ["profiles.py", "images.py"]:
-        print(f"== {script}", flush=True)
-        if subprocess.run([sys.executable, os.path.join(HERE, script), *extra]).returncode != 0:
-            failed.append(script)
+    for script, args in [("profiles.py", []), ("images.py", []), ("images.py", ["--scene", "fin"])]:
+        name = " ".join([script, *args])
+        print(f"== {name}", flush=True)
+        if subprocess.run([sys.executable, os.path.join(HERE, script), *args, *extra]).returncode != 0:
+            failed.append(name)
     print("references: " + ("all agree" if not failed else "FAILED " + ", ".join(failed)))
     return 1 if failed else 0
 
