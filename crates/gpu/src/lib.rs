@@ -37,8 +37,11 @@ pub use timing::PassTime;
 
 #[cfg(test)]
 mod tests {
-    /// Every shader with the Rust twin of its uniform struct (name, byte size; None: no twin).
-    const SHADERS: [(&str, &str, Option<(&str, usize)>); 7] = [
+    /// A shader's file name, its source, and its uniform struct's name and the byte size of the
+    /// Rust twin uploaded into it (None: no uniform twin).
+    type Shader = (&'static str, &'static str, Option<(&'static str, usize)>);
+
+    const SHADERS: [Shader; 7] = [
         (
             "scene.wgsl",
             crate::render::SCENE_WGSL,

@@ -97,7 +97,7 @@ impl Translucency {
     /// Tt(d)/ρ at thickness `d_cm` (what the scene shader evaluates).
     pub fn at(&self, d_cm: f32) -> [f32; 3] {
         let t = (d_cm.max(1e-30) / self.first_cm).ln() / self.ratio.ln();
-        if !(t > 0.0) {
+        if t.is_nan() || t <= 0.0 {
             return self.table[0];
         }
         let i = t.floor() as usize;
