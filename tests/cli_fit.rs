@@ -117,7 +117,8 @@ fn eval_reports_every_model_and_writes_plots() {
     let m = &v["materials"][0];
     assert_eq!(m["name"], "skin1");
     let rows = m["models"].as_array().unwrap();
-    let count = |model: &str| rows.iter().filter(|r| r["model"] == model).count();
+    // "model" is the model's name as `--model` takes it, "family" its stem.
+    let count = |family: &str| rows.iter().filter(|r| r["family"] == family).count();
     assert_eq!(count("svd"), 18, "ranks 1–6 × 3 channels");
     assert_eq!(count("deon"), 18);
     assert_eq!(count("guided"), 9, "k = 0, 1, 2 × 3 channels");
@@ -126,6 +127,20 @@ fn eval_reports_every_model_and_writes_plots() {
     }
     assert_eq!(count("skin"), 6, "SSSS defaults and fitted by eq. 4.13");
     assert_eq!(count("burley"), 6, "radial and projected");
+    for name in [
+        "svd3",
+        "guided-k1",
+        "manual",
+        "deon6",
+        "skin-fit",
+        "burley-radial",
+    ] {
+        assert_eq!(
+            rows.iter().filter(|r| r["model"] == name).count(),
+            3,
+            "{name}"
+        );
+    }
     for r in rows {
         for key in [
             "kernel_rms",

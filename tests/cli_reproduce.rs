@@ -63,7 +63,7 @@ fn quick_report_is_complete_and_the_claims_hold() {
                 .iter()
                 .map(|x| x["model"].as_str().unwrap())
                 .collect::<Vec<_>>(),
-            ["svd1", "preint", "guided k=1", "manual"]
+            ["svd1", "preint", "guided-k1", "manual"]
         );
         for x in models {
             for k in ["raw", "normalized", "published"] {

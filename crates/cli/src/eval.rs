@@ -5,8 +5,9 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use clap::Args;
+use fit::KernelModel;
 use fit::Profile;
-use fit::evaluate::{Row, evaluate};
+use fit::evaluate::{RANK1, Row, evaluate};
 use fit::signals::Signal;
 use serde_json::{Value, json};
 
@@ -91,8 +92,14 @@ pub fn profile_for(n: &Named, dir: &Path, photons: Option<u64>, seed: u64) -> Re
 }
 
 fn row_json(r: &Row) -> Value {
+    let (rank, k) = match r.model {
+        KernelModel::Svd { rank, .. } => (Some(rank), None),
+        KernelModel::Deon { n } => (Some(n), None),
+        KernelModel::Guided { k, .. } => (None, Some(k)),
+        _ => (None, None),
+    };
     json!({
-        "model": r.model, "variant": r.variant, "rank": r.rank, "k": r.k, "channel": mc::CHANNELS[r.channel],
+        "model": r.model, "family": r.model.family(), "variant": r.variant, "rank": rank, "k": k, "channel": mc::CHANNELS[r.channel],
         "kernel_rms": r.kernel_rms, "kernel_rms_normalized": r.kernel_rms_normalized, "l1_error": r.l1_error,
         "image_rms": r.image_rms.iter().map(|(s, e)| (s.name().to_string(), json!(e))).collect::<serde_json::Map<_, _>>(),
         "fit_seconds": r.fit_seconds,
@@ -110,7 +117,7 @@ pub fn run(a: EvalArgs) -> Result<()> {
             n.slug,
             2 * p.len() + 1
         );
-        let ev = pool.install(|| evaluate(&p, &n.slug, fit::evaluate::ImageSize::default()));
+        let ev = pool.install(|| evaluate(&p, &n.slug, fit::evaluate::ImageSize::default()))?;
         if let Some(dir) = &a.plots {
             write_plots(&p, &ev, &n.slug, dir)?;
         }
@@ -148,17 +155,25 @@ pub fn write_plots(
         fit::plot::profile(p, slug, path)
     })?;
     render(format!("{slug}.slices_rank1.png"), &|path| {
-        fit::plot::slices(ev, &["svd1", "preint", "guided k=1", "manual"], slug, path)
+        fit::plot::slices(ev, &RANK1, slug, path)
     })?;
     render(format!("{slug}.slices_multipass.png"), &|path| {
-        fit::plot::slices(ev, &["svd3", "deon3", "burley (radial)"], slug, path)
+        let multipass = [
+            KernelModel::Svd {
+                rank: 3,
+                renormalize: false,
+            },
+            KernelModel::Deon { n: 3 },
+            KernelModel::Burley { radial: true },
+        ];
+        fit::plot::slices(ev, &multipass, slug, path)
     })?;
     render(format!("{slug}.singular_values.png"), &|path| {
         fit::plot::singular_values(ev, slug, path)
     })?;
     for s in [Signal::Edge, Signal::CircleSquares] {
         render(format!("{slug}.conv_{}.png", s.name()), &|path| {
-            fit::plot::convolutions(ev, s, 10.0, path)
+            fit::plot::convolutions(ev, &RANK1, s, 10.0, slug, path)
         })?;
     }
     eprintln!("plots for {slug} → {}", dir.display());
@@ -168,7 +183,7 @@ pub fn write_plots(
 fn print_table(slug: &str, rows: &[Row]) {
     println!("{slug}: kernel-space RMS (raw / L1-normalized), image RMS (edge, shaded), fit time");
     println!(
-        "  {:<18} {:>3} {:>11} {:>11} {:>9} {:>10} {:>10} {:>8}",
+        "  {:<24} {:>3} {:>11} {:>11} {:>9} {:>10} {:>10} {:>8}",
         "model", "ch", "kernel", "kernel(N)", "L1 err", "edge", "shaded", "fit [s]"
     );
     for r in rows {
@@ -180,7 +195,7 @@ fn print_table(slug: &str, rows: &[Row]) {
                 .unwrap_or(f64::NAN)
         };
         println!(
-            "  {:<18} {:>3} {:>11.3e} {:>11.3e} {:>9.2e} {:>10.3e} {:>10.3e} {:>8.3}",
+            "  {:<24} {:>3} {:>11.3e} {:>11.3e} {:>9.2e} {:>10.3e} {:>10.3e} {:>8.3}",
             r.label(),
             ["R", "G", "B"][r.channel],
             r.kernel_rms,

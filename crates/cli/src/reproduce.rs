@@ -9,8 +9,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use fit::Profile;
-use fit::evaluate::{Evaluation, ImageSize, Row, evaluate};
+use fit::evaluate::{Evaluation, ImageSize, RANK1, Row, evaluate};
+use fit::{KernelModel, Profile};
 use serde::Deserialize;
 use serde_json::{Value, json};
 
@@ -80,12 +80,6 @@ fn read_references(path: &std::path::Path) -> Result<Value> {
 
 /// The five materials of the thesis's main results.
 const MAIN: [&str; 5] = ["apple", "marble", "ketchup", "skin1", "wholemilk"];
-const RANK1: [(&str, &str); 4] = [
-    ("svd1", "SVD rank-1"),
-    ("preint", "Pre-integration"),
-    ("guided k=1", "Guided k=1"),
-    ("manual", "Manual"),
-];
 
 #[derive(Deserialize)]
 struct Published {
@@ -101,6 +95,22 @@ struct Published63 {
     manual: [f64; 3],
 }
 
+impl Published63 {
+    /// The published row of one of the rank-1 models ([`RANK1`]).
+    fn of(&self, model: KernelModel) -> [f64; 3] {
+        match model {
+            KernelModel::Svd {
+                rank: 1,
+                renormalize: false,
+            } => self.svd1,
+            KernelModel::Preint => self.preint,
+            KernelModel::Guided { k: 1.0, b: 0.0 } => self.guided_k1,
+            KernelModel::Manual(_) => self.manual,
+            _ => unreachable!("Table 6.3 has the rank-1 models of RANK1 only, not {model}"),
+        }
+    }
+}
+
 #[derive(Deserialize)]
 struct Published65 {
     svd: Vec<[f64; 3]>,
@@ -109,11 +119,9 @@ struct Published65 {
 
 const PUBLISHED: &str = include_str!("../../../configs/thesis_published.toml");
 
-fn find<'a>(ev: &'a Evaluation, label: &str, c: usize) -> &'a Row {
-    ev.rows
-        .iter()
-        .find(|r| r.channel == c && r.label().starts_with(label))
-        .expect("every model is evaluated on every channel")
+fn find(ev: &Evaluation, model: KernelModel, c: usize) -> &Row {
+    ev.row(model, c)
+        .expect("evaluate measures every model of fit::evaluate::MODELS on every channel")
 }
 
 /// RMS over the five test signals of a row's image-space errors.
@@ -192,7 +200,7 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
             .position(|n| n.slug == name)
             .expect("main materials are built in");
         eprintln!("fitting and evaluating every model for {name} …");
-        let ev = pool.install(|| evaluate(&profiles[i], name, image));
+        let ev = pool.install(|| evaluate(&profiles[i], name, image))?;
         eval::write_plots(&profiles[i], &ev, name, &a.out)?;
         evals.push(ev);
     }
@@ -241,7 +249,7 @@ fn build(
         .map(|ev| {
             RANK1
                 .iter()
-                .map(|(l, _)| [0, 1, 2].map(|c| find(ev, l, c).kernel_rms))
+                .map(|&m| [0, 1, 2].map(|c| find(ev, m, c).kernel_rms))
                 .collect()
         })
         .collect();
@@ -255,9 +263,8 @@ fn build(
         .enumerate()
         .map(|(i, m)| {
             let p = &published.table_6_3[*m];
-            let pubs = [p.svd1, p.preint, p.guided_k1, p.manual];
-            json!({ "material": m, "models": RANK1.iter().enumerate().map(|(j, (l, name))| json!({
-                "model": l, "name": name, "raw": raw[i][j], "normalized": raw[i][j].map(|x| x / max), "published": pubs[j],
+            json!({ "material": m, "models": RANK1.iter().enumerate().map(|(j, &model)| json!({
+                "model": model, "name": model.title(), "raw": raw[i][j], "normalized": raw[i][j].map(|x| x / max), "published": p.of(model),
             })).collect::<Vec<_>>() })
         })
         .collect();
@@ -267,18 +274,20 @@ fn build(
         .iter()
         .position(|m| *m == "skin1")
         .expect("skin1 is a main material")];
-    let ours = |model: &str| -> Vec<[f64; 3]> {
+    let svd_n = |rank| KernelModel::Svd {
+        rank,
+        renormalize: false,
+    };
+    let deon_n = |n| KernelModel::Deon { n };
+    let ours = |model: &dyn Fn(usize) -> KernelModel| -> Vec<[f64; 3]> {
         (1..=6)
-            .map(|n| [0, 1, 2].map(|c| image_rms(find(skin, &format!("{model}{n}"), c))))
+            .map(|n| [0, 1, 2].map(|c| image_rms(find(skin, model(n), c))))
             .collect()
     };
-    let (svd, deon) = (ours("svd"), ours("deon"));
+    let (svd, deon) = (ours(&svd_n), ours(&deon_n));
     let kernel_wins = (1..=6)
         .flat_map(|n| (0..3).map(move |c| (n, c)))
-        .filter(|&(n, c)| {
-            find(skin, &format!("svd{n}"), c).kernel_rms
-                < find(skin, &format!("deon{n}"), c).kernel_rms
-        })
+        .filter(|&(n, c)| find(skin, svd_n(n), c).kernel_rms < find(skin, deon_n(n), c).kernel_rms)
         .count();
     let max65 = svd
         .iter()
@@ -290,24 +299,26 @@ fn build(
     let t65 = json!({ "svd": norm(&svd), "deon": norm(&deon), "svd_raw": svd, "deon_raw": deon, "published_svd": published.table_6_5.svd, "published_deon": published.table_6_5.deon });
 
     // Table 5.1: properties, and our mean fit time per channel over the five materials.
-    let fit_time = |label: &str| {
+    let fit_time = |model: KernelModel| {
         let v: Vec<f64> = evals
             .iter()
-            .flat_map(|ev| (0..3).map(move |c| find(ev, label, c).fit_seconds))
+            .flat_map(|ev| (0..3).map(move |c| find(ev, model, c).fit_seconds))
             .collect();
         v.iter().sum::<f64>() / v.len() as f64
     };
+    // The thesis's rows name families; each is timed on the model given beside it.
+    let [svd1, preint, guided_k1, manual] = RANK1;
     let t51: Vec<Value> = [
-        ("d'Eon 1 Gaussian", "deon1", "low", "2", true, false),
-        ("d'Eon 2+ Gaussians", "deon6", "high", "2 per Gaussian", false, false),
-        ("SVD rank-1", "svd1", "low", "2", true, true),
-        ("SVD rank-2+", "svd6", "excellent", "2 per rank", false, true),
-        ("Kernel pre-integration", "preint", "high", "2", true, true),
-        ("Guided optimization", "guided k=1", "controllable", "2", true, false),
-        ("Manual approximation", "manual", "controllable", "2", true, true),
+        ("d'Eon 1 Gaussian", deon_n(1), "low", "2", true, false),
+        ("d'Eon 2+ Gaussians", deon_n(6), "high", "2 per Gaussian", false, false),
+        ("SVD rank-1", svd1, "low", "2", true, true),
+        ("SVD rank-2+", svd_n(6), "excellent", "2 per rank", false, true),
+        ("Kernel pre-integration", preint, "high", "2", true, true),
+        ("Guided optimization", guided_k1, "controllable", "2", true, false),
+        ("Manual approximation", manual, "controllable", "2", true, true),
     ]
     .iter()
-    .map(|&(name, label, q, passes, sep, closed)| json!({ "model": name, "visual_quality": q, "convolutions_1d": passes, "separable": sep, "closed_form": closed, "fit_seconds_per_channel": fit_time(label) }))
+    .map(|&(name, model, q, passes, sep, closed)| json!({ "model": name, "timed": model, "visual_quality": q, "convolutions_1d": passes, "separable": sep, "closed_form": closed, "fit_seconds_per_channel": fit_time(model) }))
     .collect();
 
     json!({
@@ -323,6 +334,8 @@ fn build(
 }
 
 /// The qualitative claims of Tables 6.3 and 6.5, checked on our numbers and on the published ones.
+/// `raw[material][j]` is the kernel RMS of `RANK1[j]`: 0 SVD rank-1, 1 pre-integration, 2 guided
+/// k = 1, 3 manual.
 fn claims(
     raw: &[Vec<[f64; 3]>],
     svd: &[[f64; 3]],
@@ -339,7 +352,7 @@ fn claims(
         .iter()
         .map(|m| {
             let p = &published.table_6_3[*m];
-            vec![p.svd1, p.preint, p.guided_k1, p.manual]
+            RANK1.iter().map(|&model| p.of(model)).collect::<Vec<_>>()
         })
         .collect();
     let pub_cases = |f: &dyn Fn(&[[f64; 3]]) -> [bool; 3]| -> usize {
@@ -472,8 +485,8 @@ fn html(r: &Value, all: &[library::Named]) -> String {
     h += "</table>";
 
     h += "<h2>Table 6.3 — kernel-space RMS of the rank-1 models (normalized: largest entry = 1)</h2><table><tr><th>material</th>";
-    for (_, name) in RANK1 {
-        let _ = write!(h, "<th colspan=3>{name} R G B</th><th>Σ</th>");
+    for m in RANK1 {
+        let _ = write!(h, "<th colspan=3>{} R G B</th><th>Σ</th>", m.title());
     }
     h += "</tr>";
     for m in r["table_6_3"].as_array().into_iter().flatten() {
@@ -497,8 +510,8 @@ fn html(r: &Value, all: &[library::Named]) -> String {
         h += "</tr>";
     }
     h += "</table><p>Raw (unnormalized) values:</p><table><tr><th>material</th>";
-    for (_, name) in RANK1 {
-        let _ = write!(h, "<th colspan=3>{name}</th>");
+    for m in RANK1 {
+        let _ = write!(h, "<th colspan=3>{}</th>", m.title());
     }
     h += "</tr>";
     for m in r["table_6_3"].as_array().into_iter().flatten() {
@@ -570,7 +583,7 @@ fn html(r: &Value, all: &[library::Named]) -> String {
             "<h3>{m}</h3><img src=\"{m}.slices_rank1.png\"><img src=\"{m}.slices_multipass.png\">"
         );
     }
-    h += "<h2>Fig. 6.3–6.10 — test-signal convolutions (rows: input and ground truth; svd1, preint, guided k=1, manual; |difference| × 10)</h2>";
+    h += "<h2>Fig. 6.3–6.10 — test-signal convolutions of the rank-1 models (every panel labelled, with colour scales)</h2>";
     for m in MAIN {
         let _ = write!(
             h,

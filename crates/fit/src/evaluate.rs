@@ -1,34 +1,95 @@
 //! Evaluation of every kernel model on one material's profile: kernel-space RMS (raw and
 //! L1-normalized by eq. 5.12), L1 error, image-space RMS per test signal, fit time; plus what the
-//! plots need (kernel slices, singular values, convolution images).
+//! plots need (kernel slices, singular values, every separable kernel for convolution images).
 //!
-//! Models: `svd` ranks 1–6, `preint`, `guided` k = 0, 1, 2 (b = 0), `manual` (Table A.1 when the
-//! material has a row, else the image-space fit), `deon` N = 1–6, `skin` (the original SSSS
-//! kernel with its defaults, scaled in mm; variant `fitted, eq. 4.13`: its strength and falloff
-//! fitted to the profile), `burley` (variant `radial`: dense 2D; `projected`:
-//! rank-1 pre-integration of it).
+//! Models ([`MODELS`]): `svd1`–`svd6`, `preint`, `guided-k0`/`k1`/`k2` (b = 0), `manual` (Table
+//! A.1 when the material has a row, else the image-space fit; the row's `variant` says which),
+//! `deon1`–`deon6`, `skin` (the original SSSS kernel with the demo's parameters, scaled in mm),
+//! `skin-fit` (its strength and falloff fitted to the profile, eq. 4.13), `burley` (rank-1
+//! pre-integration of the fitted Christensen–Burley kernel) and `burley-radial` (the same kernel
+//! dense, convolved in 2D). Rows are keyed by [`KernelModel`]; find one with [`Evaluation::row`].
 
 use std::time::Instant;
 
+use crate::error::Result;
 use crate::kernel2d::{Kernel2, ground_truth};
+use crate::manual::table_a1;
 use crate::metrics::{ImageEval, kernel_rms, l1_error};
+use crate::model::{KernelModel, ManualParams, SkinParams};
 use crate::separable::Separable;
 use crate::signals::Signal;
 use crate::skin::Skin;
-use crate::{Burley, Gaussians, Guided, Manual, Profile, preint, svd, top_eigen_to};
+use crate::{Burley, Gaussians, Profile, svd, top_eigen_to};
+
+/// The four rank-1 models of thesis Table 6.3 and Figs. 6.3–6.10, in the thesis's order.
+pub const RANK1: [KernelModel; 4] = [
+    KernelModel::Svd {
+        rank: 1,
+        renormalize: false,
+    },
+    KernelModel::Preint,
+    KernelModel::Guided { k: 1.0, b: 0.0 },
+    KernelModel::Manual(ManualParams::Auto),
+];
+
+/// Every model [`evaluate`] measures, in row order (per channel).
+pub const MODELS: [KernelModel; 21] = {
+    const fn svd(rank: usize) -> KernelModel {
+        KernelModel::Svd {
+            rank,
+            renormalize: false,
+        }
+    }
+    const fn guided(k: f64) -> KernelModel {
+        KernelModel::Guided { k, b: 0.0 }
+    }
+    const fn deon(n: usize) -> KernelModel {
+        KernelModel::Deon { n }
+    }
+    [
+        svd(1),
+        svd(2),
+        svd(3),
+        svd(4),
+        svd(5),
+        svd(6),
+        KernelModel::Preint,
+        guided(0.0),
+        guided(1.0),
+        guided(2.0),
+        KernelModel::Manual(ManualParams::Auto),
+        deon(1),
+        deon(2),
+        deon(3),
+        deon(4),
+        deon(5),
+        deon(6),
+        KernelModel::Skin(SkinParams::Given(Skin::DEMO)),
+        KernelModel::Skin(SkinParams::Fit),
+        KernelModel::Burley { radial: false },
+        KernelModel::Burley { radial: true },
+    ]
+};
+
+/// The highest SVD rank and d'Eon Gaussian count in [`MODELS`].
+const NESTED: usize = 6;
 
 /// One model on one channel.
 #[derive(Clone, Debug)]
 pub struct Row {
-    pub model: &'static str,
+    /// The model as evaluated; `manual` and `skin-fit` keep their unresolved names (the fitted
+    /// parameters differ per material).
+    pub model: KernelModel,
+    /// Where `manual`'s parameters came from: `table A.1` or `image-space fit`; `None` for the
+    /// other models.
     pub variant: Option<&'static str>,
-    pub rank: Option<usize>,
-    pub k: Option<f64>,
+    /// Channel index (R, G, B).
     pub channel: usize,
     pub kernel_rms: f64,
     pub kernel_rms_normalized: f64,
     pub l1_error: f64,
     pub image_rms: Vec<(Signal, f64)>,
+    /// Fit time of this channel [s]; nested fits (SVD ranks, d'Eon counts) share one time.
     pub fit_seconds: f64,
     /// Main-axis slice A(x, 0) and diagonal slice A(x, x) of the (raw) model, x ≥ 0.
     pub axis: Vec<f64>,
@@ -36,19 +97,27 @@ pub struct Row {
 }
 
 impl Row {
-    /// A short label for legends: `svd1`, `guided k=1`, `burley (radial)`, …
+    /// The row's name for tables: the model's name, with the manual model's source in
+    /// parentheses (`svd1`, `guided-k1`, `manual (table A.1)`, `burley-radial`, …).
     pub fn label(&self) -> String {
-        match (self.model, self.rank, self.k, self.variant) {
-            ("svd" | "deon", Some(n), _, _) => format!("{}{n}", self.model),
-            (m, _, Some(k), _) => format!("{m} k={k}"),
-            (m, _, _, Some(v)) => format!("{m} ({v})"),
-            (m, _, _, _) => m.to_string(),
+        match self.variant {
+            Some(v) => format!("{} ({v})", self.model),
+            None => self.model.to_string(),
+        }
+    }
+
+    /// The row's title for figures: [`KernelModel::title`] with the manual model's source.
+    pub fn title(&self) -> String {
+        match self.variant {
+            Some(v) => format!("{} ({v})", self.model.title()),
+            None => self.model.title(),
         }
     }
 }
 
 /// Everything measured for one material.
 pub struct Evaluation {
+    /// [`MODELS`] on channel R, then G, then B.
     pub rows: Vec<Row>,
     /// The first 30 singular values per channel (thesis Fig. 5.1).
     pub singular_values: [Vec<f64>; 3],
@@ -56,9 +125,27 @@ pub struct Evaluation {
     pub truth_axis: [Vec<f64>; 3],
     pub truth_diagonal: [Vec<f64>; 3],
     pub h: f64,
-    /// Rank-1 models and the image evaluator per channel, for convolution plots.
-    pub rank1: Vec<(String, usize, Separable)>,
+    /// Every separable model's kernel per channel, for convolution plots.
+    pub kernels: Vec<(KernelModel, Vec<Separable>)>,
+    /// The image evaluator per channel.
     pub images: Vec<ImageEval>,
+}
+
+impl Evaluation {
+    /// The row of `model` on channel `c`, if it was evaluated.
+    pub fn row(&self, model: KernelModel, c: usize) -> Option<&Row> {
+        self.rows
+            .iter()
+            .find(|r| r.model == model && r.channel == c)
+    }
+
+    /// The kernel of a separable `model` on channel `c`, if it was evaluated.
+    pub fn kernel(&self, model: KernelModel, c: usize) -> Option<&Separable> {
+        self.kernels
+            .iter()
+            .find(|(m, _)| *m == model)
+            .and_then(|(_, k)| k.get(c))
+    }
 }
 
 fn slices(a: &Separable) -> (Vec<f64>, Vec<f64>) {
@@ -102,165 +189,91 @@ impl Default for ImageSize {
     }
 }
 
-/// Evaluates every model on every channel of a profile. `material` selects Table A.1 rows.
-pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Evaluation {
-    let mut rows = Vec::new();
-    let mut singular_values: [Vec<f64>; 3] = Default::default();
-    let mut truth_axis: [Vec<f64>; 3] = Default::default();
-    let mut truth_diagonal: [Vec<f64>; 3] = Default::default();
-    let mut rank1 = Vec::new();
-    let mut images = Vec::new();
-    let table = crate::manual::table_a1(material);
-    let mut h = p.dr;
-    // The SSSS skin model fitted to the profile (§4.6, eq. 4.13) shares its width across channels.
-    let t = Instant::now();
+/// Evaluates every model of [`MODELS`] on every channel of a profile. `material` selects Table
+/// A.1 rows for `manual`.
+pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Result<Evaluation> {
     let truths: Vec<Kernel2> = (0..3).map(|c| ground_truth(p, c, None)).collect();
-    let skin_fit = Skin::fit([&truths[0], &truths[1], &truths[2]]);
-    let skin_fit_seconds = t.elapsed().as_secs_f64() / 3.0;
-    for (c, k) in truths.into_iter().enumerate() {
-        h = k.h;
-        (truth_axis[c], truth_diagonal[c]) = dense_slices(&k);
-        let eval = ImageEval::new(&k, image.size, image.max_half);
-        let push = |model: &'static str,
-                    variant: Option<&'static str>,
-                    rank: Option<usize>,
-                    kk: Option<f64>,
-                    a: &Separable,
-                    seconds: f64,
-                    rows: &mut Vec<Row>| {
-            let (axis, diagonal) = slices(a);
-            rows.push(Row {
-                model,
-                variant,
-                rank,
-                k: kk,
-                channel: c,
-                kernel_rms: kernel_rms(&k, a),
-                kernel_rms_normalized: kernel_rms(&k, &a.clone().renormalized(k.l1())),
-                l1_error: l1_error(&k, a),
-                image_rms: eval.rms(a),
-                fit_seconds: seconds,
-                axis,
-                diagonal,
-            });
-        };
-
+    // (model, kernel per channel, fit seconds per channel) of every separable model, in MODELS
+    // order. SVD rank N and d'Eon up to N Gaussians hold every lower rank: one fit each.
+    let mut kernels: Vec<(KernelModel, Vec<Separable>, [f64; 3])> = Vec::new();
+    let mut singular_values: [Vec<f64>; 3] = Default::default();
+    let mut svd_n = Vec::new();
+    let mut deon_n = Vec::new();
+    for (c, k) in truths.iter().enumerate() {
         let t = Instant::now();
-        let (svd6, _) = svd(&k, 6);
-        let svd_seconds = t.elapsed().as_secs_f64();
-        singular_values[c] = top_eigen_to(&k, 30, 1e-6, 200)
+        svd_n.push((svd(k, NESTED).0, t.elapsed().as_secs_f64()));
+        let t = Instant::now();
+        deon_n.push((Gaussians::fit_up_to(k, NESTED), t.elapsed().as_secs_f64()));
+        singular_values[c] = top_eigen_to(k, 30, 1e-6, 200)
             .values
             .iter()
             .map(|v| v.abs())
             .collect();
-        for n in 1..=6 {
-            let a = Separable {
-                h: k.h,
-                terms: svd6.terms[..n.min(svd6.terms.len())].to_vec(),
-            };
-            push("svd", None, Some(n), None, &a, svd_seconds, &mut rows);
-            if n == 1 {
-                rank1.push(("svd1".to_string(), c, a));
-            }
-        }
-        let t = Instant::now();
-        let pre = preint(&k);
-        push(
-            "preint",
-            None,
-            None,
-            None,
-            &pre,
-            t.elapsed().as_secs_f64(),
-            &mut rows,
-        );
-        rank1.push(("preint".to_string(), c, pre));
-        for kk in [0.0, 1.0, 2.0] {
-            let g = Guided {
-                k: kk,
-                ..Guided::default()
-            }
-            .fit(&k);
-            push(
-                "guided",
-                None,
-                None,
-                Some(kk),
-                &g.kernel,
-                g.seconds,
-                &mut rows,
-            );
-            if kk == 1.0 {
-                rank1.push(("guided k=1".to_string(), c, g.kernel));
-            }
-        }
-        let t = Instant::now();
-        let (manual, variant) = match &table {
-            Some(rows) => (rows[c], "table A.1"),
-            None => (
-                Manual::fit_image_space(&k, Manual::start(&k)),
-                "image-space fit",
+    }
+    for model in MODELS {
+        let (channels, seconds) = match model {
+            KernelModel::Svd { rank, .. } => (
+                svd_n
+                    .iter()
+                    .zip(&truths)
+                    .map(|((a, _), k)| Separable {
+                        h: k.h,
+                        terms: a.terms[..rank.min(a.terms.len())].to_vec(),
+                    })
+                    .collect(),
+                [0, 1, 2].map(|c| svd_n[c].1),
             ),
+            KernelModel::Deon { n } => (
+                deon_n
+                    .iter()
+                    .zip(&truths)
+                    .map(|((g, _), k)| g[n - 1].to_separable(k.half, k.h))
+                    .collect(),
+                [0, 1, 2].map(|c| deon_n[c].1),
+            ),
+            // Dense, not separable: evaluated below.
+            KernelModel::Burley { radial: true } => continue,
+            _ => {
+                let t = Instant::now();
+                let fitted = model.fit_truths(&truths, material)?;
+                (fitted.channels, [t.elapsed().as_secs_f64() / 3.0; 3])
+            }
         };
-        let m = manual.separable(k.half, k.h);
-        push(
-            "manual",
-            Some(variant),
-            None,
-            None,
-            &m,
-            t.elapsed().as_secs_f64(),
-            &mut rows,
-        );
-        rank1.push(("manual".to_string(), c, m));
-        let t = Instant::now();
-        let deon = Gaussians::fit_up_to(&k, 6);
-        let deon_seconds = t.elapsed().as_secs_f64();
-        for (n, g) in deon.iter().enumerate() {
-            push(
-                "deon",
-                None,
-                Some(n + 1),
-                None,
-                &g.to_separable(k.half, k.h),
-                deon_seconds,
-                &mut rows,
-            );
+        kernels.push((model, channels, seconds));
+    }
+    let manual_source = if table_a1(material).is_some() {
+        "table A.1"
+    } else {
+        "image-space fit"
+    };
+
+    let mut rows = Vec::new();
+    let mut truth_axis: [Vec<f64>; 3] = Default::default();
+    let mut truth_diagonal: [Vec<f64>; 3] = Default::default();
+    let mut images = Vec::new();
+    for (c, k) in truths.iter().enumerate() {
+        (truth_axis[c], truth_diagonal[c]) = dense_slices(k);
+        let eval = ImageEval::new(k, image.size, image.max_half);
+        for (model, channels, seconds) in &kernels {
+            let a = &channels[c];
+            let (axis, diagonal) = slices(a);
+            rows.push(Row {
+                model: *model,
+                variant: matches!(model, KernelModel::Manual(_)).then_some(manual_source),
+                channel: c,
+                kernel_rms: kernel_rms(k, a),
+                kernel_rms_normalized: kernel_rms(k, &a.clone().renormalized(k.l1())),
+                l1_error: l1_error(k, a),
+                image_rms: eval.rms(a),
+                fit_seconds: seconds[c],
+                axis,
+                diagonal,
+            });
         }
-        let skin = Skin::DEMO.separable(c, k.half, k.h);
-        push(
-            "skin",
-            Some("SSSS defaults"),
-            None,
-            None,
-            &skin,
-            0.0,
-            &mut rows,
-        );
-        push(
-            "skin",
-            Some("fitted, eq. 4.13"),
-            None,
-            None,
-            &skin_fit.separable(c, k.half, k.h),
-            skin_fit_seconds,
-            &mut rows,
-        );
+        // Radial use of Burley: a dense, non-separable kernel, convolved in 2D.
         let t = Instant::now();
-        let b = Burley::fit(&k);
-        let fit_s = t.elapsed().as_secs_f64();
-        let projected = b.projected(k.half, k.h);
-        push(
-            "burley",
-            Some("projected"),
-            None,
-            None,
-            &projected,
-            fit_s,
-            &mut rows,
-        );
-        // Radial use: a dense, non-separable kernel, convolved in 2D.
-        let dense = b.kernel(k.half, k.h);
+        let dense = Burley::fit(k).kernel(k.half, k.h);
+        let fit_seconds = t.elapsed().as_secs_f64();
         let normalized = {
             let mut d = dense.clone();
             let s = k.l1() / d.l1();
@@ -275,31 +288,28 @@ pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Evaluation {
                 / k.v.len() as f64)
                 .sqrt()
         };
-        let image_rms = eval.rms_dense(&normalized);
         let (axis, diagonal) = dense_slices(&dense);
         rows.push(Row {
-            model: "burley",
-            variant: Some("radial"),
-            rank: None,
-            k: None,
+            model: KernelModel::Burley { radial: true },
+            variant: None,
             channel: c,
             kernel_rms: kr(&dense),
             kernel_rms_normalized: kr(&normalized),
             l1_error: (dense.l1() - k.l1()).abs() / k.l1(),
-            image_rms,
-            fit_seconds: fit_s,
+            image_rms: eval.rms_dense(&normalized),
+            fit_seconds,
             axis,
             diagonal,
         });
         images.push(eval);
     }
-    Evaluation {
+    Ok(Evaluation {
         rows,
         singular_values,
         truth_axis,
         truth_diagonal,
-        h,
-        rank1,
+        h: truths[0].h,
+        kernels: kernels.into_iter().map(|(m, k, _)| (m, k)).collect(),
         images,
-    }
+    })
 }

@@ -89,6 +89,46 @@ impl KernelModel {
         }
     }
 
+    /// The family's name, the stem of every name of the family: `svd`, `preint`, `guided`,
+    /// `manual`, `deon`, `skin`, `burley`.
+    pub fn family(&self) -> &'static str {
+        match self {
+            KernelModel::Svd { .. } => "svd",
+            KernelModel::Preint => "preint",
+            KernelModel::Guided { .. } => "guided",
+            KernelModel::Manual(_) => "manual",
+            KernelModel::Deon { .. } => "deon",
+            KernelModel::Skin(_) => "skin",
+            KernelModel::Burley { .. } => "burley",
+        }
+    }
+
+    /// A title for people (legends, panel labels, report tables): `SVD rank-1`,
+    /// `pre-integration`, `guided, k = 1`, `d'Eon, 3 Gaussians`, … The name (`Display`) is what
+    /// the CLI and files take; the title is only shown.
+    pub fn title(&self) -> String {
+        match *self {
+            KernelModel::Svd { rank, renormalize } => format!(
+                "SVD rank-{rank}{}",
+                if renormalize { ", renormalized" } else { "" }
+            ),
+            KernelModel::Preint => "pre-integration".into(),
+            KernelModel::Guided { k, b: 0.0 } => format!("guided, k = {k}"),
+            KernelModel::Guided { k, b } => format!("guided, k = {k}, b = {b}"),
+            KernelModel::Manual(ManualParams::Auto) => "manual".into(),
+            KernelModel::Manual(ManualParams::Given(_)) => "manual, given w and τ".into(),
+            KernelModel::Deon { n: 1 } => "d'Eon, 1 Gaussian".into(),
+            KernelModel::Deon { n } => format!("d'Eon, {n} Gaussians"),
+            KernelModel::Skin(SkinParams::Given(s)) if s == Skin::DEMO => {
+                "SSSS skin, demo defaults".into()
+            }
+            KernelModel::Skin(SkinParams::Given(_)) => "SSSS skin, given t, f, w".into(),
+            KernelModel::Skin(SkinParams::Fit) => "SSSS skin, fitted (eq. 4.13)".into(),
+            KernelModel::Burley { radial: false } => "Burley, rank-1 projection".into(),
+            KernelModel::Burley { radial: true } => "Burley, radial 2D".into(),
+        }
+    }
+
     /// 1D convolution passes a renderer runs: 2 per rank-1 term (thesis: rank N ⇒ 2N passes).
     pub fn passes(&self) -> Option<usize> {
         self.terms().map(|t| 2 * t)
@@ -477,6 +517,11 @@ mod tests {
             }
             let t = toml::to_string(&F { model: m }).unwrap();
             assert_eq!(toml::from_str::<F>(&t).unwrap().model.to_string(), name);
+            // A family's name is itself a name, of the same family.
+            assert_eq!(
+                m.family().parse::<KernelModel>().unwrap().family(),
+                m.family()
+            );
         }
         // Bare family names take the thesis's defaults.
         assert_eq!(

@@ -9,8 +9,11 @@ use std::sync::Once;
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
 
+use mc::CHANNELS;
+
 use crate::error::{FitError, Result};
 use crate::evaluate::Evaluation;
+use crate::model::KernelModel;
 use crate::profile::Profile;
 use crate::signals::Signal;
 
@@ -72,15 +75,25 @@ pub fn profile(p: &Profile, title: &str, path: &Path) -> Result<()> {
             .draw()
             .map_err(|e| err(path, e))?;
         for c in 0..3 {
+            let color = CHANNEL_COLORS[c];
             ch.draw_series(LineSeries::new(
                 p.r.iter()
                     .zip(&p.rd[c])
                     .filter(|(r, _)| **r <= near)
                     .map(|(&r, &v)| (r, v)),
-                CHANNEL_COLORS[c].stroke_width(2),
+                color.stroke_width(2),
             ))
-            .map_err(|e| err(path, e))?;
+            .map_err(|e| err(path, e))?
+            .label(format!("channel {}", CHANNELS[c]))
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
         }
+        ch.configure_series_labels()
+            .border_style(BLACK)
+            .background_style(WHITE.mix(0.8))
+            .draw()
+            .map_err(|e| err(path, e))?;
     }
     let min_pos =
         p.rd.iter()
@@ -116,12 +129,21 @@ pub fn profile(p: &Profile, title: &str, path: &Path) -> Result<()> {
     root.present().map_err(|e| err(path, e))
 }
 
-/// Slices along the main axis (top row) and the diagonal (bottom row) of the models named in
-/// `labels` against the ground truth (dotted), per channel, out to `extent` of the kernel.
-pub fn slices(ev: &Evaluation, labels: &[&str], title: &str, path: &Path) -> Result<()> {
+/// Slices along the main axis (top row) and the diagonal (bottom row) of `models` against the
+/// ground truth (dots), per channel, zoomed on the kernel's centre. Every model must have been
+/// evaluated (an error names the one that was not).
+pub fn slices(ev: &Evaluation, models: &[KernelModel], title: &str, path: &Path) -> Result<()> {
     font();
     let root = BitMapBackend::new(path, (1500, 800)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(path, e))?;
+    let root = root
+        .titled(
+            &format!(
+                "{title}: kernel slices against the 2D ground truth (normalized to Σ = 1 per channel)"
+            ),
+            ("sans-serif", 20),
+        )
+        .map_err(|e| err(path, e))?;
     let cells = root.split_evenly((2, 3));
     for (idx, cell) in cells.iter().enumerate() {
         let (row, c) = (idx / 3, idx % 3);
@@ -145,19 +167,25 @@ pub fn slices(ev: &Evaluation, labels: &[&str], title: &str, path: &Path) -> Res
         let mut ch = ChartBuilder::on(cell)
             .caption(
                 format!(
-                    "{title} {} {}",
-                    ["R", "G", "B"][c],
-                    if row == 0 { "axis" } else { "diagonal" }
+                    "channel {}: {}",
+                    CHANNELS[c],
+                    if row == 0 {
+                        "main axis A(x, 0)"
+                    } else {
+                        "diagonal A(x, x)"
+                    }
                 ),
                 ("sans-serif", 16),
             )
             .margin(8)
-            .x_label_area_size(30)
-            .y_label_area_size(60)
+            .x_label_area_size(36)
+            .y_label_area_size(70)
             .build_cartesian_2d(0.0..n as f64 * step, 0.0..max)
             .map_err(|e| err(path, e))?;
         ch.configure_mesh()
-            .x_desc("distance [cm]")
+            .x_desc("distance from the centre [cm]")
+            .y_desc("weight per sample [-]")
+            .y_label_formatter(&|v| format!("{v:.1e}"))
             .draw()
             .map_err(|e| err(path, e))?;
         ch.draw_series(
@@ -168,29 +196,26 @@ pub fn slices(ev: &Evaluation, labels: &[&str], title: &str, path: &Path) -> Res
                 .map(|(i, &v)| Circle::new((i as f64 * step, v), 2, BLACK.filled())),
         )
         .map_err(|e| err(path, e))?
-        .label("ground truth")
+        .label("2D ground truth")
         .legend(|(x, y)| Circle::new((x + 10, y), 3, BLACK.filled()));
-        for (m, label) in labels.iter().enumerate() {
-            if let Some(r) = ev
-                .rows
-                .iter()
-                .find(|r| r.channel == c && r.label().starts_with(label))
-            {
-                let s = if row == 0 { &r.axis } else { &r.diagonal };
-                let color = MODEL_COLORS[(m + 1) % MODEL_COLORS.len()];
-                ch.draw_series(LineSeries::new(
-                    s[..n]
-                        .iter()
-                        .enumerate()
-                        .map(|(i, &v)| (i as f64 * step, v)),
-                    color.stroke_width(2),
-                ))
-                .map_err(|e| err(path, e))?
-                .label(label.to_string())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                });
-            }
+        for (m, &model) in models.iter().enumerate() {
+            let r = ev
+                .row(model, c)
+                .ok_or_else(|| err(path, format!("{model} was not evaluated")))?;
+            let s = if row == 0 { &r.axis } else { &r.diagonal };
+            let color = MODEL_COLORS[(m + 1) % MODEL_COLORS.len()];
+            ch.draw_series(LineSeries::new(
+                s[..n]
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &v)| (i as f64 * step, v)),
+                color.stroke_width(2),
+            ))
+            .map_err(|e| err(path, e))?
+            .label(r.title())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
         }
         if idx == 0 {
             ch.configure_series_labels()
@@ -215,106 +240,191 @@ pub fn singular_values(ev: &Evaluation, title: &str, path: &Path) -> Result<()> 
         .filter(|&&x| x > 0.0);
     let (lo, hi) = all.fold((f64::INFINITY, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
     let mut ch = ChartBuilder::on(&root)
-        .caption(format!("{title}: singular values"), ("sans-serif", 18))
+        .caption(
+            format!("{title}: singular values of the 2D ground truth (Σ = 1)"),
+            ("sans-serif", 18),
+        )
         .margin(10)
         .x_label_area_size(40)
         .y_label_area_size(70)
         .build_cartesian_2d(0.5..30.5, (lo.max(hi * 1e-16)..hi * 2.0).log_scale())
         .map_err(|e| err(path, e))?;
     ch.configure_mesh()
-        .x_desc("index")
-        .y_desc("σ")
+        .x_desc("index i (rank)")
+        .y_desc("|σᵢ| [-]")
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .draw()
         .map_err(|e| err(path, e))?;
     for c in 0..3 {
+        let color = CHANNEL_COLORS[c];
         let pts: Vec<(f64, f64)> = ev.singular_values[c]
             .iter()
             .enumerate()
             .filter(|(_, v)| **v > 0.0)
             .map(|(i, &v)| ((i + 1) as f64, v))
             .collect();
-        ch.draw_series(LineSeries::new(
-            pts.clone(),
-            CHANNEL_COLORS[c].stroke_width(2),
-        ))
-        .map_err(|e| err(path, e))?;
-        ch.draw_series(
-            pts.into_iter()
-                .map(|p| Circle::new(p, 3, CHANNEL_COLORS[c].filled())),
-        )
-        .map_err(|e| err(path, e))?;
+        ch.draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
+            .map_err(|e| err(path, e))?
+            .label(format!("channel {}", CHANNELS[c]))
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
+        ch.draw_series(pts.into_iter().map(|p| Circle::new(p, 3, color.filled())))
+            .map_err(|e| err(path, e))?;
     }
+    ch.configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.8))
+        .draw()
+        .map_err(|e| err(path, e))?;
     root.present().map_err(|e| err(path, e))
 }
 
-/// A sheet for one test signal: the input and ground-truth convolution (RGB) on the first row;
-/// each rank-1 model's convolution (second row) and its absolute difference to the ground truth,
-/// scaled ×`gain` (third row), in the order svd1, preint, guided k=1, manual.
-pub fn convolutions(ev: &Evaluation, signal: Signal, gain: f64, path: &Path) -> Result<()> {
+/// What a test signal shows, for panel labels.
+fn signal_title(s: Signal) -> &'static str {
+    match s {
+        Signal::Edge => "white–black edge",
+        Signal::CircleSquares => "circle and two squares",
+        Signal::Dot => "single-pixel dot",
+        Signal::Shaded => "shaded disc",
+        Signal::Uniform => "textured patch",
+    }
+}
+
+/// Linear value in [0, 1] → sRGB-like display byte (γ = 2.2), as every picture of a
+/// [`convolutions`] sheet and its colour bars use.
+fn display(v: f64) -> u8 {
+    (v.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0) as u8
+}
+
+/// The labelled sheet of one test signal (see [`convolutions`]).
+fn convolution_sheet(
+    ev: &Evaluation,
+    models: &[KernelModel],
+    signal: Signal,
+    gain: f64,
+    title: &str,
+) -> Result<Sheet> {
+    let missing = |m: &KernelModel| FitError::Plot {
+        path: format!("{title} convolution sheet"),
+        message: format!("{m} was not evaluated"),
+    };
     let size = ev.images[0].size;
-    let labels: Vec<String> = ev
-        .rank1
-        .iter()
-        .filter(|(_, c, _)| *c == 0)
-        .map(|(l, _, _)| l.clone())
-        .collect();
-    let cols = labels.len().max(2);
-    let root = BitMapBackend::new(
-        path,
-        ((cols * (size + 10)) as u32, (3 * (size + 10)) as u32),
-    )
-    .into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(path, e))?;
-    let put = |x0: usize, y0: usize, rgb: &dyn Fn(usize, usize) -> [f64; 3]| -> Result<()> {
-        for y in 0..size {
-            for x in 0..size {
-                let v = rgb(x, y).map(|c| (c.clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0) as u8);
-                root.draw_pixel(
-                    ((x0 + x) as i32, (y0 + y) as i32),
-                    &RGBColor(v[0], v[1], v[2]),
-                )
-                .map_err(|e| err(path, e))?;
+    // Small test images are enlarged (nearest neighbour) so panels stay readable beside labels.
+    let zoom = 200usize.div_ceil(size).max(1);
+    let cell = |label: String, rgb: &dyn Fn(usize, usize) -> [f64; 3]| {
+        let s = size * zoom;
+        let mut px = Vec::with_capacity(s * s * 3);
+        for y in 0..s {
+            for x in 0..s {
+                px.extend(rgb(x / zoom, y / zoom).map(display));
             }
         }
-        Ok(())
+        SheetCell {
+            label,
+            width: s as u32,
+            height: s as u32,
+            rgb: px,
+        }
     };
-    let per_channel: Vec<_> = (0..3)
-        .map(|c| {
-            ev.images[c].images(
-                signal,
-                &ev.rank1
-                    .iter()
-                    .find(|(_, ch, _)| *ch == c)
-                    .expect("a model per channel")
-                    .2,
-            )
-        })
-        .collect();
-    put(0, 0, &|x, y| [0, 1, 2].map(|c| per_channel[c].0.at(x, y)))?;
-    put(size + 10, 0, &|x, y| {
-        [0, 1, 2].map(|c| per_channel[c].1.at(x, y))
+    let first = models.first().ok_or_else(|| FitError::Plot {
+        path: format!("{title} convolution sheet"),
+        message: "no models to show".into(),
     })?;
-    for (i, label) in labels.iter().enumerate() {
-        let imgs: Vec<_> = (0..3)
+    let reference: Vec<_> = (0..3)
+        .map(|c| {
+            let k = ev.kernel(*first, c).ok_or_else(|| missing(first))?;
+            Ok(ev.images[c].images(signal, k))
+        })
+        .collect::<Result<_>>()?;
+    let mut convolved = Vec::new();
+    let mut differences = Vec::new();
+    for m in models {
+        let name = ev.row(*m, 0).ok_or_else(|| missing(m))?.title();
+        let imgs = (0..3)
             .map(|c| {
-                let model = &ev
-                    .rank1
-                    .iter()
-                    .find(|(l, ch, _)| l == label && *ch == c)
-                    .expect("each model on each channel")
-                    .2;
-                ev.images[c].images(signal, model)
+                let k = ev.kernel(*m, c).ok_or_else(|| missing(m))?;
+                Ok(ev.images[c].images(signal, k))
             })
-            .collect();
-        put(i * (size + 10), size + 10, &|x, y| {
+            .collect::<Result<Vec<_>>>()?;
+        convolved.push(cell(format!("{name} ⊛ input"), &|x, y| {
             [0, 1, 2].map(|c| imgs[c].2.at(x, y))
-        })?;
-        put(i * (size + 10), 2 * (size + 10), &|x, y| {
+        }));
+        differences.push(cell(format!("|{name} − truth| × {gain}"), &|x, y| {
             [0, 1, 2].map(|c| gain * (imgs[c].2.at(x, y) - imgs[c].1.at(x, y)).abs())
-        })?;
+        }));
     }
-    root.present().map_err(|e| err(path, e))
+    let ramp = |t: f64| [display(t); 3];
+    // Five ticks from 0 to `top`; "≥" on the last where brighter values are clipped.
+    let ticks = |top: f64, clipped: bool| {
+        (0..=4)
+            .map(|i| {
+                let t = f64::from(i) / 4.0;
+                let v = (t * top * 1e6).round() / 1e6;
+                let label = if clipped && i == 4 {
+                    format!("≥ {v}")
+                } else {
+                    format!("{v}")
+                };
+                (t, label)
+            })
+            .collect()
+    };
+    Ok(Sheet {
+        title: vec![
+            format!(
+                "{title}: test signal “{}” convolved with each rank-1 model, channels R, G, B at once",
+                signal_title(signal)
+            ),
+            format!(
+                "rows: input and 2D ground truth; each model; |model − ground truth| × {gain} (one kernel per colour channel)"
+            ),
+        ],
+        rows: vec![
+            vec![
+                cell(
+                    format!("input: {}", signal_title(signal)),
+                    &|x, y| [0, 1, 2].map(|c| reference[c].0.at(x, y)),
+                ),
+                cell("2D ground truth ⊛ input".into(), &|x, y| {
+                    [0, 1, 2].map(|c| reference[c].1.at(x, y))
+                }),
+            ],
+            convolved,
+            differences,
+        ],
+        bars: vec![
+            ColourBar {
+                caption: "rows 1–2: reflected irradiance per channel, relative to the input's maximum [-]"
+                    .into(),
+                ramp,
+                ticks: ticks(1.0, false),
+            },
+            ColourBar {
+                caption: format!(
+                    "row 3: |model − ground truth| per channel, relative to the input's maximum [-], drawn × {gain}"
+                ),
+                ramp,
+                ticks: ticks(1.0 / gain, true),
+            },
+        ],
+    })
+}
+
+/// A sheet for one test signal, all three channels at once (each colour channel convolved with
+/// its own kernel): the input and its convolution with the 2D ground truth on the first row;
+/// each of `models` convolved (second row) and its absolute difference to the ground truth,
+/// scaled ×`gain` (third row); every panel labelled, with colour bars for both scales.
+pub fn convolutions(
+    ev: &Evaluation,
+    models: &[KernelModel],
+    signal: Signal,
+    gain: f64,
+    title: &str,
+    path: &Path,
+) -> Result<()> {
+    let png = convolution_sheet(ev, models, signal, gain, title)?.png()?;
+    std::fs::write(path, png).map_err(|e| err(path, e))
 }
 
 /// Analytic profiles against MC, per channel: r·Rd(r) on a log scale (top) and the relative error
@@ -349,7 +459,7 @@ pub fn profile_comparison(
         let lo = mc_pts.iter().fold(f64::INFINITY, |a, p| a.min(p.1));
         let mut ch = ChartBuilder::on(up)
             .caption(
-                format!("{title} {}: r·Rd(r)", ["R", "G", "B"][c]),
+                format!("{title}, channel {}: r·Rd(r)", CHANNELS[c]),
                 ("sans-serif", 16),
             )
             .margin(8)
@@ -395,7 +505,10 @@ pub fn profile_comparison(
                 .map_err(|e| err(path, e))?;
         }
         let mut ch = ChartBuilder::on(down)
-            .caption("model / MC − 1", ("sans-serif", 14))
+            .caption(
+                format!("channel {}: relative error of each model", CHANNELS[c]),
+                ("sans-serif", 14),
+            )
             .margin(8)
             .x_label_area_size(30)
             .y_label_area_size(60)
@@ -403,6 +516,7 @@ pub fn profile_comparison(
             .map_err(|e| err(path, e))?;
         ch.configure_mesh()
             .x_desc("r [transport MFP]")
+            .y_desc("model / MC − 1 [-]")
             .draw()
             .map_err(|e| err(path, e))?;
         ch.draw_series(LineSeries::new([(0.0, 0.0), (x_max, 0.0)], BLACK))
@@ -468,14 +582,14 @@ pub fn area_effect(curves: &[Vec<(f64, f64, f64)>; 3], title: &str, path: &Path)
             color.mix(0.5).stroke_width(1),
         ))
         .map_err(|e| err(path, e))?
-        .label(format!("{} point-sampled", ["R", "G", "B"][c]))
+        .label(format!("{} point-sampled", CHANNELS[c]))
         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.mix(0.5)));
         ch.draw_series(LineSeries::new(
             curves[c].iter().map(|p| (p.0, p.2)),
             color.stroke_width(3),
         ))
         .map_err(|e| err(path, e))?
-        .label(format!("{} area pre-integrated", ["R", "G", "B"][c]))
+        .label(format!("{} area pre-integrated", CHANNELS[c]))
         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3)));
     }
     ch.configure_series_labels()
@@ -486,7 +600,8 @@ pub fn area_effect(curves: &[Vec<(f64, f64, f64)>; 3], title: &str, path: &Path)
     root.present().map_err(|e| err(path, e))
 }
 
-/// One labelled picture of a [`image_sheet`]: RGB8, row-major.
+/// One labelled picture of a [`Sheet`]: RGB8, row-major.
+#[derive(Clone)]
 pub struct SheetCell {
     pub label: String,
     pub width: u32,
@@ -494,46 +609,200 @@ pub struct SheetCell {
     pub rgb: Vec<u8>,
 }
 
+/// A colour scale under a [`Sheet`]: the ramp its pictures use, ticks and what it measures.
+pub struct ColourBar {
+    /// The quantity the colour shows, with units.
+    pub caption: String,
+    /// Colour at t ∈ [0, 1] along the bar.
+    pub ramp: fn(f64) -> [u8; 3],
+    /// (t ∈ [0, 1], value at t).
+    pub ticks: Vec<(f64, String)>,
+}
+
+/// Labelled pictures in rows (a row may be shorter than the others) under title lines and above
+/// colour bars.
+pub struct Sheet {
+    pub title: Vec<String>,
+    pub rows: Vec<Vec<SheetCell>>,
+    pub bars: Vec<ColourBar>,
+}
+
+// Sheet layout [px] and font sizes [pt].
+const PAD: u32 = 8;
+const TITLE_LINE: u32 = 24;
+const LABEL_LINE: u32 = 22;
+const BAR_HEIGHT: u32 = 16;
+/// One colour bar: caption line, ramp, tick marks and values.
+const BAR_BLOCK: u32 = LABEL_LINE + BAR_HEIGHT + 22;
+const BAR_WIDTH: u32 = 480;
+const TITLE_FONT: u32 = 18;
+const LABEL_FONT: u32 = 15;
+const TICK_FONT: u32 = 13;
+
+/// Width of a text in the embedded font [px] (an estimate if the font cannot lay it out).
+fn text_width(text: &str, size: u32) -> u32 {
+    font();
+    ("sans-serif", size)
+        .into_font()
+        .box_size(text)
+        .map_or(text.chars().count() as u32 * size * 3 / 5, |(w, _)| w)
+}
+
+/// Where a [`Sheet`]'s parts go [px].
+struct Layout {
+    width: u32,
+    height: u32,
+    /// Column pitch without padding: the widest picture or label.
+    column: u32,
+    /// Top of each row's label line (its pictures start one label line lower).
+    row_top: Vec<u32>,
+    /// Top of the first colour bar's block.
+    bars_top: u32,
+}
+
+impl Sheet {
+    fn layout(&self) -> Layout {
+        let column = self
+            .rows
+            .iter()
+            .flatten()
+            .map(|c| c.width.max(text_width(&c.label, LABEL_FONT) + 4))
+            .max()
+            .unwrap_or(1);
+        let columns = self.rows.iter().map(Vec::len).max().unwrap_or(1) as u32;
+        let mut y = PAD + TITLE_LINE * self.title.len() as u32;
+        let row_top = self
+            .rows
+            .iter()
+            .map(|r| {
+                let top = y;
+                y += LABEL_LINE + r.iter().map(|c| c.height).max().unwrap_or(0) + PAD;
+                top
+            })
+            .collect();
+        let texts = (self.title.iter().map(|t| text_width(t, TITLE_FONT)))
+            .chain(self.bars.iter().map(|b| text_width(&b.caption, LABEL_FONT)));
+        let bars = if self.bars.is_empty() {
+            0
+        } else {
+            BAR_WIDTH + 4 * PAD
+        };
+        let width = (columns * (column + PAD) + PAD)
+            .max(texts.max().unwrap_or(0) + 2 * PAD)
+            .max(bars);
+        Layout {
+            width,
+            height: y + BAR_BLOCK * self.bars.len() as u32,
+            column,
+            row_top,
+            bars_top: y,
+        }
+    }
+
+    /// The sheet as PNG bytes.
+    pub fn png(&self) -> Result<Vec<u8>> {
+        font();
+        let fail = |e: &dyn std::fmt::Display| FitError::Plot {
+            path: format!("sheet {:?}", self.title.first().map_or("", |t| t.as_str())),
+            message: e.to_string(),
+        };
+        let l = self.layout();
+        let mut rgb = vec![0u8; (l.width * l.height * 3) as usize];
+        {
+            let root =
+                BitMapBackend::with_buffer(&mut rgb, (l.width, l.height)).into_drawing_area();
+            root.fill(&WHITE).map_err(|e| fail(&e))?;
+            let text = |s: &str, (x, y): (u32, u32), size: u32| {
+                root.draw(&Text::new(
+                    s.to_string(),
+                    (x as i32, y as i32),
+                    ("sans-serif", size).into_font(),
+                ))
+                .map_err(|e| fail(&e))
+            };
+            for (i, t) in self.title.iter().enumerate() {
+                text(t, (PAD, PAD + i as u32 * TITLE_LINE), TITLE_FONT)?;
+            }
+            for (row, top) in self.rows.iter().zip(&l.row_top) {
+                for (i, c) in row.iter().enumerate() {
+                    let x = PAD + i as u32 * (l.column + PAD);
+                    text(&c.label, (x, *top), LABEL_FONT)?;
+                    let elem = BitMapElement::with_owned_buffer(
+                        (x as i32, (top + LABEL_LINE) as i32),
+                        (c.width, c.height),
+                        c.rgb.clone(),
+                    )
+                    .ok_or_else(|| {
+                        fail(&format!(
+                            "{:?}: buffer does not match {}×{}",
+                            c.label, c.width, c.height
+                        ))
+                    })?;
+                    root.draw(&elem).map_err(|e| fail(&e))?;
+                    // A frame, so white parts of a picture do not melt into the page.
+                    let (x, y) = (x as i32, (top + LABEL_LINE) as i32);
+                    root.draw(&Rectangle::new(
+                        [(x - 1, y - 1), (x + c.width as i32, y + c.height as i32)],
+                        RGBColor(150, 150, 150),
+                    ))
+                    .map_err(|e| fail(&e))?;
+                }
+            }
+            for (k, b) in self.bars.iter().enumerate() {
+                let (x0, top) = (2 * PAD, l.bars_top + k as u32 * BAR_BLOCK);
+                text(&b.caption, (PAD, top), LABEL_FONT)?;
+                let y0 = (top + LABEL_LINE) as i32;
+                for i in 0..BAR_WIDTH {
+                    let [r, g, bl] = (b.ramp)(f64::from(i) / f64::from(BAR_WIDTH - 1));
+                    let x = (x0 + i) as i32;
+                    root.draw(&PathElement::new(
+                        vec![(x, y0), (x, y0 + BAR_HEIGHT as i32 - 1)],
+                        RGBColor(r, g, bl),
+                    ))
+                    .map_err(|e| fail(&e))?;
+                }
+                root.draw(&Rectangle::new(
+                    [
+                        (x0 as i32 - 1, y0 - 1),
+                        ((x0 + BAR_WIDTH) as i32, y0 + BAR_HEIGHT as i32),
+                    ],
+                    BLACK,
+                ))
+                .map_err(|e| fail(&e))?;
+                for (t, label) in &b.ticks {
+                    let x = x0 + (t.clamp(0.0, 1.0) * f64::from(BAR_WIDTH - 1)).round() as u32;
+                    let y = y0 + BAR_HEIGHT as i32;
+                    root.draw(&PathElement::new(
+                        vec![(x as i32, y), (x as i32, y + 4)],
+                        BLACK,
+                    ))
+                    .map_err(|e| fail(&e))?;
+                    let half = text_width(label, TICK_FONT) / 2;
+                    text(label, (x.saturating_sub(half), (y + 5) as u32), TICK_FONT)?;
+                }
+            }
+            root.present().map_err(|e| fail(&e))?;
+        }
+        let mut png_bytes = Vec::new();
+        let mut enc = png::Encoder::new(&mut png_bytes, l.width, l.height);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        enc.write_header()
+            .and_then(|mut wr| wr.write_image_data(&rgb))
+            .map_err(|e| fail(&e))?;
+        Ok(png_bytes)
+    }
+}
+
 /// Pictures in a grid of `columns`, each with its label above it (comparison sheets of
 /// renderings, cut-outs and difference images).
 pub fn image_sheet(cells: &[SheetCell], columns: usize, path: &Path) -> Result<()> {
-    font();
-    let columns = columns.max(1);
-    let (cw, ch) = cells
-        .iter()
-        .fold((1, 1), |(w, h), c| (w.max(c.width), h.max(c.height)));
-    let rows = cells.len().div_ceil(columns) as u32;
-    let (pad, label) = (8u32, 22u32);
-    let size = (
-        columns as u32 * (cw + pad) + pad,
-        rows * (ch + label + pad) + pad,
-    );
-    let root = BitMapBackend::new(path, size).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(path, e))?;
-    for (i, c) in cells.iter().enumerate() {
-        let (col, row) = ((i % columns) as u32, (i / columns) as u32);
-        let x = (pad + col * (cw + pad)) as i32;
-        let y = (pad + row * (ch + label + pad)) as i32;
-        root.draw(&Text::new(
-            c.label.clone(),
-            (x, y),
-            ("sans-serif", 16).into_font(),
-        ))
-        .map_err(|e| err(path, e))?;
-        let elem = BitMapElement::with_owned_buffer(
-            (x, y + label as i32),
-            (c.width, c.height),
-            c.rgb.clone(),
-        )
-        .ok_or_else(|| {
-            err(
-                path,
-                format!("cell {i}: buffer does not match {}×{}", c.width, c.height),
-            )
-        })?;
-        root.draw(&elem).map_err(|e| err(path, e))?;
-    }
-    root.present().map_err(|e| err(path, e))
+    let sheet = Sheet {
+        title: Vec::new(),
+        rows: cells.chunks(columns.max(1)).map(<[_]>::to_vec).collect(),
+        bars: Vec::new(),
+    };
+    std::fs::write(path, sheet.png()?).map_err(|e| err(path, e))
 }
 
 /// Total diffuse reflectance of the three channels at one incidence angle (plain data for
@@ -778,6 +1047,106 @@ pub fn incidence(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::evaluate::{ImageSize, RANK1, evaluate};
+
+    /// Decoded RGB8 pixels of a PNG and its size.
+    fn decode(png_bytes: &[u8]) -> (u32, u32, Vec<u8>) {
+        let mut reader = png::Decoder::new(std::io::Cursor::new(png_bytes))
+            .read_info()
+            .unwrap();
+        let mut px = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut px).unwrap();
+        assert_eq!(info.color_type, png::ColorType::Rgb);
+        (info.width, info.height, px)
+    }
+
+    #[test]
+    fn convolution_sheets_label_every_panel_and_scale_the_differences() {
+        let p = Profile::from_fn(0.01, 30, |c, r| {
+            (-r / (0.03 * (c + 1) as f64)).exp() / r.max(0.005)
+        });
+        let size = ImageSize {
+            size: 48,
+            max_half: 12,
+        };
+        let ev = evaluate(&p, "no such material", size).unwrap();
+        let sheet = convolution_sheet(&ev, &RANK1, Signal::Edge, 10.0, "test").unwrap();
+
+        // Every panel says what it shows: input, ground truth, each model twice (its
+        // convolution and its difference).
+        let labels: Vec<&str> = sheet
+            .rows
+            .iter()
+            .flatten()
+            .map(|c| c.label.as_str())
+            .collect();
+        assert_eq!(labels.len(), 2 + 2 * RANK1.len(), "{labels:?}");
+        assert!(labels[0].contains("input") && labels[0].contains("edge"));
+        assert!(labels[1].contains("ground truth"));
+        for m in RANK1 {
+            let named: Vec<_> = labels.iter().filter(|l| l.contains(&m.title())).collect();
+            assert_eq!(named.len(), 2, "{m}: {labels:?}");
+            assert!(named[1].contains("× 10"), "{named:?}");
+        }
+        // The difference scale says what it measures and ends where ×10 saturates.
+        let diff = &sheet.bars[1];
+        assert!(
+            diff.caption.contains("relative to the input's maximum")
+                && diff.caption.contains("× 10")
+        );
+        assert_eq!(diff.ticks.last().unwrap().1, "≥ 0.1");
+
+        // And it is drawn: text in the title lines, in every label line and in every colour bar's
+        // caption; each bar runs from black to white.
+        let (w, h, px) = decode(&sheet.png().unwrap());
+        let l = sheet.layout();
+        assert_eq!((w, h), (l.width, l.height));
+        let at = |x: u32, y: u32| {
+            let i = 3 * (y * w + x) as usize;
+            [px[i], px[i + 1], px[i + 2]]
+        };
+        let dark = |x0: u32, y0: u32, x1: u32, y1: u32| {
+            (y0..y1)
+                .flat_map(|y| (x0..x1).map(move |x| (x, y)))
+                .filter(|&(x, y)| at(x, y).iter().all(|&v| v < 100))
+                .count()
+        };
+        assert_eq!(sheet.title.len(), 2);
+        for i in 0..2 {
+            let y = PAD + i * TITLE_LINE;
+            assert!(
+                dark(0, y, w, y + TITLE_LINE) > 100,
+                "title line {i} is blank"
+            );
+        }
+        for (row, &top) in sheet.rows.iter().zip(&l.row_top) {
+            for (i, c) in row.iter().enumerate() {
+                let x = PAD + i as u32 * (l.column + PAD);
+                assert!(
+                    dark(x, top, x + l.column, top + LABEL_LINE) > 20,
+                    "no label drawn above {:?}",
+                    c.label
+                );
+            }
+        }
+        for k in 0..sheet.bars.len() as u32 {
+            let top = l.bars_top + k * BAR_BLOCK;
+            assert!(
+                dark(0, top, w, top + LABEL_LINE) > 100,
+                "bar {k} has no caption"
+            );
+            let y = top + LABEL_LINE + BAR_HEIGHT / 2;
+            let ramp: Vec<u8> = (0..BAR_WIDTH).map(|i| at(2 * PAD + i, y)[0]).collect();
+            assert!(
+                ramp[0] < 10 && ramp[ramp.len() - 1] > 245,
+                "bar {k}: {ramp:?}"
+            );
+            assert!(
+                ramp.windows(2).all(|p| p[0] <= p[1]),
+                "bar {k} is not monotone"
+            );
+        }
+    }
 
     #[test]
     fn incidence_plot_is_a_png() {
