@@ -106,12 +106,9 @@ fn table_lookup_interpolates_in_log_thickness_and_clamps() {
     let t = table();
     let d = Translucency::thicknesses(0.01, 2.0);
     assert!((d[TRANSLUCENCY_STEPS - 1] - 2.0).abs() < 1e-9);
-    for k in 0..TRANSLUCENCY_STEPS {
-        let v = t.at(d[k] as f32);
-        assert!(
-            (v[1] - t.table[k][1]).abs() < 1e-4 * t.table[k][1].max(1e-3),
-            "{k}"
-        );
+    for (k, (&dk, row)) in d.iter().zip(&t.table).enumerate() {
+        let v = t.at(dk as f32);
+        assert!((v[1] - row[1]).abs() < 1e-4 * row[1].max(1e-3), "{k}");
     }
     // Half-way in ln d between entries 3 and 4: their mean.
     let mid = (d[3] * d[4]).sqrt() as f32;
