@@ -30,7 +30,9 @@ impl Profile {
     }
 
     /// Reads the CSV without checking that every channel can be fitted (for plots of any
-    /// profile, e.g. a channel that does not scatter at all).
+    /// profile, e.g. a channel that does not scatter at all). Each row must still be usable:
+    /// radii positive, finite and increasing, Rd finite, standard errors finite and ≥ 0; the
+    /// error names the line, column and value.
     pub fn parse_csv(text: &str, source_name: &str) -> Result<Self> {
         let perr = |line: usize, m: String| FitError::Parse {
             source_name: source_name.into(),
@@ -45,7 +47,7 @@ impl Profile {
                 format!("expected header r_cm,R,G,B,R_se,G_se,B_se, found {header:?}"),
             ));
         }
-        let mut r = Vec::new();
+        let mut r: Vec<f64> = Vec::new();
         let mut rd: [Vec<f64>; 3] = Default::default();
         let mut se: [Vec<f64>; 3] = Default::default();
         for (i, line) in lines {
@@ -62,6 +64,39 @@ impl Profile {
                     i + 1,
                     format!("expected 7 columns, found {}", v.len()),
                 ));
+            }
+            // `parse` takes NaN and inf: refuse them here, with the column, so that no
+            // plot or lookup meets a non-finite or unordered radius.
+            let bad = |column: &str, x: f64, reason: &str| {
+                perr(i + 1, format!("{column} = {x:?}: {reason}"))
+            };
+            if !(v[0].is_finite() && v[0] > 0.0) {
+                return Err(bad("r_cm", v[0], "must be positive and finite"));
+            }
+            match r.last() {
+                Some(&prev) if v[0] <= prev => {
+                    return Err(bad(
+                        "r_cm",
+                        v[0],
+                        &format!("radii must increase (previous row {prev:?})"),
+                    ));
+                }
+                None if !(v[0] / (0.5 + 1.0 / 6.0)).is_finite() => {
+                    return Err(bad("r_cm", v[0], "bin width r/(1/2 + 1/6) overflows"));
+                }
+                _ => {}
+            }
+            for (c, ch) in ["R", "G", "B"].iter().enumerate() {
+                if !v[1 + c].is_finite() {
+                    return Err(bad(ch, v[1 + c], "must be finite"));
+                }
+                if !(v[4 + c].is_finite() && v[4 + c] >= 0.0) {
+                    return Err(bad(
+                        &format!("{ch}_se"),
+                        v[4 + c],
+                        "must be non-negative and finite",
+                    ));
+                }
             }
             r.push(v[0]);
             for c in 0..3 {

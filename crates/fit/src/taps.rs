@@ -307,7 +307,8 @@ impl ShaderKernel {
     }
 
     /// Parses and validates a kernel file: offsets in cm (a file in mm is converted), at least one
-    /// pass, `taps` taps in every pass, finite numbers, signs of ±1.
+    /// pass, `taps` taps (1..=1025) in every pass, jitter in [0, 1], numbers finite as f32, signs
+    /// of ±1.
     pub fn from_toml(text: &str, source_name: &str) -> crate::Result<Self> {
         let mut k: ShaderKernel = toml::from_str(text).map_err(|e| crate::FitError::Parse {
             source_name: source_name.into(),
@@ -335,11 +336,20 @@ impl ShaderKernel {
                 "a kernel needs at least one [[pass]]",
             ));
         }
-        if !(k.range.is_finite() && k.range >= 0.0) {
+        // The header's taps and jitter obey the limits of the tap sampler that writes them.
+        TapSpec {
+            taps: k.taps,
+            coverage: 1.0,
+            jitter: k.jitter,
+        }
+        .validate()?;
+        // Shaders read every number as f32: a finite f64 beyond its range would become inf there.
+        let f32_finite = |v: f64| v.is_finite() && v.abs() <= f32::MAX as f64;
+        if !(f32_finite(k.range) && k.range >= 0.0) {
             return Err(crate::FitError::invalid(
                 "range",
-                k.range,
-                "must be non-negative and finite",
+                format!("{:?}", k.range),
+                "must be non-negative and finite as f32",
             ));
         }
         for (i, p) in k.pass.iter().enumerate() {
@@ -358,11 +368,11 @@ impl ShaderKernel {
                 ));
             }
             for (j, t) in p.tap.iter().enumerate() {
-                if !(t.offset.is_finite() && t.weight.iter().all(|w| w.is_finite())) {
+                if !(f32_finite(t.offset) && t.weight.iter().all(|&w| f32_finite(w))) {
                     return Err(crate::FitError::invalid(
                         format!("pass[{i}].tap[{j}]"),
                         format!("{:?}", t),
-                        "offset and weights must be finite",
+                        "offset and weights must be finite as f32",
                     ));
                 }
             }

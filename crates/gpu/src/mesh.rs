@@ -133,19 +133,37 @@ impl Mesh {
     }
 
     /// A Wavefront OBJ file, scaled to `height` [cm] and standing on y = 0 centred at the origin;
-    /// missing normals are computed from the faces.
+    /// missing normals are computed from the faces. Only triangles and polygons are read (points
+    /// and lines have no surface) and `mtllib` is not followed (materials are not used, and a
+    /// library path such as `/dev/zero` would never end). Refused with the reason: anything but a
+    /// regular file, no faces, a non-finite position or normal, a flat or overflowing extent.
     pub fn from_obj(path: &Path, height: f32, albedo: [f32; 3], strength: f32) -> Result<Mesh> {
+        if !(height.is_finite() && height > 0.0) {
+            return Err(GpuError::invalid(
+                "mesh height",
+                height,
+                "must be positive and finite",
+            ));
+        }
         let err = |message: String| GpuError::Mesh {
             path: path.display().to_string(),
             message,
         };
-        let (models, _) = tobj::load_obj(
-            path,
+        // Checked before opening: opening a FIFO would block until someone writes to it.
+        let meta = std::fs::metadata(path).map_err(|e| err(e.to_string()))?;
+        if !meta.is_file() {
+            return Err(err("not a regular file".into()));
+        }
+        let file = std::fs::File::open(path).map_err(|e| err(e.to_string()))?;
+        let (models, _) = tobj::load_obj_buf(
+            &mut std::io::BufReader::new(file),
             &tobj::LoadOptions {
                 triangulate: true,
                 single_index: true,
-                ..Default::default()
+                ignore_points: true,
+                ignore_lines: true,
             },
+            |_| Err(tobj::LoadError::OpenFileFailed),
         )
         .map_err(|e| err(e.to_string()))?;
         let mut m = Mesh::default();
@@ -168,6 +186,14 @@ impl Mesh {
                 } else {
                     [0.0; 3]
                 };
+                for (what, v) in [("position", p), ("normal", n)] {
+                    if v.iter().any(|c| !c.is_finite()) {
+                        return Err(err(format!(
+                            "non-finite vertex {what} {v:?} in object {:?}",
+                            model.name
+                        )));
+                    }
+                }
                 m.vertices.push(Vertex {
                     pos: p,
                     normal: n,
@@ -180,26 +206,35 @@ impl Mesh {
         if m.indices.is_empty() {
             return Err(err("no triangles".into()));
         }
-        if m.vertices
-            .iter()
-            .any(|v| v.pos.iter().any(|c| !c.is_finite()))
-        {
-            return Err(err("non-finite vertex position".into()));
-        }
-        if m.vertices.iter().all(|v| v.normal == [0.0; 3]) {
-            m.compute_normals();
-        }
+        m.fill_missing_normals();
         let (lo, hi) = m.bounds();
-        let scale = height / (hi.y - lo.y).max(1e-12);
+        let extent = hi - lo;
+        if !(extent.is_finite() && extent.y > 0.0) {
+            return Err(err(format!(
+                "extent {:?} cm: its height (y) must be positive and every side finite",
+                extent.to_array()
+            )));
+        }
+        let scale = height / extent.y;
         let shift = Vec3::new(-0.5 * (lo.x + hi.x), -lo.y, -0.5 * (lo.z + hi.z));
         for v in &mut m.vertices {
             v.pos = ((Vec3::from(v.pos) + shift) * scale).into();
         }
+        if let Some(v) = m.vertices.iter().find(|v| !Vec3::from(v.pos).is_finite()) {
+            return Err(err(format!(
+                "scaling to {height} cm tall overflows f32 at {:?}",
+                v.pos
+            )));
+        }
         Ok(m)
     }
 
-    /// Area-weighted vertex normals.
-    fn compute_normals(&mut self) {
+    /// Area-weighted vertex normals for the vertices without one (a file may give normals for
+    /// some faces only); a zero normal would shade as NaN.
+    fn fill_missing_normals(&mut self) {
+        if self.vertices.iter().all(|v| v.normal != [0.0; 3]) {
+            return;
+        }
         let mut acc = vec![Vec3::ZERO; self.vertices.len()];
         for t in self.indices.chunks(3) {
             let p = |i: u32| Vec3::from(self.vertices[i as usize].pos);
@@ -209,7 +244,9 @@ impl Mesh {
             }
         }
         for (v, n) in self.vertices.iter_mut().zip(acc) {
-            v.normal = n.normalize_or(Vec3::Y).into();
+            if v.normal == [0.0; 3] {
+                v.normal = n.normalize_or(Vec3::Y).into();
+            }
         }
     }
 

@@ -63,14 +63,41 @@ impl SimConfig {
             ("grid.r_max_mfp", c.grid.r_max_mfp),
             ("grid.z_max_mfp", c.grid.z_max_mfp),
             ("thickness_cm", c.thickness_cm),
+            ("n_above", c.n_above),
+            ("n_below", c.n_below),
         ] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(McError::invalid(field, v, "must be positive and finite"));
+                return Err(McError::invalid(
+                    field,
+                    McError::number(v),
+                    "must be positive and finite",
+                ));
             }
         }
         if c.photons == 0 {
             return Err(McError::invalid("photons", 0, "must be at least 1"));
         }
+        // The bin counts are checked against the grid's own limits now, not when the first
+        // material's grid is derived; spacings and nr are placeholders here.
+        let probe = Grid {
+            dr: 1.0,
+            dz: 1.0,
+            nr: 1,
+            nz: c.grid.nz,
+            na: c.grid.na,
+        };
+        probe.validate().map_err(|e| match e {
+            McError::InvalidValue {
+                field,
+                value,
+                reason,
+            } => McError::InvalidValue {
+                field: format!("grid.{field}"),
+                value,
+                reason,
+            },
+            other => other,
+        })?;
         Ok(c)
     }
 

@@ -44,6 +44,16 @@ impl McError {
         }
     }
 
+    /// A number as a user would write it: plain decimals, but exponent notation where the
+    /// decimal expansion would run to hundreds of digits (1e308, 1e-320).
+    pub(crate) fn number(v: f64) -> String {
+        if v != 0.0 && v.is_finite() && !(1e-4..1e16).contains(&v.abs()) {
+            format!("{v:e}")
+        } else {
+            v.to_string()
+        }
+    }
+
     /// A TOML error with the line it points at.
     pub(crate) fn toml(text: &str, source_name: &str, e: toml::de::Error) -> Self {
         let line = e

@@ -68,6 +68,13 @@ impl Material {
     pub fn from_toml(text: &str, source_name: &str) -> Result<Self> {
         let f: MaterialFile =
             toml::from_str(text).map_err(|e| McError::toml(text, source_name, e))?;
+        if f.name.trim().is_empty() {
+            return Err(McError::invalid(
+                "name",
+                format!("{:?}", f.name),
+                "must not be empty",
+            ));
+        }
         let to_cm = match f.unit.as_str() {
             "cm" => 1.0,
             "mm" => 0.1,
@@ -118,7 +125,7 @@ impl Material {
                 if !(v.is_finite() && v >= 0.0) {
                     return Err(McError::invalid(
                         format!("{field}[{ch}]"),
-                        v,
+                        McError::number(v),
                         "must be non-negative and finite",
                     ));
                 }
@@ -126,7 +133,7 @@ impl Material {
             if !(self.g[c].is_finite() && (-1.0..=1.0).contains(&self.g[c])) {
                 return Err(McError::invalid(
                     format!("g[{ch}]"),
-                    self.g[c],
+                    McError::number(self.g[c]),
                     "must lie in [-1, 1]",
                 ));
             }
@@ -134,7 +141,7 @@ impl Material {
         if !(self.eta.is_finite() && self.eta > 0.0) {
             return Err(McError::invalid(
                 "eta",
-                self.eta,
+                McError::number(self.eta),
                 "refractive index must be positive and finite",
             ));
         }
@@ -143,7 +150,7 @@ impl Material {
         {
             return Err(McError::invalid(
                 "thickness",
-                t,
+                McError::number(t),
                 "must be positive and finite",
             ));
         }

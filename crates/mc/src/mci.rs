@@ -21,6 +21,12 @@ use crate::layer::{Layer, Sample};
 use crate::simulate::RunSpec;
 use crate::tally::TallySet;
 
+/// Largest count (bins, layers) read from a file: every integer up to 2^53 is exact in f64.
+const MAX_COUNT: f64 = 9_007_199_254_740_992.0;
+
+/// 2^64: photon counts must lie below it to fit a `u64`.
+const U64_END: f64 = 18_446_744_073_709_551_616.0;
+
 /// One run of an `.mci` file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MciRun {
@@ -47,10 +53,12 @@ pub fn parse(text: &str, source_name: &str, seed: u64) -> Result<Vec<MciRun>> {
     if n_runs == 0 {
         return Err(McError::invalid("number of runs", 0, "must be at least 1"));
     }
-    let mut runs = Vec::with_capacity(n_runs);
+    // Counts in the file size nothing up front: a run or layer is stored only once its lines
+    // have been read, so a count of 10¹⁵ ends at the end of the file, not in the allocator.
+    let mut runs = Vec::new();
     for run in 1..=n_runs {
         let ctx = |f: &str| format!("run {run} {f}");
-        let name_line = lines.next_line(&ctx("output file name"))?;
+        let name_line = lines.next_line(&format!("run {run} of {n_runs} output file name"))?;
         let out_name = name_line.fields[0].to_string();
         if let Some(fmt) = name_line.fields.get(1)
             && !fmt.eq_ignore_ascii_case("a")
@@ -61,23 +69,23 @@ pub fn parse(text: &str, source_name: &str, seed: u64) -> Result<Vec<MciRun>> {
             ));
         }
         let photons_f: f64 = lines.value(&ctx("number of photons"))?;
-        if !(photons_f.is_finite() && photons_f >= 1.0 && photons_f.fract() == 0.0) {
+        if !((1.0..U64_END).contains(&photons_f) && photons_f.fract() == 0.0) {
             return Err(McError::invalid(
                 ctx("number of photons"),
-                photons_f,
-                "must be a positive integer",
+                McError::number(photons_f),
+                "must be a positive integer below 2^64",
             ));
         }
         let [dz, dr]: [f64; 2] = lines.values(&ctx("dz dr"))?;
         let [nz, nr, na]: [f64; 3] = lines.values(&ctx("nz nr na"))?;
         let count = |field: &str, v: f64| -> Result<usize> {
-            if v.is_finite() && v >= 1.0 && v.fract() == 0.0 {
+            if (1.0..=MAX_COUNT).contains(&v) && v.fract() == 0.0 {
                 Ok(v as usize)
             } else {
                 Err(McError::invalid(
                     ctx(field),
-                    v,
-                    "must be a positive integer",
+                    McError::number(v),
+                    "must be a positive integer up to 2^53",
                 ))
             }
         };
@@ -91,10 +99,10 @@ pub fn parse(text: &str, source_name: &str, seed: u64) -> Result<Vec<MciRun>> {
         let n_layers: f64 = lines.value(&ctx("number of layers"))?;
         let n_layers = count("number of layers", n_layers)?;
         let n_above: f64 = lines.value(&ctx("n above"))?;
-        let mut layers = Vec::with_capacity(n_layers);
+        let mut layers = Vec::new();
         for i in 1..=n_layers {
             let [n, mu_a, mu_s, g, thickness]: [f64; 5] =
-                lines.values(&ctx(&format!("layer {i}")))?;
+                lines.values(&ctx(&format!("layer {i} of {n_layers}")))?;
             layers.push(Layer {
                 n,
                 mu_a,
