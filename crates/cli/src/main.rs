@@ -96,7 +96,7 @@ pub fn parse_count(s: &str) -> Result<u64, String> {
         .trim()
         .parse()
         .map_err(|_| format!("{s:?} is not a number"))?;
-    if !(v.is_finite() && v >= 1.0 && v.fract() == 0.0 && v <= u64::MAX as f64) {
+    if !(v.is_finite() && v >= 1.0 && v.fract() == 0.0 && v < u64::MAX as f64) {
         return Err(format!("{s:?} must be a positive whole number"));
     }
     Ok(v as u64)
