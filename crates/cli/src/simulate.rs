@@ -24,7 +24,7 @@ pub struct SimulateArgs {
     #[arg(value_name = "MATERIAL")]
     materials: Vec<String>,
 
-    /// Simulate every built-in material (channels that share g and η share one random walk)
+    /// Simulate every built-in material (each material's results are the same as when simulated alone)
     #[arg(long, conflicts_with = "mci")]
     all: bool,
 
@@ -36,7 +36,7 @@ pub struct SimulateArgs {
     #[arg(long, value_parser = parse_count)]
     photons: Option<u64>,
 
-    /// Seed of all random streams [default: from the config]; same seed ⇒ same results for any --threads
+    /// Seed of all random streams [default: from the config]; same seed ⇒ same results for any --threads, --shard, or other materials on the command line
     #[arg(long)]
     seed: Option<u64>,
 
@@ -227,12 +227,15 @@ pub fn merge(args: MergeArgs) -> Result<()> {
         .shards
         .iter()
         .map(|p| {
-            let text = std::fs::read_to_string(p)
-                .with_context(|| format!("cannot read shard {}", p.display()))?;
-            Ok(Shard::from_json(&text, &p.display().to_string())?)
+            let name = p.display().to_string();
+            let text =
+                std::fs::read_to_string(p).with_context(|| format!("cannot read shard {name}"))?;
+            let shard = Shard::from_json(&text, &name)?;
+            Ok((name, shard))
         })
         .collect::<Result<Vec<_>>>()?;
     let (spec, labels, accs) = shard::merge(&shards)?;
+    check_labels(&labels)?;
     let outputs = mc::batch_outputs(&spec, &accs);
     finish(
         &spec,
@@ -245,6 +248,33 @@ pub fn merge(args: MergeArgs) -> Result<()> {
         args.json,
         !spec.tallies.absorption_rz,
     )
+}
+
+/// Output files are named after the shards' labels, so they must be what `simulate` writes: one
+/// `SLUG:R`, `SLUG:G`, `SLUG:B` triple per material, the slug a plain file name.
+fn check_labels(labels: &[String]) -> Result<()> {
+    if !labels.len().is_multiple_of(3) {
+        bail!(
+            "invalid shard labels: {} channels is not three per material",
+            labels.len()
+        );
+    }
+    for m in labels.chunks(3) {
+        let slug = m[0].split(':').next().unwrap_or_default();
+        let plain = !slug.is_empty()
+            && slug != "."
+            && slug != ".."
+            && !slug.contains(['/', '\\'])
+            && !slug.chars().any(char::is_control);
+        for (label, ch) in m.iter().zip(CHANNELS) {
+            if !plain || *label != format!("{slug}:{ch}") {
+                bail!(
+                    "invalid shard label {label:?}: expected MATERIAL:{ch} with MATERIAL a plain file name"
+                );
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The batch of all RGB channels of `named` with the config's grid rule.

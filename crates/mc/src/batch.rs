@@ -1,22 +1,24 @@
-//! Batch tracing by similarity: one random walk scores every channel that shares the walk's
-//! shape.
+//! Batch tracing by similarity: channels whose random walks are the same, measured in mean free
+//! paths, share one walk.
 //!
-//! In a single homogeneous layer, measured in mean free paths 1/μt, the walk depends only on g,
-//! the refractive indices and the optical thickness τ = μt·d; μt only rescales lengths
-//! (Rd(r) = μt²·R*(μt·r)) and the albedo a enters only through the weight. With implicit capture a
-//! channel's weight after n interactions is F·aⁿ, F the product of roulette factors. So one walk in
-//! walk units (μt = 1) with the largest albedo a_lead scores every channel k of the group:
-//! - it carries w_k, multiplied by a_k at each interaction (the deposit w_k(1−a_k) is channel k's
-//!   absorption) and by the roulette factor, which is decided on the lead weight, the largest of
-//!   all (unbiased for every channel: the same random factor of expectation 1 multiplies all);
-//! - at exit, channel k tallies w_k at radius r/μt_k on its own grid; exit angles are shared.
+//! In a single homogeneous layer, measured in mean free paths 1/μt, the walk depends only on the
+//! albedo a = μs/μt, g, the refractive indices and the optical thickness τ = μt·d; μt only
+//! rescales lengths (Rd(r) = μt²·R*(μt·r)). A channel's [`walk`] is its layer in those units
+//! (μt = 1, μa = 1 − a); channels with equal walks are traced once, and at every deposit and exit
+//! each channel k tallies the walk's weight at radius r/μt_k and depth z/μt_k on its own grid.
+//! Slabs of at least [`QUASI_INFINITE_MFP`] mean free paths are walked as that thick (the
+//! thesis's 10⁸ cm half-space: no photon of any practical run gets that deep). Channels that do not
+//! interact (μt = 0) are their own walk, in cm, and use MCML's glass-layer walk.
 //!
-//! Channels group when g, η and the ambient indices are equal and the optical thicknesses are
-//! equal or all at least [`QUASI_INFINITE_MFP`] mean free paths (the thesis's 10⁸ cm half-space):
-//! no photon of any practical run gets that deep. Channels that do not interact (μt = 0) form
-//! groups of their own and use MCML's glass-layer walk.
+//! Determinism: a walk's random streams are seeded by (seed, ambient indices, walk) — see
+//! [`BatchSpec::groups`] — so every channel's result depends only on the seed, the ambient indices,
+//! the tallies asked for and the channel itself: never on which other channels share the batch,
+//! their order, or how the run is threaded or sharded. This is why channels of different albedo
+//! do not share a walk: a shared walk must carry the largest albedo, and its Russian roulette,
+//! decided on that weight with draws from the walk's stream, would make every channel's random
+//! numbers depend on which channels it was batched with.
 
-use crate::rng::Rng;
+use crate::rng::{Rng, stream_seed};
 
 use crate::error::{McError, Result};
 use crate::grid::{Grid, GridIndex};
@@ -27,8 +29,16 @@ use crate::photon::{Medium, Photon, Scorer, trace};
 use crate::simulate::Job;
 use crate::tally::{Layout, Tally, TallySet};
 
-/// Optical thickness [mean free paths 1/μt] from which slabs count as half-spaces for grouping.
+/// Optical thickness [mean free paths 1/μt] from which slabs count as half-spaces: they are
+/// walked as exactly this thick.
 pub const QUASI_INFINITE_MFP: f64 = 1.0e6;
+
+/// Most tally entries a batch may need in all (each holds two exact i128 sums: 8 GiB), so that
+/// an oversized specification is refused before anything is allocated.
+const MAX_TALLY_ENTRIES: u128 = 1 << 28;
+
+/// Most cells of a surface grid Rd(x, y), (2n + 1)², as for the grid's 2D tallies.
+const MAX_SURFACE_CELLS: usize = 50_000_000;
 
 /// One channel to simulate: a single homogeneous layer (cm, cm⁻¹) and its own tally grid.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -90,35 +100,116 @@ impl BatchSpec {
                     other => other,
                 })?;
         }
+        let n = self.tallies.surface_xy;
+        if n > 0 && (2 * n.min(MAX_SURFACE_CELLS) + 1).pow(2) > MAX_SURFACE_CELLS {
+            return Err(McError::invalid(
+                "surface_xy",
+                n,
+                "the surface grid Rd(x, y) would exceed 5e7 cells",
+            ));
+        }
+        // Sizes are bounded by now (grids ≤ 10⁶ bins per axis), so these products do not overflow.
+        let entries: u128 = self
+            .groups()
+            .iter()
+            .map(|g| {
+                let l = self.layout(g);
+                l.per_channel() as u128 * l.channels as u128
+            })
+            .sum();
+        if entries > MAX_TALLY_ENTRIES {
+            return Err(McError::invalid(
+                "tally entries",
+                entries,
+                "at most 2^28 (8 GiB of exact sums) per batch: use fewer channels or coarser grids",
+            ));
+        }
         Ok(())
     }
 
-    /// Channel indices grouped into walks, in order of first appearance.
+    /// Channel indices grouped into walks, in order of first appearance: channels share a walk
+    /// when their layers are the same in mean free paths (equal albedo, g and η, and equal optical
+    /// thickness or both at least [`QUASI_INFINITE_MFP`]). Each walk is traced with random streams
+    /// seeded by (seed, ambient indices, walk) alone, so a channel's result does not depend on the
+    /// other channels of the batch.
     pub fn groups(&self) -> Vec<Vec<usize>> {
-        let mut groups: Vec<Vec<usize>> = Vec::new();
+        let mut groups: Vec<(Layer, Vec<usize>)> = Vec::new();
         for (i, c) in self.channels.iter().enumerate() {
-            let found = groups.iter_mut().find(|g| {
-                let h = &self.channels[g[0]].layer;
-                let l = &c.layer;
-                let tau = |l: &Layer| l.mu_t() * l.thickness;
-                let same_tau = tau(l) == tau(h)
-                    || (tau(l) >= QUASI_INFINITE_MFP && tau(h) >= QUASI_INFINITE_MFP);
-                l.mu_t() > 0.0 && h.mu_t() > 0.0 && l.g == h.g && l.n == h.n && same_tau
-            });
-            match found {
-                Some(g) => g.push(i),
-                None => groups.push(vec![i]),
+            let w = walk(&c.layer);
+            match groups.iter_mut().find(|(v, _)| *v == w) {
+                Some((_, g)) => g.push(i),
+                None => groups.push((w, vec![i])),
             }
         }
-        groups
+        groups.into_iter().map(|(_, g)| g).collect()
+    }
+
+    /// The tally layout of a group: strides are the largest sizes of its channels (each channel
+    /// bins and normalizes on its own grid).
+    pub(crate) fn layout(&self, group: &[usize]) -> Layout {
+        let max = |f: fn(&Grid) -> usize| {
+            group
+                .iter()
+                .map(|&i| f(&self.channels[i].grid))
+                .max()
+                .unwrap_or(1)
+        };
+        Layout {
+            nr: max(|g| g.nr),
+            nz: max(|g| g.nz),
+            na: max(|g| g.na),
+            layers: 1,
+            rz: self.tallies.absorption_rz,
+            channels: group.len(),
+            xy: self.tallies.surface_xy,
+        }
+    }
+
+    /// The seed of the random streams of `walk`: the run's seed mixed with everything that fixes
+    /// the walk, and nothing else.
+    fn walk_seed(&self, walk: &Layer) -> u64 {
+        let w = walk;
+        // −0 and +0 are one value.
+        stream_seed(
+            self.seed,
+            [
+                self.n_above,
+                self.n_below,
+                w.n,
+                w.mu_a,
+                w.mu_s,
+                w.g,
+                w.thickness,
+            ]
+            .map(|x| (x + 0.0).to_bits()),
+        )
+    }
+}
+
+/// The walk that traces a channel: its layer in walk units (lengths in mean free paths, μt = 1,
+/// μa = 1 − a) and at most [`QUASI_INFINITE_MFP`] thick. A layer that does not interact (glass)
+/// is its own walk, in cm.
+pub(crate) fn walk(layer: &Layer) -> Layer {
+    if layer.is_glass() {
+        return *layer;
+    }
+    let mu_t = layer.mu_t();
+    let absorb = layer.mu_a / mu_t;
+    Layer {
+        n: layer.n,
+        mu_a: absorb,
+        mu_s: 1.0 - absorb,
+        g: layer.g,
+        thickness: (mu_t * layer.thickness).min(QUASI_INFINITE_MFP),
     }
 }
 
 /// The walk and scorer setup of one group.
 pub(crate) struct GroupJob {
     medium: Medium,
-    /// Per channel: albedo, length scale 1/μt [cm per walk unit] (1 for a glass channel), grid.
-    albedo: Vec<f64>,
+    /// Seed of the walk's random streams.
+    seed: u64,
+    /// Per channel: length scale 1/μt [cm per walk unit] (1 for a glass channel), grid.
     scale: Vec<f64>,
     grids: Vec<Grid>,
     index: Vec<GridIndex>,
@@ -128,52 +219,38 @@ pub(crate) struct GroupJob {
 impl GroupJob {
     pub fn new(spec: &BatchSpec, group: &[usize], incidence: Incidence) -> Self {
         let chans: Vec<&ChannelSpec> = group.iter().map(|&i| &spec.channels[i]).collect();
-        let first = chans[0].layer;
-        let albedo: Vec<f64> = chans.iter().map(|c| c.layer.albedo()).collect();
-        let (layer, scale) = if first.mu_t() == 0.0 {
-            (first, vec![1.0])
-        } else {
-            let a_lead = albedo.iter().cloned().fold(0.0, f64::max);
-            let tau = chans
-                .iter()
-                .map(|c| c.layer.mu_t() * c.layer.thickness)
-                .fold(f64::INFINITY, f64::min);
-            let walk = Layer {
-                n: first.n,
-                mu_a: 1.0 - a_lead,
-                mu_s: a_lead,
-                g: first.g,
-                thickness: tau,
-            };
-            (walk, chans.iter().map(|c| 1.0 / c.layer.mu_t()).collect())
-        };
+        let walk = walk(&chans[0].layer);
         let medium = Medium::at(
             &Sample {
                 n_above: spec.n_above,
                 n_below: spec.n_below,
-                layers: vec![layer],
+                layers: vec![walk],
             },
             incidence,
         );
-        // Strides are the largest sizes of the group; each channel bins and normalizes on its own grid.
-        let max = |f: fn(&Grid) -> usize| chans.iter().map(|c| f(&c.grid)).max().unwrap_or(1);
-        let layout = Layout {
-            nr: max(|g| g.nr),
-            nz: max(|g| g.nz),
-            na: max(|g| g.na),
-            layers: 1,
-            rz: spec.tallies.absorption_rz,
-            channels: chans.len(),
-            xy: spec.tallies.surface_xy,
-        };
+        let scale = chans
+            .iter()
+            .map(|c| {
+                if c.layer.is_glass() {
+                    1.0
+                } else {
+                    1.0 / c.layer.mu_t()
+                }
+            })
+            .collect();
         GroupJob {
             medium,
-            albedo,
+            seed: spec.walk_seed(&walk),
             scale,
             grids: chans.iter().map(|c| c.grid).collect(),
             index: chans.iter().map(|c| GridIndex::new(&c.grid)).collect(),
-            layout,
+            layout: spec.layout(group),
         }
+    }
+
+    /// Seed of this group's random streams (chunk streams are derived from it and the chunk index).
+    pub fn seed(&self) -> u64 {
+        self.seed
     }
 
     pub fn output(&self, acc: &crate::tally::Accumulator, k: usize) -> Output {
@@ -189,43 +266,24 @@ impl Job for GroupJob {
     fn trace_chunk(&self, tally: &mut Tally, rng: &mut Rng, photons: u64) {
         let mut scorer = BatchScorer::new(self, tally);
         for _ in 0..photons {
-            scorer.start(1.0 - self.medium.rsp);
             trace(&self.medium, rng, &mut scorer);
         }
     }
 }
 
-/// Scores every channel of a group from one walk.
-///
-/// Channel k's weight after n interactions is F·aₖⁿ (F: launch weight times roulette factors), so
-/// nothing is done per interaction unless A(r,z) is tallied. Absorption is summed per roulette
-/// segment in closed form: between interactions n₀ and n at constant F a channel deposits
-/// F·(aₖ^{n₀} − aₖⁿ).
+/// Scores every channel of a group from one walk. The channels' walks are the walk, so its
+/// weight is every channel's weight; only the bins differ (lengths times 1/μt_k, on channel k's
+/// own grid).
 struct BatchScorer<'a> {
     job: &'a GroupJob,
     tally: &'a mut Tally,
-    /// F: launch weight times the roulette factors so far.
-    factor: f64,
-    /// Interaction count at the start of the current roulette segment.
-    n0: u64,
-    /// aₖ^{n₀} per channel.
-    a_n0: Vec<f64>,
-    /// Weight absorbed so far by each channel in this photon's history.
-    absorbed: Vec<f64>,
-    /// Current weight F·aₖⁿ of each channel, kept per interaction only when A(r,z) is tallied.
-    w: Vec<f64>,
+    /// Weight absorbed so far in this photon's history.
+    absorbed: f64,
     /// Per-photon A(r,z) and A(z) deposits of every channel (when tallied): dense + touched list.
     rz: Vec<f64>,
     z: Vec<f64>,
     touched_rz: Vec<u32>,
     touched_z: Vec<u32>,
-}
-
-/// aⁿ for an interaction count (repeated squaring; counts beyond i32 are unreachable in practice
-/// thanks to the path-length roulette, and clamp harmlessly to aⁿ = 0 or 1).
-#[inline]
-fn pow_n(a: f64, n: u64) -> f64 {
-    a.powi(n.min(i32::MAX as u64) as i32)
 }
 
 impl<'a> BatchScorer<'a> {
@@ -240,45 +298,22 @@ impl<'a> BatchScorer<'a> {
         BatchScorer {
             job,
             tally,
-            factor: 0.0,
-            n0: 0,
-            a_n0: vec![1.0; k],
-            absorbed: vec![0.0; k],
-            w: vec![0.0; k],
+            absorbed: 0.0,
             rz,
             z,
             touched_rz: Vec::new(),
             touched_z: Vec::new(),
         }
     }
-
-    fn start(&mut self, w0: f64) {
-        self.factor = w0;
-        self.n0 = 0;
-        self.a_n0.fill(1.0);
-        self.absorbed.fill(0.0);
-        self.w.fill(w0);
-    }
-
-    /// Closes the current roulette segment at interaction `n`.
-    fn close_segment(&mut self, n: u64) {
-        for ((abs, a_n0), &a) in self
-            .absorbed
-            .iter_mut()
-            .zip(self.a_n0.iter_mut())
-            .zip(&self.job.albedo)
-        {
-            let a_n = pow_n(a, n);
-            *abs += self.factor * (*a_n0 - a_n);
-            *a_n0 = a_n;
-        }
-        self.n0 = n;
-    }
 }
 
 impl Scorer for BatchScorer<'_> {
     #[inline]
-    fn absorb(&mut self, p: &Photon, _: f64) {
+    fn absorb(&mut self, p: &Photon, dw: f64) {
+        if dw == 0.0 {
+            return;
+        }
+        self.absorbed += dw;
         let job = self.job;
         let l = job.layout;
         if !l.rz {
@@ -286,11 +321,6 @@ impl Scorer for BatchScorer<'_> {
         }
         let r = p.r();
         for k in 0..l.channels {
-            let dw = self.w[k] * (1.0 - job.albedo[k]);
-            self.w[k] -= dw;
-            if dw == 0.0 {
-                continue;
-            }
             let g = &job.index[k];
             let iz = g.iz(p.z * job.scale[k]);
             let i = (k * l.nr + g.ir(r * job.scale[k])) * l.nz + iz; // [k][ir][iz], layout strides
@@ -306,24 +336,14 @@ impl Scorer for BatchScorer<'_> {
         }
     }
 
-    fn roulette(&mut self, p: &Photon, factor: f64) {
-        self.close_segment(p.interactions);
-        self.factor *= factor;
-        for w in &mut self.w {
-            *w *= factor;
-        }
-    }
+    fn roulette(&mut self, _: &Photon, _: f64) {}
 
     #[inline]
     fn escape(&mut self, p: &Photon, top: bool, cos_exit: f64) {
         let job = self.job;
         let l = job.layout;
-        let r = p.r();
+        let (r, w) = (p.r(), p.w);
         for k in 0..l.channels {
-            let w = self.factor * pow_n(job.albedo[k], p.interactions);
-            if w == 0.0 {
-                continue;
-            }
             let g = &job.index[k];
             let o = if top { l.rd_ra(k) } else { l.tt_ra(k) };
             let i = o + g.ir(r * job.scale[k]) * l.na + g.ia(cos_exit);
@@ -340,13 +360,10 @@ impl Scorer for BatchScorer<'_> {
     }
 
     fn finish(&mut self, p: &Photon) {
-        if self.factor > 0.0 && p.interactions > self.n0 {
-            self.close_segment(p.interactions);
-        }
         let l = self.job.layout;
         let t = &mut *self.tally;
+        let a = std::mem::take(&mut self.absorbed);
         for k in 0..l.channels {
-            let a = self.absorbed[k];
             for o in [l.a_total(k), l.a_l(k)] {
                 t.sum[o] += a;
                 t.sum_sq[o] += a * a;

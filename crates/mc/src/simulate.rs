@@ -198,11 +198,6 @@ fn check_chunks(chunks: &Range<u64>, photons: u64) -> Result<()> {
     Ok(())
 }
 
-/// Seed of group `g` of a batch: decorrelates the groups' streams.
-fn group_seed(seed: u64, g: usize) -> u64 {
-    seed ^ (g as u64).wrapping_mul(0xD1B5_4A32_D192_ED03)
-}
-
 /// Traces chunks `chunks` of every group of a batch (one accumulator per group, in
 /// [`BatchSpec::groups`] order).
 pub fn accumulate_batch(
@@ -231,16 +226,9 @@ fn accumulate_batch_at(
     Ok(spec
         .groups()
         .iter()
-        .enumerate()
-        .map(|(g, group)| {
+        .map(|group| {
             let job = GroupJob::new(spec, group, incidence);
-            accumulate_job(
-                &job,
-                spec.photons,
-                group_seed(spec.seed, g),
-                chunks.clone(),
-                progress,
-            )
+            accumulate_job(&job, spec.photons, job.seed(), chunks.clone(), progress)
         })
         .collect())
 }
@@ -320,7 +308,7 @@ pub fn run_batch_to_error(
     }
     let total = chunk_count(spec.photons);
     let mut out: Vec<Option<Output>> = vec![None; spec.channels.len()];
-    for (g, group) in spec.groups().iter().enumerate() {
+    for group in spec.groups().iter() {
         let job = GroupJob::new(spec, group, Incidence::NORMAL);
         let mut acc = Accumulator::new(job.layout());
         let mut next = 0;
@@ -329,7 +317,7 @@ pub fn run_batch_to_error(
             acc.merge(&accumulate_job(
                 &job,
                 spec.photons,
-                group_seed(spec.seed, g),
+                job.seed(),
                 next..end,
                 progress,
             ));

@@ -3,31 +3,37 @@
 use mc::{BatchSpec, ChannelSpec, Grid, Layer, Output, RunSpec, Sample, TallySet};
 
 /// Channels with very different albedos sharing g = 0 and η = 1.3: Ketchup G and B
-/// (a ≈ 0.07, 0.02) and Wholemilk R (a ≈ 0.9996), thesis Table 6.2 [cm⁻¹].
+/// (a ≈ 0.07, 0.02) and Wholemilk R (a ≈ 0.9996), thesis Table 6.2 [cm⁻¹], and Ketchup G at twice
+/// the density (the same walk as channel 0, lengths halved).
 fn channels() -> Vec<ChannelSpec> {
-    [(9.7, 0.7), (14.5, 0.3), (0.011, 25.5)]
-        .iter()
-        .map(|&(mu_a, mu_s)| {
-            let layer = Layer {
-                n: 1.3,
-                mu_a,
-                mu_s,
-                g: 0.0,
-                thickness: 1.0e8,
-            };
-            let mfp = 1.0 / layer.mu_t();
-            ChannelSpec {
-                layer,
-                grid: Grid {
-                    dr: mfp / 20.0,
-                    dz: mfp / 2.0,
-                    nr: 80,
-                    nz: 20,
-                    na: 10,
-                },
-            }
-        })
-        .collect()
+    [
+        (9.7, 0.7),
+        (14.5, 0.3),
+        (0.011, 25.5),
+        (2.0 * 9.7, 2.0 * 0.7),
+    ]
+    .iter()
+    .map(|&(mu_a, mu_s)| {
+        let layer = Layer {
+            n: 1.3,
+            mu_a,
+            mu_s,
+            g: 0.0,
+            thickness: 1.0e8,
+        };
+        let mfp = 1.0 / layer.mu_t();
+        ChannelSpec {
+            layer,
+            grid: Grid {
+                dr: mfp / 20.0,
+                dz: mfp / 2.0,
+                nr: 80,
+                nz: 20,
+                na: 10,
+            },
+        }
+    })
+    .collect()
 }
 
 fn chi2(a: &[mc::Estimate], b: &[mc::Estimate]) -> (f64, usize) {
@@ -79,8 +85,8 @@ fn batch_equals_independent_runs_within_statistics() {
     };
     assert_eq!(
         spec.groups(),
-        vec![vec![0, 1, 2]],
-        "one walk for all three channels"
+        vec![vec![0, 3], vec![1], vec![2]],
+        "one walk for the channels of equal albedo, one for each other"
     );
     let batch = mc::run_batch(&spec, &|_| {}).unwrap();
     for (i, c) in chans.iter().enumerate() {
@@ -115,7 +121,7 @@ fn batch_equals_independent_runs_within_statistics() {
 }
 
 #[test]
-fn grouping_respects_g_eta_and_thickness() {
+fn grouping_respects_albedo_g_eta_and_thickness() {
     let mut chans = channels();
     chans[1].layer.g = 0.5; // different g
     chans.push(ChannelSpec {
@@ -153,13 +159,68 @@ fn grouping_respects_g_eta_and_thickness() {
     };
     assert_eq!(
         spec.groups(),
-        vec![vec![0, 2], vec![1], vec![3], vec![4], vec![5]]
+        vec![vec![0, 3], vec![1], vec![2], vec![4], vec![5], vec![6]]
     );
     let out = mc::run_batch(&spec, &|_| {}).unwrap();
+    // Channel 3 is channel 0 at twice the density on a grid of half the spacing: one walk, so the
+    // same totals, and Rd(r) four times higher bin by bin (Rd(r) = μt²·R*(μt·r)).
+    let (a, b) = (&out[0], &out[3]);
+    assert!(
+        (a.rd.value - b.rd.value).abs() < 1e-12,
+        "{:?} {:?}",
+        a.rd,
+        b.rd
+    );
+    assert!((a.a.value - b.a.value).abs() < 1e-12, "{:?} {:?}", a.a, b.a);
+    for (x, y) in a.rd_r.iter().zip(&b.rd_r).take(40) {
+        assert!(
+            (4.0 * x.value - y.value).abs() <= 1e-9 * y.value,
+            "{x:?} {y:?}"
+        );
+    }
     // A glass half-space absorbs nothing: what is not reflected is transmitted (the bottom
     // surface reflects some light back up, which leaves as Rd).
-    assert_eq!(out[5].a.value, 0.0);
-    assert!((out[5].rsp + out[5].rd.value + out[5].tt.value - 1.0).abs() < 1e-12);
+    assert_eq!(out[6].a.value, 0.0);
+    assert!((out[6].rsp + out[6].rd.value + out[6].tt.value - 1.0).abs() < 1e-12);
+}
+
+/// Regression: `sss simulate skin1` and `sss simulate --all` gave Skin1 different numbers for one
+/// seed, because a walk's streams were seeded by its group's position and shared with whichever
+/// channels it was batched with. Same seed ⇒ a channel's results are bit-identical alone and in a
+/// bigger batch (other albedos, another g, its own rescaled twin, another order), with every
+/// tally, at normal and oblique incidence.
+#[test]
+fn a_channel_alone_and_in_a_bigger_batch_gives_the_same_bits() {
+    let mut chans = channels();
+    let mut other_g = chans[1];
+    other_g.layer.g = 0.8;
+    chans.push(other_g);
+    chans.reverse();
+    let spec = |channels: Vec<ChannelSpec>| BatchSpec {
+        n_above: 1.0,
+        n_below: 1.0,
+        channels,
+        photons: 20_000,
+        seed: 11,
+        tallies: TallySet {
+            absorption_rz: true,
+            surface_xy: 8,
+        },
+    };
+    let batch = spec(chans.clone());
+    for theta_deg in [0.0, 40.0] {
+        let theta = mc::incidence::Incidence { theta_deg };
+        let together = mc::run_batch_at(&batch, theta, &|_| {}).unwrap();
+        for (i, c) in chans.iter().enumerate() {
+            let alone = mc::run_batch_at(&spec(vec![*c]), theta, &|_| {}).unwrap();
+            assert!(
+                alone[0] == together[i],
+                "θ = {theta_deg}°, channel {i}: Rd {:?} alone, {:?} in the batch",
+                alone[0].rd,
+                together[i].rd
+            );
+        }
+    }
 }
 
 /// Same seed ⇒ bit-identical tallies with 1 and 2 threads (and any chunk order).
