@@ -336,7 +336,9 @@ fn oblique_profile_against_the_monte_carlo_surface_tally() {
     };
     let o = mc::run_at(&spec, mc::incidence::Incidence { theta_deg: 45.0 }, &|_| {}).unwrap();
     let dd = DirectionalDipole::new(&m);
-    let cells: Vec<(f64, f64, f64, f64)> = o
+    // (x [cm], y [cm], Monte Carlo Rd, model Rd) per surface cell.
+    type Cell = (f64, f64, f64, f64);
+    let cells: Vec<Cell> = o
         .rd_xy
         .iter()
         .enumerate()
@@ -354,14 +356,14 @@ fn oblique_profile_against_the_monte_carlo_surface_tally() {
             (x, y, e.value, v)
         })
         .collect();
-    let ahead = |pick: &dyn Fn(&(f64, f64, f64, f64)) -> f64| {
+    let ahead = |pick: &dyn Fn(&Cell) -> f64| {
         let fwd: f64 = cells.iter().filter(|c| c.0 > 0.0).map(pick).sum();
         let back: f64 = cells.iter().filter(|c| c.0 < 0.0).map(pick).sum();
         fwd / (fwd + back)
     };
     let (share_mc, share_dd) = (ahead(&|c| c.2), ahead(&|c| c.3));
     let ell = m.transport_mfp();
-    let centre = |pick: &dyn Fn(&(f64, f64, f64, f64)) -> f64| {
+    let centre = |pick: &dyn Fn(&Cell) -> f64| {
         let mut c = 0.0;
         for _ in 0..20 {
             let (mut sw, mut sx) = (0.0, 0.0);
