@@ -67,8 +67,9 @@ fn bssrdf_is_invariant_under_rigid_motions() {
 /// model is finite and non-negative everywhere, reflects nothing without scattering, and keeps
 /// total Rd ≤ 1 inside its domain (0.5 ≤ α′ ≤ 0.999, θ ≤ 80°). Outside it, measured and
 /// documented, it is not a conserving model:
-/// - α′ → 1: total Rd 1.175 at α′ = 1 − 10⁻⁷, η = 1.3, θ = 0 (the overshoot behind its
-///   +22 … +30 % against Monte Carlo at normal incidence);
+/// - α′ → 1: total Rd 1.216 at α′ = 1 − 10⁻⁷, η = 1.3, θ = 0, integrated out to 10³ transport
+///   mean free paths (the overshoot behind its +22 … +30 % against Monte Carlo at normal
+///   incidence);
 /// - α′ → 0: 0.137 at α′ = 10⁻³, where the truth is ≈ α′/2: the ray source carries the whole
 ///   refracted power, not the scattered share α′ of it;
 /// - g = 0.99, η = 1, θ = 89°: 1.22.
