@@ -31,7 +31,7 @@ use fit::analytic::{DipoleConstants, DirectionalDipole, Medium};
 use glam::Mat4;
 use wgpu::util::DeviceExt;
 
-use crate::context::{Gpu, compute_pipeline};
+use crate::context::{Gpu, cleared_depth, compute_pipeline, depth_test};
 use crate::error::{GpuError, Result};
 use crate::mesh::Vertex;
 use crate::scene::{Light, Scene};
@@ -281,13 +281,7 @@ fn draw_maps(
             buffers: &[Some(Vertex::layout())],
         },
         primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: wgpu::TextureFormat::Depth32Float,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
+        depth_stencil: Some(depth_test()),
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState {
             module: &module,
@@ -339,14 +333,7 @@ fn draw_maps(
         let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("dipole maps"),
             color_attachments: &[clear(&pv), clear(&nv)],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &dv,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
+            depth_stencil_attachment: Some(cleared_depth(&dv)),
             ..Default::default()
         });
         pass.set_pipeline(&pipeline);

@@ -4,7 +4,7 @@ use glam::Mat4;
 use wgpu::util::DeviceExt;
 
 use crate::blur::{Blur, BlurParams, DepthMode, GpuKernel, pixels};
-use crate::context::{Gpu, compute_pipeline};
+use crate::context::{Gpu, cleared_depth, compute_pipeline, depth_test};
 use crate::dipole::{DipoleSetup, MeshBuffers};
 use crate::error::{GpuError, Result};
 use crate::mesh::Vertex;
@@ -262,17 +262,6 @@ const SHADOW_SIZE: u32 = 2048;
 const NEAR: f32 = 1.0;
 const FAR: f32 = 500.0;
 
-/// Depth32 with writes and a less-than test.
-fn depth_test() -> wgpu::DepthStencilState {
-    wgpu::DepthStencilState {
-        format: wgpu::TextureFormat::Depth32Float,
-        depth_write_enabled: Some(true),
-        depth_compare: Some(wgpu::CompareFunction::Less),
-        stencil: Default::default(),
-        bias: Default::default(),
-    }
-}
-
 /// Renders `scene`, scattering the diffuse light of SSS surfaces as `scatter` says.
 pub fn render(gpu: &Gpu, scene: &Scene, scatter: Scatter, params: &RenderParams) -> Result<Frame> {
     let dipole = matches!(scatter, Scatter::DirectionalDipole(_));
@@ -410,14 +399,7 @@ pub fn render(gpu: &Gpu, scene: &Scene, scatter: Scatter, params: &RenderParams)
         let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("shadow"),
             color_attachments: &[],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
+            depth_stencil_attachment: Some(cleared_depth(&view)),
             ..Default::default()
         });
         if shadow {
@@ -588,14 +570,7 @@ pub fn render(gpu: &Gpu, scene: &Scene, scatter: Scatter, params: &RenderParams)
         let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("scene"),
             color_attachments: &attachments,
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
+            depth_stencil_attachment: Some(cleared_depth(&depth_view)),
             ..Default::default()
         });
         pass.set_pipeline(&scene_pipeline);
