@@ -8,7 +8,7 @@
 //! before use (the same as eq. 5.12's ‖A‖₁ = ‖R_d‖₁ for non-negative kernels; for kernels with
 //! negative lobes, e.g. SVD rank ≥ 2, the sum is what conserves energy).
 
-use crate::convolve::{Image, convolve_2d, convolve_separable};
+use crate::convolve::{Image, Spectrum, convolve_separable};
 use crate::kernel2d::Kernel2;
 use crate::separable::{Separable, Term};
 use crate::signals::Signal;
@@ -83,12 +83,16 @@ pub fn eval_factor(half: usize, max_half: usize) -> usize {
     f | 1
 }
 
-/// Image-space evaluation of models on the test signals at a common coarse grid.
+/// Image-space evaluation of models on the test signals at a common coarse grid. Each signal's
+/// padded transform is computed once and shared by every model (one inverse transform per model
+/// and signal).
 pub struct ImageEval {
     pub factor: usize,
     pub size: usize,
     ground_truth: Kernel2,
-    references: Vec<(Signal, Image, Image)>,
+    /// (signal, its image, its transform padded by the binned kernel's half-width, the ground
+    /// truth's convolution).
+    references: Vec<(Signal, Image, Spectrum, Image)>,
 }
 
 impl ImageEval {
@@ -101,8 +105,9 @@ impl ImageEval {
             .iter()
             .map(|&s| {
                 let e = s.image(size);
-                let m = convolve_2d(&e, &ground_truth);
-                (s, e, m)
+                let spectrum = Spectrum::new(&e, ground_truth.half);
+                let m = spectrum.convolve_dense(&ground_truth);
+                (s, e, spectrum, m)
             })
             .collect();
         ImageEval {
@@ -113,13 +118,26 @@ impl ImageEval {
         }
     }
 
+    /// The model binned like the ground truth and scaled to its sum (energy conservation).
+    fn binned(&self, model: &Separable) -> Separable {
+        bin_separable(model, self.factor).rescaled_to_sum(self.ground_truth.v.iter().sum())
+    }
+
+    /// E * A through the signal's shared transform when A fits in its padding.
+    fn apply(e: &Image, spectrum: &Spectrum, a: &Separable) -> Image {
+        if a.half() <= spectrum.pad() {
+            spectrum.convolve_separable(a)
+        } else {
+            convolve_separable(e, a)
+        }
+    }
+
     /// Image RMS per signal of a model (renormalized to the ground truth's L1 norm).
     pub fn rms(&self, model: &Separable) -> Vec<(Signal, f64)> {
-        let binned =
-            bin_separable(model, self.factor).rescaled_to_sum(self.ground_truth.v.iter().sum());
+        let binned = self.binned(model);
         self.references
             .iter()
-            .map(|(s, e, m)| (*s, convolve_separable(e, &binned).rms_diff(m)))
+            .map(|(s, e, spectrum, m)| (*s, Self::apply(e, spectrum, &binned).rms_diff(m)))
             .collect()
     }
 
@@ -129,19 +147,25 @@ impl ImageEval {
         let binned = bin_kernel(k, self.factor);
         self.references
             .iter()
-            .map(|(s, e, m)| (*s, convolve_2d(e, &binned).rms_diff(m)))
+            .map(|(s, e, spectrum, m)| {
+                let c = if binned.half <= spectrum.pad() {
+                    spectrum.convolve_dense(&binned)
+                } else {
+                    crate::convolve::convolve_2d(e, &binned)
+                };
+                (*s, c.rms_diff(m))
+            })
             .collect()
     }
 
     /// The convolution of a signal with a model and the ground-truth reference (for plots).
     pub fn images(&self, signal: Signal, model: &Separable) -> (Image, Image, Image) {
-        let binned =
-            bin_separable(model, self.factor).rescaled_to_sum(self.ground_truth.v.iter().sum());
-        let (_, e, m) = self
+        let binned = self.binned(model);
+        let (_, e, spectrum, m) = self
             .references
             .iter()
-            .find(|(s, _, _)| *s == signal)
+            .find(|(s, ..)| *s == signal)
             .expect("every signal is prepared");
-        (e.clone(), m.clone(), convolve_separable(e, &binned))
+        (e.clone(), m.clone(), Self::apply(e, spectrum, &binned))
     }
 }
