@@ -64,3 +64,68 @@ pub fn ground_truth(p: &Profile, c: usize, half: Option<usize>) -> Kernel2 {
     }
     Kernel2 { half: n, h, v }.normalized()
 }
+
+/// A kernel as the solvers see it: when it is mirror-symmetric in x and in y (every kernel built
+/// from a radial profile is, exactly), its quadrant x, y ≥ 0 with the multiplicity of each index
+/// (1 for the centre line, 2 for the others), so that for even functions a, b
+/// Σᵢⱼ aᵢ Kᵢⱼ bⱼ = Σ_pq c_p a_p Q_pq c_q b_q on a quarter of the samples; otherwise the whole
+/// kernel with multiplicities 1.
+pub(crate) struct Folded {
+    /// Samples per side of `v`.
+    pub len: usize,
+    /// Row-major `len × len` samples.
+    pub v: Vec<f64>,
+    /// Multiplicity of each index.
+    pub c: Vec<f64>,
+    /// Offset of each index from the centre [samples].
+    pub offset: Vec<f64>,
+    /// The kernel's half-width n.
+    pub half: usize,
+    mirrored: bool,
+}
+
+impl Folded {
+    /// The quadrant of a mirror-symmetric kernel, or the kernel itself.
+    pub fn new(k: &Kernel2) -> Folded {
+        let (n, m) = (k.half, k.side());
+        let row = |i: usize| &k.v[i * m..(i + 1) * m];
+        let mirrored = (0..m).all(|i| {
+            let r = row(i);
+            r == row(m - 1 - i) && (0..n).all(|j| r[j] == r[m - 1 - j])
+        });
+        if mirrored {
+            let len = n + 1;
+            let v = (0..len)
+                .flat_map(|p| row(n + p)[n..].iter().copied())
+                .collect();
+            let c = (0..len).map(|p| if p == 0 { 1.0 } else { 2.0 }).collect();
+            let offset = (0..len).map(|p| p as f64).collect();
+            Folded {
+                len,
+                v,
+                c,
+                offset,
+                half: n,
+                mirrored,
+            }
+        } else {
+            Folded {
+                len: m,
+                v: k.v.clone(),
+                c: vec![1.0; m],
+                offset: (0..m).map(|i| i as f64 - n as f64).collect(),
+                half: n,
+                mirrored,
+            }
+        }
+    }
+
+    /// A function on this form's indices as the kernel's full 1D function (length 2n+1).
+    pub fn unfold(&self, a: &[f64]) -> Vec<f64> {
+        if !self.mirrored {
+            return a.to_vec();
+        }
+        let n = self.half;
+        (0..2 * n + 1).map(|i| a[i.abs_diff(n)]).collect()
+    }
+}

@@ -5,11 +5,16 @@
 //! Eigenpairs come from block subspace iteration with Rayleigh–Ritz (a few dense matrix products of
 //! the m×m kernel, parallel over rows), which converges fast because the spectra of these kernels
 //! decay quickly (thesis Fig. 5.1). Each eigenvector's sign is chosen so its sum is non-negative.
+//!
+//! A kernel that is mirror-symmetric in x and y (every rotated profile) maps every odd function to
+//! zero (each row is even), so its eigenvectors with λ ≠ 0 are even and are those of the quadrant
+//! Q (n+1 samples per side) in symmetric form M_pq = √c_p Q_pq √c_q, c = 1 on the centre line and
+//! 2 elsewhere, with u_{n±p} = v_p/√c_p: the same eigenpairs from a quarter of the samples.
 
 use nalgebra::{DMatrix, SymmetricEigen};
 use rayon::prelude::*;
 
-use crate::kernel2d::Kernel2;
+use crate::kernel2d::{Folded, Kernel2};
 use crate::separable::{Separable, Term};
 
 /// Why the eigensolver stopped.
@@ -45,7 +50,14 @@ pub fn top_eigen_to(
     relative_residual: f64,
     max_iterations: usize,
 ) -> Eigen {
-    let m = k.side();
+    let f = Folded::new(k);
+    let m = f.len;
+    let root: Vec<f64> = f.c.iter().map(|c| c.sqrt()).collect();
+    let matrix: Vec<f64> =
+        f.v.iter()
+            .enumerate()
+            .map(|(i, x)| root[i / m] * x * root[i % m])
+            .collect();
     let count = count.min(m);
     let p = (count + 6).min(m);
     // Deterministic start: smooth, linearly independent functions of the coordinate.
@@ -54,16 +66,16 @@ pub fn top_eigen_to(
         ((j + 1) as f64 * std::f64::consts::PI * x).cos() + 1.0 / (1.0 + j as f64 + x)
     });
     orthonormalize(&mut q);
-    let scale =
-        k.v.iter()
-            .fold(0.0f64, |a, b| a.max(b.abs()))
-            .max(f64::MIN_POSITIVE);
+    let scale = matrix
+        .iter()
+        .fold(0.0f64, |a, b| a.max(b.abs()))
+        .max(f64::MIN_POSITIVE);
     let (mut values, mut vectors) = (Vec::new(), DMatrix::zeros(m, count));
     let mut stop = Stop::MaxIterations;
     let mut iterations = 0;
     for it in 1..=max_iterations {
         iterations = it;
-        let kq = multiply(k, &q);
+        let kq = multiply(&matrix, m, &q);
         // Rayleigh–Ritz on the subspace.
         let h = q.transpose() * &kq;
         let h = (&h + h.transpose()) * 0.5;
@@ -95,7 +107,13 @@ pub fn top_eigen_to(
     }
     let vectors = (0..count)
         .map(|c| {
-            let mut u: Vec<f64> = vectors.column(c).iter().copied().collect();
+            let v: Vec<f64> = vectors
+                .column(c)
+                .iter()
+                .zip(&root)
+                .map(|(x, r)| x / r)
+                .collect();
+            let mut u = f.unfold(&v);
             if u.iter().sum::<f64>() < 0.0 {
                 u.iter_mut().for_each(|x| *x = -*x);
             }
@@ -125,16 +143,15 @@ pub fn svd(k: &Kernel2, rank: usize) -> (Separable, Eigen) {
     (Separable { h: k.h, terms }, e)
 }
 
-/// K·Q for the dense kernel K (m×m, row-major) and Q (m×p), parallel over rows of K.
-fn multiply(k: &Kernel2, q: &DMatrix<f64>) -> DMatrix<f64> {
-    let m = k.side();
+/// K·Q for a dense matrix K (m×m, row-major) and Q (m×p), parallel over rows of K.
+fn multiply(k: &[f64], m: usize, q: &DMatrix<f64>) -> DMatrix<f64> {
     let p = q.ncols();
     // Column-major Q: gather columns once for contiguous dot products.
     let cols: Vec<&[f64]> = (0..p).map(|j| &q.as_slice()[j * m..(j + 1) * m]).collect();
     let rows: Vec<Vec<f64>> = (0..m)
         .into_par_iter()
         .map(|i| {
-            let row = &k.v[i * m..(i + 1) * m];
+            let row = &k[i * m..(i + 1) * m];
             cols.iter()
                 .map(|c| row.iter().zip(c.iter()).map(|(a, b)| a * b).sum())
                 .collect()
