@@ -50,11 +50,13 @@ impl Burley {
     pub fn kernel(&self, half: usize, h: f64) -> Kernel2 {
         let m = 2 * half + 1;
         let mut v = vec![0.0; m * m];
-        for i in 0..m {
-            for j in 0..m {
-                let (di, dj) = (i as f64 - half as f64, j as f64 - half as f64);
+        // The cell integrals are even in x and y: each of the quadrant's goes to its four mirror
+        // images.
+        for i in 0..=half {
+            for j in 0..=half {
+                let (di, dj) = (i as f64, j as f64);
                 let dist = (di * di + dj * dj).sqrt();
-                v[i * m + j] = if dist == 0.0 {
+                let value = if dist == 0.0 {
                     self.cdf(h / std::f64::consts::PI.sqrt())
                 } else {
                     let s = if dist < 4.0 {
@@ -74,6 +76,10 @@ impl Burley {
                     }
                     sum * h * h / (s * s) as f64
                 };
+                for row in [half + i, half - i] {
+                    v[row * m + half + j] = value;
+                    v[row * m + half - j] = value;
+                }
             }
         }
         Kernel2 { half, h, v }

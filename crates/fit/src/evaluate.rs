@@ -11,10 +11,12 @@
 
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 use crate::error::Result;
-use crate::kernel2d::{Kernel2, ground_truth};
+use crate::kernel2d::{Kernel2, SUPPORT_EPSILON, ground_truth};
 use crate::manual::table_a1;
-use crate::metrics::{ImageEval, kernel_rms, l1_error};
+use crate::metrics::{ImageEval, KernelMetrics};
 use crate::model::{KernelModel, ManualParams, SkinParams};
 use crate::separable::Separable;
 use crate::signals::Signal;
@@ -196,19 +198,28 @@ pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Result<Evaluat
     // (model, kernel per channel, fit seconds per channel) of every separable model, in MODELS
     // order. SVD rank N and d'Eon up to N Gaussians hold every lower rank: one fit each.
     let mut kernels: Vec<(KernelModel, Vec<Separable>, [f64; 3])> = Vec::new();
+    // Channels in parallel (the d'Eon fits are sequential within a channel).
+    let nested: Vec<_> = truths
+        .par_iter()
+        .map(|k| {
+            let t = Instant::now();
+            let svd_n = (svd(k, NESTED).0, t.elapsed().as_secs_f64());
+            let t = Instant::now();
+            let deon_n = (Gaussians::fit_up_to(k, NESTED), t.elapsed().as_secs_f64());
+            let spectrum: Vec<f64> = top_eigen_to(k, 30, 1e-6, 200, SUPPORT_EPSILON)
+                .values
+                .iter()
+                .map(|v| v.abs())
+                .collect();
+            (svd_n, deon_n, spectrum)
+        })
+        .collect();
     let mut singular_values: [Vec<f64>; 3] = Default::default();
-    let mut svd_n = Vec::new();
-    let mut deon_n = Vec::new();
-    for (c, k) in truths.iter().enumerate() {
-        let t = Instant::now();
-        svd_n.push((svd(k, NESTED).0, t.elapsed().as_secs_f64()));
-        let t = Instant::now();
-        deon_n.push((Gaussians::fit_up_to(k, NESTED), t.elapsed().as_secs_f64()));
-        singular_values[c] = top_eigen_to(k, 30, 1e-6, 200)
-            .values
-            .iter()
-            .map(|v| v.abs())
-            .collect();
+    let (mut svd_n, mut deon_n) = (Vec::new(), Vec::new());
+    for (c, (s, d, spectrum)) in nested.into_iter().enumerate() {
+        svd_n.push(s);
+        deon_n.push(d);
+        singular_values[c] = spectrum;
     }
     for model in MODELS {
         let (channels, seconds) = match model {
@@ -254,6 +265,7 @@ pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Result<Evaluat
     for (c, k) in truths.iter().enumerate() {
         (truth_axis[c], truth_diagonal[c]) = dense_slices(k);
         let eval = ImageEval::new(k, image.size, image.max_half);
+        let metrics = KernelMetrics::new(k);
         for (model, channels, seconds) in &kernels {
             let a = &channels[c];
             let (axis, diagonal) = slices(a);
@@ -261,9 +273,9 @@ pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Result<Evaluat
                 model: *model,
                 variant: matches!(model, KernelModel::Manual(_)).then_some(manual_source),
                 channel: c,
-                kernel_rms: kernel_rms(k, a),
-                kernel_rms_normalized: kernel_rms(k, &a.clone().renormalized(k.l1())),
-                l1_error: l1_error(k, a),
+                kernel_rms: metrics.rms(k, a),
+                kernel_rms_normalized: metrics.rms_normalized(k, a),
+                l1_error: metrics.l1_error(a),
                 image_rms: eval.rms(a),
                 fit_seconds: seconds[c],
                 axis,

@@ -19,7 +19,9 @@
 //! On a mirror-symmetric kernel (every rotated profile) Γ and the preint start are even, so every
 //! iterate is even: the solver works on the kernel's quadrant with index multiplicities c
 //! ([`Folded`]), Nᵢ = Σⱼ cⱼ Γᵢⱼ Qᵢⱼ bⱼ, Σa = Σ cᵢ aᵢ, a quarter of the memory traffic per sweep for
-//! the same iterates.
+//! the same iterates. It is not cut to the kernel's support (as the eigensolver is): the
+//! multiplier μ < 0 of the L1 constraint gives a a floor −μ/Dᵢ across the whole grid, so the
+//! solution depends on the grid's extent, not only on where K has its mass.
 
 use std::time::Instant;
 
@@ -121,12 +123,7 @@ impl Guided {
         };
 
         // Start from the pre-integrated kernel: positive, meets the constraint.
-        let full_start = crate::preint::preint(k).terms.remove(0).a;
-        let mut a: Vec<f64> = if m == full_start.len() {
-            full_start
-        } else {
-            full_start[f.half..].to_vec()
-        };
+        let mut a: Vec<f64> = f.fold(&crate::preint::preint(k).terms.remove(0).a);
         let mut b = a.clone();
         let mut stop = GuidedStop::MaxIterations;
         let mut iterations = 0;

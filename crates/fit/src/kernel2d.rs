@@ -55,21 +55,32 @@ pub fn ground_truth(p: &Profile, c: usize, half: Option<usize>) -> Kernel2 {
     let m = 2 * n + 1;
     let h = p.dr;
     let mut v = vec![0.0; m * m];
-    for i in 0..m {
-        let y = (i as f64 - n as f64) * h;
-        for j in 0..m {
-            let x = (j as f64 - n as f64) * h;
-            v[i * m + j] = p.at(c, (x * x + y * y).sqrt());
+    // Each value of the quadrant x, y ≥ 0 goes to its four mirror images.
+    for i in 0..=n {
+        let y = i as f64 * h;
+        for j in 0..=n {
+            let x = j as f64 * h;
+            let value = p.at(c, (x * x + y * y).sqrt());
+            for row in [n + i, n - i] {
+                v[row * m + n + j] = value;
+                v[row * m + n - j] = value;
+            }
         }
     }
     Kernel2 { half: n, h, v }.normalized()
 }
 
+/// The share of a kernel's sum that the eigensolver may leave out (SVD models and the spectrum):
+/// it works on the centred square that holds all but this fraction, and eigenvectors are zero
+/// beyond it. The metrics of the SVD models move by far less than this (tests/support.rs).
+pub const SUPPORT_EPSILON: f64 = 1e-6;
+
 /// A kernel as the solvers see it: when it is mirror-symmetric in x and in y (every kernel built
 /// from a radial profile is, exactly), its quadrant x, y ≥ 0 with the multiplicity of each index
 /// (1 for the centre line, 2 for the others), so that for even functions a, b
 /// Σᵢⱼ aᵢ Kᵢⱼ bⱼ = Σ_pq c_p a_p Q_pq c_q b_q on a quarter of the samples; otherwise the whole
-/// kernel with multiplicities 1.
+/// kernel with multiplicities 1. A mirror-symmetric kernel can also be cut to its support: the
+/// smallest centred square outside which |K| sums to at most ε of Σ|K|.
 pub(crate) struct Folded {
     /// Samples per side of `v`.
     pub len: usize,
@@ -87,45 +98,77 @@ pub(crate) struct Folded {
 impl Folded {
     /// The quadrant of a mirror-symmetric kernel, or the kernel itself.
     pub fn new(k: &Kernel2) -> Folded {
+        Folded::within(k, 0.0)
+    }
+
+    /// As [`Folded::new`], the quadrant cut to the support that holds all but `epsilon` of Σ|K|
+    /// (no cut for `epsilon` = 0 or a kernel that is not mirror-symmetric).
+    pub fn within(k: &Kernel2, epsilon: f64) -> Folded {
         let (n, m) = (k.half, k.side());
         let row = |i: usize| &k.v[i * m..(i + 1) * m];
         let mirrored = (0..m).all(|i| {
             let r = row(i);
             r == row(m - 1 - i) && (0..n).all(|j| r[j] == r[m - 1 - j])
         });
-        if mirrored {
-            let len = n + 1;
-            let v = (0..len)
-                .flat_map(|p| row(n + p)[n..].iter().copied())
-                .collect();
-            let c = (0..len).map(|p| if p == 0 { 1.0 } else { 2.0 }).collect();
-            let offset = (0..len).map(|p| p as f64).collect();
-            Folded {
-                len,
-                v,
-                c,
-                offset,
-                half: n,
-                mirrored,
-            }
-        } else {
-            Folded {
+        if !mirrored {
+            return Folded {
                 len: m,
                 v: k.v.clone(),
                 c: vec![1.0; m],
                 offset: (0..m).map(|i| i as f64 - n as f64).collect(),
                 half: n,
                 mirrored,
+            };
+        }
+        let multiplicity = |p: usize| if p == 0 { 1.0 } else { 2.0 };
+        let len = if epsilon > 0.0 {
+            // Σ|K| per square ring max(|x|, |y|) = d, from the quadrant.
+            let mut ring = vec![0.0; n + 1];
+            for p in 0..=n {
+                for (q, x) in row(n + p)[n..].iter().enumerate() {
+                    ring[p.max(q)] += multiplicity(p) * multiplicity(q) * x.abs();
+                }
             }
+            let total: f64 = ring.iter().sum();
+            let mut outside = 0.0;
+            let mut len = n + 1;
+            while len > 1 && outside + ring[len - 1] <= epsilon * total {
+                outside += ring[len - 1];
+                len -= 1;
+            }
+            len
+        } else {
+            n + 1
+        };
+        Folded {
+            len,
+            v: (0..len)
+                .flat_map(|p| row(n + p)[n..n + len].iter().copied())
+                .collect(),
+            c: (0..len).map(multiplicity).collect(),
+            offset: (0..len).map(|p| p as f64).collect(),
+            half: n,
+            mirrored,
         }
     }
 
-    /// A function on this form's indices as the kernel's full 1D function (length 2n+1).
+    /// A function on this form's indices as the kernel's full 1D function (length 2n+1, zero
+    /// beyond the support).
     pub fn unfold(&self, a: &[f64]) -> Vec<f64> {
         if !self.mirrored {
             return a.to_vec();
         }
         let n = self.half;
-        (0..2 * n + 1).map(|i| a[i.abs_diff(n)]).collect()
+        (0..2 * n + 1)
+            .map(|i| a.get(i.abs_diff(n)).copied().unwrap_or(0.0))
+            .collect()
+    }
+
+    /// A full 1D function (length 2n+1) on this form's indices.
+    pub fn fold(&self, a: &[f64]) -> Vec<f64> {
+        if !self.mirrored {
+            return a.to_vec();
+        }
+        a[self.half..self.half + self.len].to_vec()
     }
 }

@@ -53,7 +53,7 @@ pub use burley::Burley;
 pub use error::{FitError, Result};
 pub use gaussians::Gaussians;
 pub use guided::{Guided, GuidedFit, GuidedStop};
-pub use kernel2d::{Kernel2, ground_truth};
+pub use kernel2d::{Kernel2, SUPPORT_EPSILON, ground_truth};
 pub use manual::{Manual, table_a1};
 pub use model::{FittedKernel, KernelModel, ManualParams, SkinParams};
 pub use preint::{preint, preint_continuous, projection};

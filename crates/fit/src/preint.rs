@@ -13,7 +13,11 @@ use crate::separable::Separable;
 /// The rank-1 pre-integrated kernel of a discrete ground truth.
 pub fn preint(k: &Kernel2) -> Separable {
     let m = k.side();
-    let a_p: Vec<f64> = (0..m).map(|j| (0..m).map(|i| k.at(i, j)).sum()).collect();
+    // Column sums, accumulated row by row (memory order; the same order of terms as per column).
+    let mut a_p = vec![0.0; m];
+    for row in k.v.chunks(m) {
+        a_p.iter_mut().zip(row).for_each(|(a, x)| *a += x);
+    }
     let norm = k.l1().sqrt();
     Separable::rank1(k.h, a_p.into_iter().map(|x| x / norm).collect())
 }

@@ -171,11 +171,18 @@ fn fit_channel(k: &Kernel2) -> (f64, f64) {
         factor,
     };
     // Start: full strength, the scale whose p matches the ground truth's mean radius.
-    let m = k.side();
+    // (over the quadrant with each sample's multiplicity: the ground truth is mirror-symmetric)
+    let n = k.half;
+    let multiplicity = |p: usize| if p == 0 { 1.0 } else { 2.0 };
     let mean_r_mm = 10.0
-        * (0..m)
-            .flat_map(|i| (0..m).map(move |j| (i, j)))
-            .map(|(i, j)| k.at(i, j) * k.coord(i).hypot(k.coord(j)))
+        * (0..=n)
+            .flat_map(|p| (0..=n).map(move |q| (p, q)))
+            .map(|(p, q)| {
+                multiplicity(p)
+                    * multiplicity(q)
+                    * k.at(n + p, n + q)
+                    * k.coord(n + p).hypot(k.coord(n + q))
+            })
             .sum::<f64>()
         / k.l1();
     // ∫ r·p(r)·r dr / ∫ p(r)·r dr of the internal profile [mm] (midpoint rule to 30 mm).

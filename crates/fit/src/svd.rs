@@ -14,7 +14,7 @@
 use nalgebra::{DMatrix, SymmetricEigen};
 use rayon::prelude::*;
 
-use crate::kernel2d::{Folded, Kernel2};
+use crate::kernel2d::{Folded, Kernel2, SUPPORT_EPSILON};
 use crate::separable::{Separable, Term};
 
 /// Why the eigensolver stopped.
@@ -37,20 +37,24 @@ pub struct Eigen {
 }
 
 /// The `count` eigenpairs of largest |λ| of the symmetric matrix `k` (the kernel's samples as an
-/// m×m matrix), converged to residuals ‖Ku − λu‖ ≤ 10⁻¹⁰·|λ₁| (at most 1000 iterations).
+/// m×m matrix), converged to residuals ‖Ku − λu‖ ≤ 10⁻¹⁰·|λ₁| (at most 1000 iterations), on the
+/// support that holds all but [`SUPPORT_EPSILON`] of Σ|K| (eigenvectors are zero beyond it; by
+/// Weyl's inequality each eigenvalue moves by at most the Frobenius norm of what is left out).
 pub fn top_eigen(k: &Kernel2, count: usize) -> Eigen {
-    top_eigen_to(k, count, 1e-10, 1000)
+    top_eigen_to(k, count, 1e-10, 1000, SUPPORT_EPSILON)
 }
 
-/// As [`top_eigen`] with a chosen relative residual and iteration cap: eigenvalues converge with
-/// the square of the residual, so plots of a spectrum need far less than eigenvectors do.
+/// As [`top_eigen`] with a chosen relative residual, iteration cap and support (`epsilon` = 0:
+/// the whole kernel): eigenvalues converge with the square of the residual, so plots of a
+/// spectrum need far less than eigenvectors do.
 pub fn top_eigen_to(
     k: &Kernel2,
     count: usize,
     relative_residual: f64,
     max_iterations: usize,
+    epsilon: f64,
 ) -> Eigen {
-    let f = Folded::new(k);
+    let f = Folded::within(k, epsilon);
     let m = f.len;
     let root: Vec<f64> = f.c.iter().map(|c| c.sqrt()).collect();
     let matrix: Vec<f64> =
