@@ -15,10 +15,16 @@ pub fn sss(args: &[&str], cwd: &Path) -> Output {
 /// A coarse grid (dr = min MFP / 6, 10 max MFP) keeps the kernels small.
 const SMALL: &str = "photons = 30000\nseed = 2\nthickness_cm = 1e8\nn_above = 1.0\nn_below = 1.0\n[grid]\ndr_per_min_mfp = 6.0\nr_max_mfp = 10.0\nz_max_mfp = 10.0\nnz = 10\nna = 5\n";
 
+/// Writes the small run settings to `dir/small.toml`.
+#[allow(dead_code)] // not every test binary that includes `common` uses it
+pub fn small_config(dir: &Path) {
+    std::fs::write(dir.join("small.toml"), SMALL).unwrap();
+}
+
 /// Simulates a small Skin1 profile into `dir/profiles/skin1.profile.csv`.
 #[allow(dead_code)] // not every test binary that includes `common` uses it
 pub fn small_profile(dir: &Path) {
-    std::fs::write(dir.join("small.toml"), SMALL).unwrap();
+    small_config(dir);
     let o = sss(
         &[
             "simulate",

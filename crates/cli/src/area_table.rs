@@ -10,7 +10,7 @@ use fit::analytic::{Medium, Model, Radial};
 use fit::area_table::{AreaTable, RadialTable, cutoff_radius, gathered_energy};
 use serde_json::json;
 
-use crate::files::write_atomic;
+use crate::files::Outputs;
 use crate::library;
 
 #[derive(Args)]
@@ -35,7 +35,7 @@ pub struct AreaTableArgs {
     q_min: f64,
 
     /// Output folder: NAME.area.f32, NAME.area.json, NAME.area_effect.png
-    #[arg(long, default_value = "out")]
+    #[arg(long, value_name = "DIR", default_value = "out")]
     out: PathBuf,
 }
 
@@ -105,8 +105,6 @@ pub fn run(a: AreaTableArgs) -> Result<()> {
             .collect::<Vec<_>>()
     });
 
-    std::fs::create_dir_all(&a.out)
-        .with_context(|| format!("cannot create {}", a.out.display()))?;
     let mut bytes = Vec::with_capacity(a.size * a.size * 12);
     for k in 0..a.size * a.size {
         for c in 0..3 {
@@ -123,14 +121,11 @@ pub fn run(a: AreaTableArgs) -> Result<()> {
         "zoom_effect": curves.iter().enumerate().map(|(c, v)| (mc::CHANNELS[c].to_string(), json!(v.iter().map(|&(p, point, area)| json!({"pitch_cm": p, "point_sampled": point, "area_preintegrated": area})).collect::<Vec<_>>()))).collect::<serde_json::Map<_, _>>(),
     });
     let plot = a.out.join(format!("{}.area_effect.png", n.slug));
-    let tmp = a.out.join(format!(".{}.area_effect.tmp.png", n.slug));
-    fit::plot::area_effect(&curves, &n.slug, &tmp)?;
-    write_atomic(&table_path, &bytes)?;
-    write_atomic(
-        &header_path,
-        serde_json::to_string_pretty(&header)?.as_bytes(),
-    )?;
-    std::fs::rename(&tmp, &plot)?;
+    let mut files = Outputs::default();
+    files.add(&table_path, bytes);
+    files.add(&header_path, serde_json::to_string_pretty(&header)?);
+    files.add(&plot, fit::plot::area_effect(&curves, &n.slug)?);
+    files.commit()?;
     eprintln!(
         "{}×{} area table of {} ({source}, r_max {r_max:.3} cm) built in {seconds:.2} s → {}, {}, {}",
         a.size,

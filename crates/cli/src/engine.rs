@@ -12,8 +12,8 @@ use fit::export::{OffsetUnit, ShaderFormat, export};
 use fit::select::{Budget, Judge, Scored};
 use serde_json::json;
 
-use crate::eval::ProfileSource;
-use crate::files::write_atomic;
+use crate::cache::ProfileSource;
+use crate::files::{Outputs, out_file};
 use crate::library::{self, Named};
 
 /// The material: a built-in name, a material file, or an artist's colour and radius.
@@ -140,8 +140,9 @@ pub struct KernelArgs {
     #[command(flatten)]
     source: ProfileSource,
 
-    /// Output file for the snippet [default: standard output]
-    #[arg(long, value_name = "FILE")]
+    /// Output file for the snippet, or a folder to write NAME.FORMAT into [default: standard
+    /// output]
+    #[arg(long, value_name = "FILE|DIR")]
     out: Option<PathBuf>,
 
     /// Print the choice and every candidate's error as JSON on stdout (needs --out)
@@ -154,7 +155,8 @@ pub fn kernel(a: KernelArgs) -> Result<()> {
         bail!("--json prints the summary on stdout: give --out FILE for the snippet");
     }
     let named = a.material.resolve()?;
-    let p = a.source.profile(&named)?;
+    let mut files = Outputs::default();
+    let p = a.source.profile(&named, &mut files)?;
     let judge = Judge::new(&p);
     let ranked = judge.rank(a.budget, &named.slug)?;
     print_ranking(&ranked, a.budget);
@@ -168,11 +170,18 @@ pub fn kernel(a: KernelArgs) -> Result<()> {
         best.kernel.taps
     );
     let snippet = export(&best.kernel, a.format, a.unit);
-    match &a.out {
-        Some(path) => write_atomic(path, snippet.as_bytes())?,
-        None => std::io::stdout()
+    let out = a
+        .out
+        .as_ref()
+        .map(|o| out_file(o, &format!("{}.{}", named.slug, a.format)));
+    if let Some(path) = &out {
+        files.add(path, snippet.as_bytes());
+    }
+    files.commit()?;
+    if out.is_none() {
+        std::io::stdout()
             .write_all(snippet.as_bytes())
-            .context("cannot write to standard output")?,
+            .context("cannot write to standard output")?;
     }
     if a.json {
         let rows: Vec<_> = ranked
@@ -182,7 +191,7 @@ pub fn kernel(a: KernelArgs) -> Result<()> {
         println!(
             "{}",
             serde_json::to_string_pretty(
-                &json!({"material": named.slug, "budget": a.budget.to_string(), "format": a.format.to_string(), "chosen": best.model.to_string(), "out": a.out, "candidates": rows})
+                &json!({"material": named.slug, "budget": a.budget.to_string(), "format": a.format.to_string(), "chosen": best.model.to_string(), "out": out, "candidates": rows})
             )?
         );
     }
@@ -206,8 +215,9 @@ pub struct EngineParamsArgs {
     #[command(flatten)]
     source: ProfileSource,
 
-    /// openpbr: also write the material as a MaterialX document (.mtlx)
-    #[arg(long, value_name = "FILE")]
+    /// openpbr: also write the material as a MaterialX document: a .mtlx file, or a folder to
+    /// write NAME.mtlx into
+    #[arg(long, value_name = "FILE|DIR")]
     mtlx: Option<PathBuf>,
 
     /// Print the parameters, the fit and its errors as JSON on stdout
@@ -223,7 +233,8 @@ pub fn engine_params(a: EngineParamsArgs) -> Result<()> {
         );
     }
     let named = a.material.resolve()?;
-    let p = a.source.profile(&named)?;
+    let mut files = Outputs::default();
+    let p = a.source.profile(&named, &mut files)?;
     let judge = Judge::new(&p);
     let fit = BurleyProfileFit::new(&p, &judge);
     let best = judge.rank(a.budget, &named.slug)?.swap_remove(0);
@@ -231,10 +242,14 @@ pub fn engine_params(a: EngineParamsArgs) -> Result<()> {
         Engine::OpenPbr => openpbr(&named.material),
         e => burley_engine(e, &fit).expect("Burley engines map the fit"),
     };
-    let mtlx = a.mtlx.as_ref().map(|_| materialx(&params, &named.slug));
-    if let (Some(path), Some(doc)) = (&a.mtlx, &mtlx) {
-        write_atomic(path, doc.as_bytes())?;
+    let mtlx = a
+        .mtlx
+        .as_ref()
+        .map(|o| out_file(o, &format!("{}.mtlx", named.slug)));
+    if let Some(path) = &mtlx {
+        files.add(path, materialx(&params, &named.slug));
     }
+    files.commit()?;
     let ch = mc::CHANNELS;
     let mut text = format!("{} — {} ({}):\n", named.slug, params.location, a.engine);
     for f in &params.fields {
@@ -261,7 +276,7 @@ pub fn engine_params(a: EngineParamsArgs) -> Result<()> {
     if a.engine == Engine::OpenPbr {
         text += "  (OpenPBR renderers path-trace the medium itself; the Burley line is what a Burley-based real-time approximation of it costs)\n";
     }
-    if let Some(path) = &a.mtlx {
+    if let Some(path) = &mtlx {
         text += &format!("wrote {}\n", path.display());
     }
     if a.json {
@@ -269,7 +284,7 @@ pub fn engine_params(a: EngineParamsArgs) -> Result<()> {
         println!(
             "{}",
             serde_json::to_string_pretty(
-                &json!({"material": named.slug, "params": params, "burley_fit": fit, "best_separable": {"model": best.model.to_string(), "budget": a.budget.to_string(), "image_rms": best.image_rms}, "mtlx": a.mtlx})
+                &json!({"material": named.slug, "params": params, "burley_fit": fit, "best_separable": {"model": best.model.to_string(), "budget": a.budget.to_string(), "image_rms": best.image_rms}, "mtlx": mtlx})
             )?
         );
     } else {

@@ -3,17 +3,19 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use fit::KernelModel;
 use fit::Profile;
 use fit::evaluate::{RANK1, Row, evaluate};
+use fit::pareto::{Pareto, Point};
 use fit::signals::Signal;
 use serde_json::{Value, json};
 
-use crate::files::write_atomic;
-use crate::library::{self, Named};
-use crate::{parse_count, progress, simulate};
+use crate::cache::ProfileSource;
+use crate::files::Outputs;
+use crate::library;
+use crate::simulate;
 
 #[derive(Args)]
 pub struct EvalArgs {
@@ -24,71 +26,14 @@ pub struct EvalArgs {
     #[command(flatten)]
     source: ProfileSource,
 
-    /// Write comparison plots (PNG) to this folder
+    /// Also write comparison plots (PNG) to this folder (with the profiles, once every material
+    /// has been evaluated)
     #[arg(long, value_name = "DIR")]
     plots: Option<PathBuf>,
 
     /// Print the measurements as JSON on stdout
     #[arg(long)]
     json: bool,
-}
-
-/// Where MC profiles come from: a folder, with missing ones simulated there.
-#[derive(Args)]
-pub struct ProfileSource {
-    /// Folder of profiles NAME.profile.csv; missing ones are simulated and written there
-    #[arg(long, default_value = "out")]
-    pub profiles: PathBuf,
-
-    /// Photons per channel for profiles simulated on demand [default: the thesis's 1e7]
-    #[arg(long, value_parser = parse_count)]
-    pub photons: Option<u64>,
-
-    /// Seed for profiles simulated on demand
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-
-    /// Worker threads [default: all cores]
-    #[arg(long)]
-    pub threads: Option<usize>,
-}
-
-impl ProfileSource {
-    /// The profile of a material, on a pool of the requested threads.
-    pub fn profile(&self, n: &Named) -> Result<Profile> {
-        simulate::thread_pool(self.threads)?
-            .install(|| profile_for(n, &self.profiles, self.photons, self.seed))
-    }
-}
-
-/// The profile of a material: read from `dir`, or simulated (profile-only batch run) and saved.
-pub fn profile_for(n: &Named, dir: &Path, photons: Option<u64>, seed: u64) -> Result<Profile> {
-    let path = dir.join(format!("{}.profile.csv", n.slug));
-    if !path.exists() {
-        let config = library::config(None)?;
-        let photons = photons.unwrap_or(config.photons);
-        let spec = simulate::batch_spec(std::slice::from_ref(n), &config, photons, seed, true)?;
-        let bar = progress::photons(
-            photons * spec.groups().len() as u64,
-            &format!("simulating {}", n.slug),
-        );
-        let out = mc::run_batch(&spec, &|k| bar.inc(k))?;
-        bar.finish_and_clear();
-        write_atomic(
-            &path,
-            simulate::profile_csv(&out.iter().collect::<Vec<_>>()).as_bytes(),
-        )?;
-        eprintln!(
-            "simulated {} ({photons} photons/channel) → {}",
-            n.slug,
-            path.display()
-        );
-    } else {
-        eprintln!("reusing {} (delete it to simulate again)", path.display());
-    }
-    let text = std::fs::read_to_string(&path)
-        .with_context(|| format!("cannot read {}", path.display()))?;
-    Ok(Profile::from_csv(&text, &path.display().to_string())?)
 }
 
 fn row_json(r: &Row) -> Value {
@@ -109,24 +54,38 @@ fn row_json(r: &Row) -> Value {
 pub fn run(a: EvalArgs) -> Result<()> {
     let named = library::materials(&a.materials)?;
     let pool = simulate::thread_pool(a.source.threads)?;
+    let mut out = Outputs::default();
     let mut materials = Vec::new();
     for n in &named {
-        let p = a.source.profile(n)?;
+        let p = a.source.profile(n, &mut out)?;
         eprintln!(
             "fitting and evaluating every model for {} (kernel side {} samples) …",
             n.slug,
             2 * p.len() + 1
         );
         let ev = pool.install(|| evaluate(&p, &n.slug, fit::evaluate::ImageSize::default()))?;
+        // Costs at the shaders' taps per pass.
+        let pareto = Pareto::of(&ev, fit::taps::TapSpec::default().taps)?;
         if let Some(dir) = &a.plots {
-            write_plots(&p, &ev, &n.slug, dir)?;
+            plots(&p, &ev, &n.slug, dir, &mut out)?;
+            out.add(
+                dir.join(format!("{}.pareto.png", n.slug)),
+                fit::pareto::plot(&pareto, &n.slug)?,
+            );
         }
         if !a.json {
             print_table(&n.slug, &ev.rows);
+            print_pareto(&n.slug, &pareto);
         }
-        materials.push(
-            json!({ "name": n.slug, "models": ev.rows.iter().map(row_json).collect::<Vec<_>>() }),
-        );
+        materials.push(json!({
+            "name": n.slug,
+            "models": ev.rows.iter().map(row_json).collect::<Vec<_>>(),
+            "pareto": pareto,
+        }));
+    }
+    out.commit()?;
+    if let Some(dir) = &a.plots {
+        eprintln!("plots → {}", dir.display());
     }
     if a.json {
         println!(
@@ -137,46 +96,45 @@ pub fn run(a: EvalArgs) -> Result<()> {
     Ok(())
 }
 
-pub fn write_plots(
+/// Adds a material's comparison plots (profile, slices, singular values, convolution sheets) in
+/// `dir` to `out`.
+pub fn plots(
     p: &Profile,
     ev: &fit::evaluate::Evaluation,
     slug: &str,
     dir: &Path,
+    out: &mut Outputs,
 ) -> Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    // Render to temporary names, then rename: no half-written PNG is ever visible.
-    let render = |name: String, f: &dyn Fn(&Path) -> fit::Result<()>| -> Result<()> {
-        let tmp = dir.join(format!(".{name}.tmp.png"));
-        f(&tmp)?;
-        std::fs::rename(&tmp, dir.join(&name))?;
-        Ok(())
-    };
-    render(format!("{slug}.profile.png"), &|path| {
-        fit::plot::profile(p, slug, path)
-    })?;
-    render(format!("{slug}.slices_rank1.png"), &|path| {
-        fit::plot::slices(ev, &RANK1, slug, path)
-    })?;
-    render(format!("{slug}.slices_multipass.png"), &|path| {
-        let multipass = [
-            KernelModel::Svd {
-                rank: 3,
-                renormalize: false,
-            },
-            KernelModel::Deon { n: 3 },
-            KernelModel::Burley { radial: true },
-        ];
-        fit::plot::slices(ev, &multipass, slug, path)
-    })?;
-    render(format!("{slug}.singular_values.png"), &|path| {
-        fit::plot::singular_values(ev, slug, path)
-    })?;
+    let multipass = [
+        KernelModel::Svd {
+            rank: 3,
+            renormalize: false,
+        },
+        KernelModel::Deon { n: 3 },
+        KernelModel::Burley { radial: true },
+    ];
+    out.add(
+        dir.join(format!("{slug}.profile.png")),
+        fit::plot::profile(p, slug)?,
+    );
+    out.add(
+        dir.join(format!("{slug}.slices_rank1.png")),
+        fit::plot::slices(ev, &RANK1, slug)?,
+    );
+    out.add(
+        dir.join(format!("{slug}.slices_multipass.png")),
+        fit::plot::slices(ev, &multipass, slug)?,
+    );
+    out.add(
+        dir.join(format!("{slug}.singular_values.png")),
+        fit::plot::singular_values(ev, slug)?,
+    );
     for s in [Signal::Edge, Signal::CircleSquares] {
-        render(format!("{slug}.conv_{}.png", s.name()), &|path| {
-            fit::plot::convolutions(ev, &RANK1, s, 10.0, slug, path)
-        })?;
+        out.add(
+            dir.join(format!("{slug}.conv_{}.png", s.name())),
+            fit::plot::convolutions(ev, &RANK1, s, 10.0, slug)?,
+        );
     }
-    eprintln!("plots for {slug} → {}", dir.display());
     Ok(())
 }
 
@@ -204,6 +162,53 @@ fn print_table(slug: &str, rows: &[Row]) {
             img(Signal::Edge),
             img(Signal::Shaded),
             r.fit_seconds
+        );
+    }
+}
+
+/// The Pareto front of GPU cost against mean image RMS and the best separable model per pass
+/// budget; dense kernels on a line of their own.
+fn print_pareto(slug: &str, p: &Pareto) {
+    let t = p.taps_per_pass;
+    println!(
+        "{slug}: Pareto front of GPU cost (T = {t} taps per 1D pass) against image RMS (mean over \
+         signals and channels; worst channel)"
+    );
+    println!(
+        "  {:<24} {:>6} {:>8} {:>10} {:>10}",
+        "model", "passes", "taps/px", "mean RMS", "worst ch."
+    );
+    for q in &p.front {
+        println!(
+            "  {:<24} {:>6} {:>8} {:>10.3e} {:>10.3e}",
+            q.label, q.cost.passes, q.cost.taps, q.mean_image_rms, q.worst_channel_rms
+        );
+    }
+    let error = |q: &Point| {
+        format!(
+            "mean image RMS {:.3e}, worst channel {:.3e}",
+            q.mean_image_rms, q.worst_channel_rms
+        )
+    };
+    for r in &p.recommended {
+        match &r.best {
+            Some(q) => println!(
+                "  recommended for {} passes: {} ({} passes, {} taps/px; {})",
+                r.budget,
+                q.label,
+                q.cost.passes,
+                q.cost.taps,
+                error(q)
+            ),
+            None => println!("  recommended for {} passes: none fits", r.budget),
+        }
+    }
+    for q in &p.dense {
+        println!(
+            "  dense: {} (1 pass of {t}×{t} = {} taps/px; {})",
+            q.label,
+            q.cost.taps,
+            error(q)
         );
     }
 }

@@ -9,7 +9,7 @@ use clap::Args;
 use fit::export::{OffsetUnit, ShaderFormat, export};
 use fit::taps::ShaderKernel;
 
-use crate::files::write_atomic;
+use crate::files::{Outputs, out_file};
 
 #[derive(Args)]
 pub struct ExportArgs {
@@ -25,8 +25,9 @@ pub struct ExportArgs {
     #[arg(long, default_value = "cm")]
     pub unit: OffsetUnit,
 
-    /// Output file [default: standard output]
-    #[arg(long, value_name = "FILE")]
+    /// Output file, or a folder to write KERNEL.FORMAT into (KERNEL: the kernel file's stem)
+    /// [default: standard output]
+    #[arg(long, value_name = "FILE|DIR")]
     pub out: Option<PathBuf>,
 }
 
@@ -36,8 +37,16 @@ pub fn run(a: ExportArgs) -> Result<()> {
     let k = ShaderKernel::from_toml(&text, &a.kernel.display().to_string())?;
     let source = export(&k, a.format, a.unit);
     match &a.out {
-        Some(path) => {
-            write_atomic(path, source.as_bytes())?;
+        Some(out) => {
+            let stem = a
+                .kernel
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or("kernel");
+            let path = out_file(out, &format!("{stem}.{}", a.format));
+            let mut files = Outputs::default();
+            files.add(&path, source);
+            files.commit()?;
             eprintln!(
                 "wrote {} ({}: {} pass(es) × {} taps, offsets in {})",
                 path.display(),

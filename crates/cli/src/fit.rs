@@ -10,7 +10,7 @@ use fit::taps::{ShaderKernel, TapSpec};
 use fit::{FittedKernel, KernelModel, Manual, ManualParams, Profile, SkinParams, ground_truth};
 use serde_json::json;
 
-use crate::files::write_atomic;
+use crate::files::{Outputs, out_file};
 
 /// The kernel model and its parameters, as every command that builds a kernel takes them.
 #[derive(Args, Clone)]
@@ -186,8 +186,8 @@ pub struct FitArgs {
     #[arg(long)]
     material: Option<String>,
 
-    /// Output kernel file (TOML)
-    #[arg(long, default_value = "kernel.toml")]
+    /// Output kernel file (TOML), or a folder to write MATERIAL.kernel.toml into
+    #[arg(long, value_name = "FILE|DIR", default_value = "kernel.toml")]
     out: PathBuf,
 
     /// Print a machine-readable summary on stdout
@@ -274,14 +274,17 @@ pub fn run(a: FitArgs) -> Result<()> {
         "# sss fit: model {name}, material {material}, profile {}\n# offsets in cm; each [[pass]] is one horizontal + one vertical 1D convolution; sum the passes' results\n",
         a.profile.display()
     );
-    write_atomic(&a.out, (header + &kernel.to_toml()).as_bytes())?;
-    let summary = json!({ "model": name.to_string(), "material": material, "out": a.out, "taps": kernel.taps, "passes": kernel.pass.len(), "range_cm": kernel.range, "taps_vs_full_image_rms": tap_rms, "seconds": start.elapsed().as_secs_f64() });
+    let out = out_file(&a.out, &format!("{material}.kernel.toml"));
+    let mut files = Outputs::default();
+    files.add(&out, header + &kernel.to_toml());
+    files.commit()?;
+    let summary = json!({ "model": name.to_string(), "material": material, "out": out, "taps": kernel.taps, "passes": kernel.pass.len(), "range_cm": kernel.range, "taps_vs_full_image_rms": tap_rms, "seconds": start.elapsed().as_secs_f64() });
     if a.json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
         eprintln!(
             "wrote {} ({name}: {} pass(es) × {} taps, range {:.4} cm) in {:.2} s",
-            a.out.display(),
+            out.display(),
             kernel.pass.len(),
             kernel.taps,
             kernel.range,

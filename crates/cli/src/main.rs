@@ -5,6 +5,7 @@
 
 mod area_table;
 mod bench;
+mod cache;
 mod engine;
 mod eval;
 mod export;
@@ -24,7 +25,16 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "sss", version, about = "Measured optical coefficients → Monte Carlo profiles → separable SSS kernels", long_about = None)]
+#[command(
+    name = "sss",
+    version,
+    about = "Measured optical coefficients → Monte Carlo profiles → separable SSS kernels",
+    long_about = None,
+    after_help = "Outputs are written whole or not at all, when a command has succeeded. --out is a folder \
+for commands that write several files, and a file (or a folder to hold the default name) for those \
+that write one. Monte Carlo profiles are cached in --profiles with their provenance \
+(NAME.profile.json) and reused only when they match what was asked (see each command's --help)."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

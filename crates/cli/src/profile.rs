@@ -3,14 +3,14 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use fit::analytic::{Medium, Model};
 use fit::profile_compare::{BANDS, compare};
 use serde_json::{Value, json};
 
-use crate::eval::ProfileSource;
-use crate::files::write_atomic;
+use crate::cache::ProfileSource;
+use crate::files::{Outputs, out_file};
 use crate::library;
 use crate::simulate;
 
@@ -27,8 +27,9 @@ pub struct ProfileArgs {
     #[arg(long, value_parser = parse_model)]
     model: Model,
 
-    /// Output CSV [default: out/NAME.MODEL.profile.csv]
-    #[arg(long)]
+    /// Output CSV file, or a folder to write NAME.MODEL.profile.csv into
+    /// [default: out/NAME.MODEL.profile.csv]
+    #[arg(long, value_name = "FILE|DIR")]
     out: Option<PathBuf>,
 
     /// Run settings TOML for the grid rule [default: the thesis's]
@@ -54,10 +55,14 @@ pub fn profile(a: ProfileArgs) -> Result<()> {
         let area = std::f64::consts::PI * (2 * nr + 1) as f64 * grid.dr * grid.dr;
         ((tail / area).max(0.0), 0.0)
     });
-    let out = a.out.unwrap_or_else(|| {
-        crate::default_out().join(format!("{}.{}.profile.csv", n.slug, a.model.name()))
-    });
-    write_atomic(&out, p.to_csv(overflow).as_bytes())?;
+    let name = format!("{}.{}.profile.csv", n.slug, a.model.name());
+    let out = match &a.out {
+        Some(o) => out_file(o, &name),
+        None => crate::default_out().join(name),
+    };
+    let mut files = Outputs::default();
+    files.add(&out, p.to_csv(overflow));
+    files.commit()?;
     eprintln!(
         "{} profile of {} ({} bins of {:.4e} cm) → {}",
         a.model.name(),
@@ -78,8 +83,9 @@ pub struct CompareArgs {
     #[command(flatten)]
     source: ProfileSource,
 
-    /// Folder for the plots NAME.compare_profiles.png
-    #[arg(long, default_value = "out/plots")]
+    /// Output folder for the plots NAME.compare_profiles.png (written once every material has
+    /// been compared)
+    #[arg(long, value_name = "DIR", default_value = "out/plots")]
     plots: PathBuf,
 
     /// Print the measurements as JSON on stdout
@@ -95,23 +101,21 @@ fn band_name(b: usize) -> String {
 pub fn compare_profiles(a: CompareArgs) -> Result<()> {
     let named = library::materials(&a.materials)?;
     let pool = simulate::thread_pool(a.source.threads)?;
-    std::fs::create_dir_all(&a.plots)
-        .with_context(|| format!("cannot create {}", a.plots.display()))?;
+    let mut files = Outputs::default();
     let mut out = Vec::new();
     for n in &named {
-        let mc = a.source.profile(n)?;
+        let mc = a.source.profile(n, &mut files)?;
         let models = pool.install(|| compare(&mc, &n.material))?;
         let mfp = [0, 1, 2].map(|c| Medium::channel(&n.material, c).transport_mfp());
         let plot = a.plots.join(format!("{}.compare_profiles.png", n.slug));
-        let tmp = a
-            .plots
-            .join(format!(".{}.compare_profiles.tmp.png", n.slug));
         let labelled: Vec<(&str, &fit::Profile)> = models
             .iter()
             .map(|m| (m.model.name(), &m.profile))
             .collect();
-        fit::plot::profile_comparison(&mc, &labelled, mfp, &n.slug, &tmp)?;
-        std::fs::rename(&tmp, &plot)?;
+        files.add(
+            &plot,
+            fit::plot::profile_comparison(&mc, &labelled, mfp, &n.slug)?,
+        );
         if !a.json {
             println!(
                 "{}: analytic models against Monte Carlo (r in transport MFP ℓ = 1/σt′)",
@@ -141,7 +145,6 @@ pub fn compare_profiles(a: CompareArgs) -> Result<()> {
                     );
                 }
             }
-            eprintln!("plot → {}", plot.display());
         }
         let models_json: Vec<Value> = models
             .iter()
@@ -158,6 +161,8 @@ pub fn compare_profiles(a: CompareArgs) -> Result<()> {
             .collect();
         out.push(json!({ "material": n.slug, "plot": plot.display().to_string(), "models": models_json }));
     }
+    files.commit()?;
+    eprintln!("plots → {}", a.plots.display());
     if a.json {
         println!(
             "{}",

@@ -16,8 +16,8 @@ use gpu::{
 };
 use serde_json::json;
 
-use crate::eval::ProfileSource;
-use crate::files::write_atomic;
+use crate::cache::ProfileSource;
+use crate::files::Outputs;
 use crate::fit::{build_kernel, plain};
 use crate::library;
 
@@ -312,8 +312,10 @@ pub struct RenderArgs {
     #[command(flatten)]
     source: ProfileSource,
 
-    /// Output folder
-    #[arg(long, default_value = "out/render")]
+    /// Output folder: render.png, render.pfm; with --compare-models MODEL.png, compare_sheet.png
+    /// and compare.json; and the profiles simulated here, unless --profiles names another folder.
+    /// Written once the whole run has succeeded
+    #[arg(long, value_name = "DIR", default_value = "out/render")]
     out: PathBuf,
 
     /// Print a machine-readable summary on stdout
@@ -439,7 +441,7 @@ fn pfm(width: u32, height: u32, rgba: &[[f32; 4]]) -> Vec<u8> {
     out
 }
 
-pub fn run(a: RenderArgs) -> Result<()> {
+pub fn run(mut a: RenderArgs) -> Result<()> {
     if a.width == 0 || a.height == 0 || a.width > 16384 || a.height > 16384 {
         bail!(
             "invalid --width/--height {}×{}: each must lie in 1..=16384",
@@ -526,9 +528,20 @@ pub fn run(a: RenderArgs) -> Result<()> {
         bail!("invalid --camera/--target: they coincide");
     }
     let named = library::material(&a.material)?;
+    // Nothing is written outside --out unless --profiles says where.
+    a.source.profiles.get_or_insert_with(|| a.out.clone());
+    let kernel_file = match &a.kernel {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("cannot read {}", path.display()))?;
+            Some(ShaderKernel::from_toml(&text, &path.display().to_string())?)
+        }
+        None => None,
+    };
+    let mut files = Outputs::default();
     let dipole = match a.method {
         Method::Separable => None,
-        Method::DirectionalDipole => Some(dipole_setup(&named, &a)?),
+        Method::DirectionalDipole => Some(dipole_setup(&named, &a, &mut files)?),
     };
     let gpu = Gpu::new()?;
     eprintln!("GPU: {}", gpu.adapter_name);
@@ -551,37 +564,36 @@ pub fn run(a: RenderArgs) -> Result<()> {
         fixed_depth: None,
         exposure: a.exposure,
         incidence: match a.incidence_aware {
-            OnOff::On if !a.no_sss => incidence_table(&named, a.incidence_photons, a.source.seed)?,
+            OnOff::On if !a.no_sss => {
+                incidence_table(&named, a.incidence_photons, a.source.seed())?
+            }
             _ => [[1.0; 3]; gpu::INCIDENCE_STEPS],
         },
         translucency: match a.translucency {
             OnOff::On if !a.no_sss && dipole.is_none() => Some(translucency_table(
                 &named,
-                &a.source.profile(&named)?,
+                &a.source.profile(&named, &mut files)?,
                 a.translucency_photons,
-                a.source.seed,
+                a.source.seed(),
             )?),
             _ => None,
         },
     };
-    let profile = || a.source.profile(&named);
     if a.bench {
-        return match &dipole {
-            Some(setup) => bench_dipole(&gpu, &scene, setup, &named.slug, &a),
-            None => bench(&gpu, &scene, &profile()?, &named.slug, &a),
-        };
-    }
-    std::fs::create_dir_all(&a.out)
-        .with_context(|| format!("cannot create {}", a.out.display()))?;
-    let kernel = match &a.kernel {
-        _ if a.no_sss || dipole.is_some() => None,
-        Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("cannot read {}", path.display()))?;
-            Some(ShaderKernel::from_toml(&text, &path.display().to_string())?)
+        match &dipole {
+            Some(setup) => bench_dipole(&gpu, &scene, setup, &named.slug, &a)?,
+            None => {
+                let p = a.source.profile(&named, &mut files)?;
+                bench(&gpu, &scene, &p, &named.slug, &a)?
+            }
         }
+        return files.commit();
+    }
+    let kernel = match kernel_file {
+        _ if a.no_sss || dipole.is_some() => None,
+        Some(k) => Some(k),
         None => Some(kernel_of(
-            &profile()?,
+            &a.source.profile(&named, &mut files)?,
             &named.slug,
             KernelModel::Preint,
             a.taps,
@@ -600,14 +612,14 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let frame = gpu::render(&gpu, &scene, scatter, &params)?;
     let seconds = start.elapsed().as_secs_f64();
     let png_path = a.out.join("render.png");
-    write_atomic(
+    files.add(
         &png_path,
-        &png_rgba(frame.width, frame.height, &frame.display)?,
-    )?;
-    write_atomic(
-        &a.out.join("render.pfm"),
-        &pfm(frame.width, frame.height, &frame.linear),
-    )?;
+        png_rgba(frame.width, frame.height, &frame.display)?,
+    );
+    files.add(
+        a.out.join("render.pfm"),
+        pfm(frame.width, frame.height, &frame.linear),
+    );
     let what = match (&dipole, &kernel) {
         (Some(d), _) => format!(
             "directional dipole ({} samples × {} frames per pixel and light, r* = {:.3} cm)",
@@ -621,13 +633,6 @@ pub fn run(a: RenderArgs) -> Result<()> {
         ),
         (None, None) => "no SSS".to_string(),
     };
-    eprintln!(
-        "{what} on {} at {}×{} in {seconds:.2} s → {}",
-        a.scene,
-        a.width,
-        a.height,
-        png_path.display()
-    );
     let mut summary = json!({
         "adapter": gpu.adapter_name, "scene": a.scene, "method": if dipole.is_some() { "directional-dipole" } else { "separable" },
         "kernel": kernel.as_ref().map(|k| k.model.to_string()), "width": a.width, "height": a.height,
@@ -636,7 +641,22 @@ pub fn run(a: RenderArgs) -> Result<()> {
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
     });
     if a.compare_models {
-        summary["compare"] = compare(&gpu, &scene, &params, &profile()?, &named.slug, &a)?;
+        let p = a.source.profile(&named, &mut files)?;
+        summary["compare"] = compare(&gpu, &scene, &params, &p, &named.slug, &a, &mut files)?;
+    }
+    files.commit()?;
+    eprintln!(
+        "{what} on {} at {}×{} in {seconds:.2} s → {}",
+        a.scene,
+        a.width,
+        a.height,
+        png_path.display()
+    );
+    if a.compare_models {
+        eprintln!(
+            "comparison sheet → {}",
+            a.out.join("compare_sheet.png").display()
+        );
     }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
@@ -668,6 +688,7 @@ fn compare(
     p: &Profile,
     slug: &str,
     a: &RenderArgs,
+    files: &mut Outputs,
 ) -> Result<serde_json::Value> {
     let f = scene.camera.px_per_cm_at_unit_depth(base.height);
     let depth = (scene.camera.target - scene.camera.position).length();
@@ -842,10 +863,10 @@ fn compare(
             .collect();
         let e = rms(&shown);
         table(format!("  {label:<8} {:>9}", format!("{:.3}%", 100.0 * e)));
-        write_atomic(
-            &a.out.join(format!("{label}.png")),
-            &png_rgba(frame.width, frame.height, &frame.display)?,
-        )?;
+        files.add(
+            a.out.join(format!("{label}.png")),
+            png_rgba(frame.width, frame.height, &frame.display)?,
+        );
         rows.push(
             json!({"model": label, "image_rms_rel": e, "png": a.out.join(format!("{label}.png"))}),
         );
@@ -856,21 +877,22 @@ fn compare(
         cells.push(cell(format!("{label} − truth"), diff_crop(&shown)));
     }
     let sheet = a.out.join("compare_sheet.png");
-    let tmp = a.out.join(".compare_sheet.tmp.png");
-    fit::plot::image_sheet(&cells, 2, &tmp)?;
-    std::fs::rename(&tmp, &sheet)?;
+    files.add(&sheet, fit::plot::image_sheet(&cells, 2)?);
     let v = json!({ "cm_per_px": p.dr * bin as f64, "models": rows, "sheet": sheet });
-    write_atomic(
-        &a.out.join("compare.json"),
-        serde_json::to_string_pretty(&v)?.as_bytes(),
-    )?;
-    eprintln!("comparison sheet → {}", sheet.display());
+    files.add(
+        a.out.join("compare.json"),
+        serde_json::to_string_pretty(&v)?,
+    );
     Ok(v)
 }
 
 /// The directional-dipole settings from the material and the flags; warns where the model is
 /// outside its domain.
-fn dipole_setup(named: &library::Named, a: &RenderArgs) -> Result<DipoleSetup> {
+fn dipole_setup(
+    named: &library::Named,
+    a: &RenderArgs,
+    files: &mut Outputs,
+) -> Result<DipoleSetup> {
     if a.kernel.is_some() || a.compare_models || a.no_sss {
         bail!("--method directional-dipole does not use --kernel, --compare-models or --no-sss");
     }
@@ -890,7 +912,7 @@ fn dipole_setup(named: &library::Named, a: &RenderArgs) -> Result<DipoleSetup> {
     setup.samples = a.samples;
     setup.frames = a.frames;
     setup.map_size = a.light_map;
-    setup.seed = a.source.seed as u32;
+    setup.seed = a.source.seed() as u32;
     if let Some(r) = a.dipole_radius {
         setup.radius_cm = r;
     }
@@ -898,7 +920,7 @@ fn dipole_setup(named: &library::Named, a: &RenderArgs) -> Result<DipoleSetup> {
         .validate()
         .context("invalid --samples/--frames/--dipole-radius/--light-map")?;
     if a.dipole_energy == DipoleEnergy::MonteCarlo {
-        let p = a.source.profile(named)?;
+        let p = a.source.profile(named, files)?;
         setup = setup.renormalized(&media, [0, 1, 2].map(|c| p.total(c)))?;
         eprintln!(
             "directional dipole rescaled to mc's total Rd: R ×{:.3}, G ×{:.3}, B ×{:.3}",

@@ -14,13 +14,15 @@ use fit::{KernelModel, Profile};
 use serde::Deserialize;
 use serde_json::{Value, json};
 
-use crate::files::write_atomic;
+use crate::cache::{Explicit, Provenance, count, provenance_path};
+use crate::files::Outputs;
 use crate::{eval, library, parse_count, progress, simulate};
 
 #[derive(Args)]
 pub struct ReproduceArgs {
-    /// Output folder (index.html, report.json, PNG plots, profiles/)
-    #[arg(long, default_value = "report")]
+    /// Output folder (index.html, report.json, PNG plots, profiles/ with their provenance),
+    /// written once the whole report is done
+    #[arg(long, value_name = "DIR", default_value = "report")]
     out: PathBuf,
 
     /// CI-sized run: 2·10⁴ photons per channel, a coarser grid (dr = min MFP/6, 10 max MFP) and
@@ -37,7 +39,9 @@ pub struct ReproduceArgs {
     threads: Option<usize>,
 
     /// Read the 16 profiles from this folder (NAME.profile.csv, e.g. a previous report's
-    /// profiles/) instead of simulating them
+    /// profiles/) instead of simulating them. Where a profile has its provenance
+    /// (NAME.profile.json) it must be of the built-in material, and of --photons when given; a
+    /// profile without one is refused when --photons is given
     #[arg(long, value_name = "DIR")]
     profiles: Option<PathBuf>,
 
@@ -129,6 +133,42 @@ fn image_rms(r: &Row) -> f64 {
     (r.image_rms.iter().map(|(_, e)| e * e).sum::<f64>() / r.image_rms.len() as f64).sqrt()
 }
 
+/// A profile of `--profiles` and its provenance, if it has one: one that is not of the built-in
+/// material, or not of the --photons given, is refused (the user named these files), as is one
+/// without provenance when --photons is given.
+fn read_profile(
+    csv: &std::path::Path,
+    asked: &Provenance,
+    explicit: Explicit,
+) -> Result<(String, Option<Provenance>)> {
+    let text =
+        std::fs::read_to_string(csv).with_context(|| format!("cannot read {}", csv.display()))?;
+    let sidecar = provenance_path(csv);
+    if !sidecar.exists() {
+        if explicit.photons {
+            bail!(
+                "{} has no provenance ({} is missing): its photon count is unknown, so it cannot stand for --photons {}",
+                csv.display(),
+                sidecar.display(),
+                asked.photons
+            );
+        }
+        return Ok((text, None));
+    }
+    let json = std::fs::read_to_string(&sidecar)
+        .with_context(|| format!("cannot read {}", sidecar.display()))?;
+    let have = Provenance::from_json(&json, &sidecar.display().to_string())?;
+    let differ = have.mismatches(asked, explicit);
+    if !differ.is_empty() {
+        bail!(
+            "{} does not match what was asked: {}",
+            csv.display(),
+            differ.join("; ")
+        );
+    }
+    Ok((text, Some(have)))
+}
+
 pub fn run(a: ReproduceArgs) -> Result<()> {
     let start = Instant::now();
     let published: Published = toml::from_str(PUBLISHED).expect("published tables parse");
@@ -148,47 +188,80 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
         .photons
         .unwrap_or(if a.quick { 20_000 } else { config.photons });
     let references = a.references.as_deref().map(read_references).transpose()?;
-    std::fs::create_dir_all(&a.out)
-        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let mut files = Outputs::default();
 
     // 1. Profiles of the whole library, one batch.
     let all = library::all()?;
     let t = Instant::now();
-    let csvs: Vec<String> = match &a.profiles {
-        Some(dir) => all
-            .iter()
-            .map(|n| {
-                let path = dir.join(format!("{}.profile.csv", n.slug));
-                std::fs::read_to_string(&path)
-                    .with_context(|| format!("cannot read {}", path.display()))
-            })
-            .collect::<Result<_>>()?,
+    let spec = simulate::batch_spec(&all, &config, photons, config.seed, true)?;
+    let (csvs, provenance): (Vec<String>, Vec<Option<Provenance>>) = match &a.profiles {
+        Some(dir) => {
+            let explicit = Explicit {
+                photons: a.photons.is_some(),
+                ..Explicit::default()
+            };
+            all.iter()
+                .enumerate()
+                .map(|(i, n)| {
+                    let asked = Provenance::of(&spec, i, &n.slug, None);
+                    read_profile(
+                        &dir.join(format!("{}.profile.csv", n.slug)),
+                        &asked,
+                        explicit,
+                    )
+                })
+                .collect::<Result<Vec<_>>>()?
+                .into_iter()
+                .unzip()
+        }
         None => {
-            let spec = simulate::batch_spec(&all, &config, photons, config.seed, true)?;
             let bar = progress::photons(
                 photons * spec.groups().len() as u64,
                 "simulating the library",
             );
             let outputs = pool.install(|| mc::run_batch(&spec, &|k| bar.inc(k)))?;
             bar.finish_and_clear();
-            (0..all.len())
-                .map(|i| {
-                    simulate::profile_csv(&outputs[3 * i..3 * i + 3].iter().collect::<Vec<_>>())
+            all.iter()
+                .enumerate()
+                .map(|(i, n)| {
+                    let chans: Vec<_> = outputs[3 * i..3 * i + 3].iter().collect();
+                    (
+                        simulate::profile_csv(&chans),
+                        Some(Provenance::of(&spec, i, &n.slug, None)),
+                    )
                 })
-                .collect()
+                .unzip()
         }
     };
     let simulate_seconds = t.elapsed().as_secs_f64();
+    // The photons behind the report: those asked, or those every profile read says it has.
+    let counts: Vec<Option<u64>> = provenance
+        .iter()
+        .map(|p| {
+            p.as_ref()
+                .filter(|p| p.target_error.is_none())
+                .map(|p| p.photons)
+        })
+        .collect();
+    let photons = match &counts[..] {
+        [Some(first), rest @ ..] if rest.iter().all(|c| *c == Some(*first)) => Some(*first),
+        _ => None,
+    };
     let mut profiles = Vec::new();
-    for (n, csv) in all.iter().zip(&csvs) {
+    for ((n, csv), prov) in all.iter().zip(&csvs).zip(&provenance) {
         let path = a
             .out
             .join("profiles")
             .join(format!("{}.profile.csv", n.slug));
-        write_atomic(&path, csv.as_bytes())?;
         let p = Profile::parse_csv(csv, &path.display().to_string())?;
-        let png = a.out.join(format!("{}.profile.png", n.slug));
-        fit::plot::profile(&p, &n.slug, &png)?;
+        if let Some(prov) = prov {
+            files.add(provenance_path(&path), prov.to_json());
+        }
+        files.add(path, csv.as_str());
+        files.add(
+            a.out.join(format!("{}.profile.png", n.slug)),
+            fit::plot::profile(&p, &n.slug)?,
+        );
         profiles.push(p);
     }
 
@@ -201,7 +274,7 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
             .expect("main materials are built in");
         eprintln!("fitting and evaluating every model for {name} …");
         let ev = pool.install(|| evaluate(&profiles[i], name, image))?;
-        eval::write_plots(&profiles[i], &ev, name, &a.out)?;
+        eval::plots(&profiles[i], &ev, name, &a.out, &mut files)?;
         evals.push(ev);
     }
 
@@ -209,11 +282,12 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
     if let Some(r) = references {
         report["rendered"] = r;
     }
-    write_atomic(
-        &a.out.join("report.json"),
-        serde_json::to_string_pretty(&report)?.as_bytes(),
-    )?;
-    write_atomic(&a.out.join("index.html"), html(&report, &all).as_bytes())?;
+    files.add(
+        a.out.join("report.json"),
+        serde_json::to_string_pretty(&report)?,
+    );
+    files.add(a.out.join("index.html"), html(&report, &all));
+    files.commit()?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     }
@@ -229,7 +303,7 @@ fn build(
     all: &[library::Named],
     evals: &[Evaluation],
     published: &Published,
-    photons: u64,
+    photons: Option<u64>,
     simulate_seconds: f64,
     quick: bool,
 ) -> Value {
@@ -434,11 +508,14 @@ fn html(r: &Value, all: &[library::Named]) -> String {
         h,
         "<!doctype html><html><head><meta charset=\"utf-8\"><title>sss reproduce</title><style>body{{font-family:sans-serif;max-width:1400px;margin:auto;padding:1em}}table{{border-collapse:collapse;margin:1em 0}}td,th{{border:1px solid #bbb;padding:3px 7px;text-align:right}}th{{background:#eee}}.pub{{color:#777}}.ok{{color:#070}}.bad{{color:#b00}}img{{max-width:100%}}</style></head><body>"
     );
+    let photons = match r["photons_per_channel"].as_u64() {
+        Some(n) => format!("{} photons per channel", count(n)),
+        None => "profiles of unknown or differing photon counts".into(),
+    };
     let _ = write!(
         h,
-        "<h1>Separable SSS for arbitrary materials — reproduction</h1><p>Mode: <b>{}</b>, {} photons per channel (library simulated in {:.0} s). Published values from Freude 2014 in <span class=\"pub\">grey</span>.</p>",
+        "<h1>Separable SSS for arbitrary materials — reproduction</h1><p>Mode: <b>{}</b>, {photons} (library simulated or read in {:.0} s). Published values from Freude 2014 in <span class=\"pub\">grey</span>.</p>",
         r["mode"].as_str().unwrap_or(""),
-        r["photons_per_channel"],
         r["simulate_seconds"].as_f64().unwrap_or(0.0)
     );
 

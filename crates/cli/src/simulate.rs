@@ -14,7 +14,8 @@ use mc::shard::{self, Shard};
 use mc::{BatchSpec, CHANNELS, ChannelSpec, Output, TallySet};
 use serde_json::{Value, json};
 
-use crate::files::{write_all, write_atomic};
+use crate::cache::{Provenance, provenance_path};
+use crate::files::Outputs;
 use crate::library::{self, Named};
 use crate::{parse_count, progress};
 
@@ -48,8 +49,9 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "FILE")]
     config: Option<PathBuf>,
 
-    /// Output folder
-    #[arg(long, default_value = "out")]
+    /// Output folder: per material NAME.profile.csv, its provenance NAME.profile.json (what later
+    /// commands check before reusing the profile), NAME.summary.json and NAME.R/G/B.mco
+    #[arg(long, value_name = "DIR", default_value = "out")]
     out: PathBuf,
 
     /// Stop each walk group once the relative standard error of total Rd and of r·Rd(r) within 3 MFP is ≤ E (e.g. 0.01); --photons is then the cap
@@ -83,8 +85,8 @@ pub struct MergeArgs {
     #[arg(required = true, value_name = "SHARD.json")]
     shards: Vec<PathBuf>,
 
-    /// Output folder
-    #[arg(long, default_value = "out")]
+    /// Output folder (the same files as `simulate` writes)
+    #[arg(long, value_name = "DIR", default_value = "out")]
     out: PathBuf,
 
     /// Print a machine-readable summary on stdout
@@ -157,7 +159,9 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
             chunks,
             groups: accs,
         };
-        write_all(&[(path.clone(), sh.to_json())])?;
+        let mut files = Outputs::default();
+        files.add(&path, sh.to_json());
+        files.commit()?;
         if args.json {
             println!(
                 "{}",
@@ -218,6 +222,7 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
         &args.out,
         args.json,
         args.profile_only,
+        args.target_error,
     )
 }
 
@@ -247,6 +252,7 @@ pub fn merge(args: MergeArgs) -> Result<()> {
         &args.out,
         args.json,
         !spec.tallies.absorption_rz,
+        None,
     )
 }
 
@@ -309,8 +315,8 @@ pub fn batch_spec(
     Ok(spec)
 }
 
-/// Writes each material's CSV profile, JSON summary and .mco files (and its Rd(θ) CSV and plot
-/// when `incidence` holds a table per material), and reports.
+/// Writes each material's CSV profile with its provenance, JSON summary and .mco files (and its
+/// Rd(θ) CSV and plot when `incidence` holds a table per material), and reports.
 #[allow(clippy::too_many_arguments)]
 fn finish(
     spec: &BatchSpec,
@@ -322,8 +328,9 @@ fn finish(
     out: &Path,
     json_out: bool,
     profile_only: bool,
+    target_error: Option<f64>,
 ) -> Result<()> {
-    let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
+    let mut files = Outputs::default();
     let mut summaries = Vec::new();
     for m in 0..outputs.len() / 3 {
         let slug = labels[3 * m]
@@ -333,10 +340,12 @@ fn finish(
             .to_string();
         let chans: Vec<&Output> = outputs[3 * m..3 * m + 3].iter().collect();
         let specs = &spec.channels[3 * m..3 * m + 3];
-        files.push((
-            out.join(format!("{slug}.profile.csv")),
-            profile_csv(&chans).into_bytes(),
-        ));
+        let csv = out.join(format!("{slug}.profile.csv"));
+        files.add(
+            provenance_path(&csv),
+            Provenance::of(spec, m, &slug, target_error).to_json(),
+        );
+        files.add(csv, profile_csv(&chans));
         let mut mco_files = Vec::new();
         if !profile_only {
             for (c, ch) in CHANNELS.iter().enumerate() {
@@ -352,10 +361,10 @@ fn finish(
                     seed: spec.seed,
                     tallies: spec.tallies,
                 };
-                files.push((
+                files.add(
                     out.join(&name),
-                    mc::mco::write(&name, &run, chans[c], seconds)?.into_bytes(),
-                ));
+                    mc::mco::write(&name, &run, chans[c], seconds)?,
+                );
                 mco_files.push(name);
             }
         }
@@ -375,21 +384,20 @@ fn finish(
                 }
             });
             let models = incidence_models(&media, rows);
-            files.push((out.join(&csv), incidence_csv(rows, &models).into_bytes()));
-            files.push((out.join(&png), incidence_png(rows, &models, &slug)?));
+            files.add(out.join(&csv), incidence_csv(rows, &models));
+            files.add(out.join(&png), incidence_png(rows, &models, &slug)?);
             summary["incidence"] = incidence_json(rows, &models);
             summary["files"]["incidence"] = json!(csv);
             summary["files"]["incidence_plot"] = json!(png);
         }
-        files.push((
+        files.add(
             out.join(format!("{slug}.summary.json")),
-            (serde_json::to_string_pretty(&summary)? + "\n").into_bytes(),
-        ));
+            serde_json::to_string_pretty(&summary)? + "\n",
+        );
         summaries.push(summary);
     }
-    for (path, bytes) in &files {
-        write_atomic(path, bytes)?;
-    }
+    let written = files.len();
+    files.commit()?;
     if json_out {
         let v = if summaries.len() == 1 {
             summaries.remove(0)
@@ -403,8 +411,7 @@ fn finish(
             print_incidence(s);
         }
         eprintln!(
-            "wrote {} file(s) to {} in {seconds:.1} s",
-            files.len(),
+            "wrote {written} file(s) to {} in {seconds:.1} s",
             out.display()
         );
     }
@@ -459,7 +466,7 @@ fn summary_json(
         "grid": { "dr_cm": g.dr, "nr": g.nr, "dz_cm": g.dz, "nz": g.nz, "na": g.na, "da_rad": g.da() },
         "channels": channels,
         "walk_groups": spec.groups().len(),
-        "files": { "profile": format!("{slug}.profile.csv"), "mco": mco },
+        "files": { "profile": format!("{slug}.profile.csv"), "provenance": format!("{slug}.profile.json"), "mco": mco },
     })
 }
 
@@ -630,7 +637,7 @@ fn run_mci(path: &Path, args: &SimulateArgs) -> Result<()> {
         }
         r.spec.tallies.absorption_rz = true;
     }
-    let mut files = Vec::new();
+    let mut files = Outputs::default();
     let mut report = Vec::new();
     for (k, r) in runs.iter().enumerate() {
         let start = Instant::now();
@@ -642,16 +649,16 @@ fn run_mci(path: &Path, args: &SimulateArgs) -> Result<()> {
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| format!("run{}.mco", k + 1));
-        files.push((
+        files.add(
             args.out.join(&name),
             mc::mco::write(&r.out_name, &r.spec, &out, seconds)?,
-        ));
+        );
         report.push(json!({
             "output": args.out.join(&name), "photons": out.photons, "seconds": seconds,
             "rsp": out.rsp, "rd": out.rd.value, "rd_se": out.rd.se, "a": out.a.value, "a_se": out.a.se, "tt": out.tt.value, "tt_se": out.tt.se,
         }));
     }
-    write_all(&files)?;
+    files.commit()?;
     if args.json {
         println!(
             "{}",

@@ -38,6 +38,7 @@ mod kernel2d;
 mod manual;
 pub mod metrics;
 mod model;
+pub mod pareto;
 pub mod plot;
 mod preint;
 mod profile;

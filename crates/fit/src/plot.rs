@@ -1,11 +1,12 @@
 //! Comparison plots as PNG (plotters, bitmap backend, an embedded DejaVu Sans so output does not
 //! depend on system fonts): profiles (thesis Fig. 6.1), kernel slices against the ground truth
 //! (Fig. 6.2), singular-value decay (Fig. 5.1), convolution/difference sheets (Fig. 6.3–6.10), and
-//! total diffuse reflectance against the incidence angle ([`incidence`], returned as PNG bytes).
+//! total diffuse reflectance against the incidence angle ([`incidence`]). Every plot is returned
+//! as PNG bytes: the caller decides where, and whether, it is written.
 
-use std::path::Path;
 use std::sync::Once;
 
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
 
@@ -32,7 +33,7 @@ const MODEL_COLORS: [RGBColor; 6] = [
     RGBColor(0, 160, 100),
 ];
 
-fn font() {
+pub(crate) fn font() {
     FONT.call_once(|| {
         let _ = register_font(
             "sans-serif",
@@ -42,17 +43,56 @@ fn font() {
     });
 }
 
-fn err(path: &Path, e: impl std::fmt::Display) -> FitError {
+/// `path` names the picture (e.g. "skin1 profile plot"): plots are returned as bytes, and the
+/// caller decides where they go.
+fn err(path: &str, e: impl std::fmt::Display) -> FitError {
     FitError::Plot {
-        path: path.display().to_string(),
+        path: path.to_string(),
         message: e.to_string(),
     }
 }
 
-/// Rd(r) per channel: linear near 0 (left) and logarithmic over the whole range (right).
-pub fn profile(p: &Profile, title: &str, path: &Path) -> Result<()> {
+/// A drawing area on an in-memory RGB picture.
+pub(crate) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+
+/// Draws a picture of `size` with `draw` and returns it as PNG bytes; `path` names it in errors.
+pub(crate) fn png_of(
+    size: (u32, u32),
+    path: &str,
+    draw: impl FnOnce(Area<'_>, &str) -> Result<()>,
+) -> Result<Vec<u8>> {
+    let mut rgb = vec![0u8; (size.0 * size.1 * 3) as usize];
+    draw(
+        BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area(),
+        path,
+    )?;
+    encode_png(&rgb, size, path)
+}
+
+/// RGB8 pixels, row-major, as PNG bytes.
+fn encode_png(rgb: &[u8], (width, height): (u32, u32), path: &str) -> Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    let mut enc = png::Encoder::new(&mut bytes, width, height);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.write_header()
+        .and_then(|mut wr| wr.write_image_data(rgb))
+        .map_err(|e| err(path, e))?;
+    Ok(bytes)
+}
+
+/// Rd(r) per channel: linear near 0 (left) and logarithmic over the whole range (right), as PNG
+/// bytes.
+pub fn profile(p: &Profile, title: &str) -> Result<Vec<u8>> {
+    png_of(
+        (1200, 480),
+        &format!("{title} profile plot"),
+        |root, path| draw_profile(root, path, p, title),
+    )
+}
+
+fn draw_profile(root: Area<'_>, path: &str, p: &Profile, title: &str) -> Result<()> {
     font();
-    let root = BitMapBackend::new(path, (1200, 480)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(path, e))?;
     let (left, right) = root.split_horizontally(600);
     let r_end = *p.r.last().unwrap_or(&1.0);
@@ -131,10 +171,23 @@ pub fn profile(p: &Profile, title: &str, path: &Path) -> Result<()> {
 
 /// Slices along the main axis (top row) and the diagonal (bottom row) of `models` against the
 /// ground truth (dots), per channel, zoomed on the kernel's centre. Every model must have been
-/// evaluated (an error names the one that was not).
-pub fn slices(ev: &Evaluation, models: &[KernelModel], title: &str, path: &Path) -> Result<()> {
+/// evaluated (an error names the one that was not). As PNG bytes.
+pub fn slices(ev: &Evaluation, models: &[KernelModel], title: &str) -> Result<Vec<u8>> {
+    png_of(
+        (1500, 800),
+        &format!("{title} slices plot"),
+        |root, path| draw_slices(root, path, ev, models, title),
+    )
+}
+
+fn draw_slices(
+    root: Area<'_>,
+    path: &str,
+    ev: &Evaluation,
+    models: &[KernelModel],
+    title: &str,
+) -> Result<()> {
     font();
-    let root = BitMapBackend::new(path, (1500, 800)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(path, e))?;
     let root = root
         .titled(
@@ -228,10 +281,17 @@ pub fn slices(ev: &Evaluation, models: &[KernelModel], title: &str, path: &Path)
     root.present().map_err(|e| err(path, e))
 }
 
-/// The first 30 singular values per channel, log scale (thesis Fig. 5.1).
-pub fn singular_values(ev: &Evaluation, title: &str, path: &Path) -> Result<()> {
+/// The first 30 singular values per channel, log scale (thesis Fig. 5.1), as PNG bytes.
+pub fn singular_values(ev: &Evaluation, title: &str) -> Result<Vec<u8>> {
+    png_of(
+        (700, 480),
+        &format!("{title} singular values plot"),
+        |root, path| draw_singular_values(root, path, ev, title),
+    )
+}
+
+fn draw_singular_values(root: Area<'_>, path: &str, ev: &Evaluation, title: &str) -> Result<()> {
     font();
-    let root = BitMapBackend::new(path, (700, 480)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(path, e))?;
     let all = ev
         .singular_values
@@ -414,30 +474,43 @@ fn convolution_sheet(
 /// A sheet for one test signal, all three channels at once (each colour channel convolved with
 /// its own kernel): the input and its convolution with the 2D ground truth on the first row;
 /// each of `models` convolved (second row) and its absolute difference to the ground truth,
-/// scaled ×`gain` (third row); every panel labelled, with colour bars for both scales.
+/// scaled ×`gain` (third row); every panel labelled, with colour bars for both scales. As PNG
+/// bytes.
 pub fn convolutions(
     ev: &Evaluation,
     models: &[KernelModel],
     signal: Signal,
     gain: f64,
     title: &str,
-    path: &Path,
-) -> Result<()> {
-    let png = convolution_sheet(ev, models, signal, gain, title)?.png()?;
-    std::fs::write(path, png).map_err(|e| err(path, e))
+) -> Result<Vec<u8>> {
+    convolution_sheet(ev, models, signal, gain, title)?.png()
 }
 
 /// Analytic profiles against MC, per channel: r·Rd(r) on a log scale (top) and the relative error
-/// model/MC − 1 (bottom), against r in transport mean free paths `mfp` [cm] of each channel.
+/// model/MC − 1 (bottom), against r in transport mean free paths `mfp` [cm] of each channel. As
+/// PNG bytes.
 pub fn profile_comparison(
     mc: &Profile,
     models: &[(&str, &Profile)],
     mfp: [f64; 3],
     title: &str,
-    path: &Path,
+) -> Result<Vec<u8>> {
+    png_of(
+        (1500, 850),
+        &format!("{title} profile comparison"),
+        |root, path| draw_profile_comparison(root, path, mc, models, mfp, title),
+    )
+}
+
+fn draw_profile_comparison(
+    root: Area<'_>,
+    path: &str,
+    mc: &Profile,
+    models: &[(&str, &Profile)],
+    mfp: [f64; 3],
+    title: &str,
 ) -> Result<()> {
     font();
-    let root = BitMapBackend::new(path, (1500, 850)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(path, e))?;
     let (top, bottom) = root.split_vertically(480);
     let x_max = 10.0;
@@ -545,9 +618,22 @@ pub fn profile_comparison(
 /// profile, relative to the profile's total, against the pixel pitch [cm] (log-log). Point
 /// sampling (thin, light) drifts with the pitch, differently per channel — a brightness and colour
 /// shift when zooming; area pre-integration (thick) stays at 1. `curves[c]` holds (pitch, point, area) triples.
-pub fn area_effect(curves: &[Vec<(f64, f64, f64)>; 3], title: &str, path: &Path) -> Result<()> {
+/// As PNG bytes.
+pub fn area_effect(curves: &[Vec<(f64, f64, f64)>; 3], title: &str) -> Result<Vec<u8>> {
+    png_of(
+        (900, 560),
+        &format!("{title} area effect plot"),
+        |root, path| draw_area_effect(root, path, curves, title),
+    )
+}
+
+fn draw_area_effect(
+    root: Area<'_>,
+    path: &str,
+    curves: &[Vec<(f64, f64, f64)>; 3],
+    title: &str,
+) -> Result<()> {
     font();
-    let root = BitMapBackend::new(path, (900, 560)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(path, e))?;
     let all = curves.iter().flatten();
     let (x0, x1) = all.clone().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
@@ -702,10 +788,8 @@ impl Sheet {
     /// The sheet as PNG bytes.
     pub fn png(&self) -> Result<Vec<u8>> {
         font();
-        let fail = |e: &dyn std::fmt::Display| FitError::Plot {
-            path: format!("sheet {:?}", self.title.first().map_or("", |t| t.as_str())),
-            message: e.to_string(),
-        };
+        let name = format!("sheet {:?}", self.title.first().map_or("", |t| t.as_str()));
+        let fail = |e: &dyn std::fmt::Display| err(&name, e);
         let l = self.layout();
         let mut rgb = vec![0u8; (l.width * l.height * 3) as usize];
         {
@@ -783,26 +867,19 @@ impl Sheet {
             }
             root.present().map_err(|e| fail(&e))?;
         }
-        let mut png_bytes = Vec::new();
-        let mut enc = png::Encoder::new(&mut png_bytes, l.width, l.height);
-        enc.set_color(png::ColorType::Rgb);
-        enc.set_depth(png::BitDepth::Eight);
-        enc.write_header()
-            .and_then(|mut wr| wr.write_image_data(&rgb))
-            .map_err(|e| fail(&e))?;
-        Ok(png_bytes)
+        encode_png(&rgb, (l.width, l.height), &name)
     }
 }
 
 /// Pictures in a grid of `columns`, each with its label above it (comparison sheets of
-/// renderings, cut-outs and difference images).
-pub fn image_sheet(cells: &[SheetCell], columns: usize, path: &Path) -> Result<()> {
-    let sheet = Sheet {
+/// renderings, cut-outs and difference images), as PNG bytes.
+pub fn image_sheet(cells: &[SheetCell], columns: usize) -> Result<Vec<u8>> {
+    Sheet {
         title: Vec::new(),
         rows: cells.chunks(columns.max(1)).map(<[_]>::to_vec).collect(),
         bars: Vec::new(),
-    };
-    std::fs::write(path, sheet.png()?).map_err(|e| err(path, e))
+    }
+    .png()
 }
 
 /// Total diffuse reflectance of the three channels at one incidence angle (plain data for
@@ -1032,16 +1109,7 @@ pub fn incidence(
         }
         root.present().map_err(|e| fail(&e))?;
     }
-    let mut png_bytes = Vec::new();
-    {
-        let mut enc = png::Encoder::new(&mut png_bytes, w, h);
-        enc.set_color(png::ColorType::Rgb);
-        enc.set_depth(png::BitDepth::Eight);
-        enc.write_header()
-            .and_then(|mut wr| wr.write_image_data(&rgb))
-            .map_err(|e| fail(&e))?;
-    }
-    Ok(png_bytes)
+    encode_png(&rgb, (w, h), &format!("{title} incidence plot"))
 }
 
 #[cfg(test)]
