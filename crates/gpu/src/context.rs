@@ -85,14 +85,6 @@ impl Gpu {
         staging.unmap();
         Ok(bytes)
     }
-
-    /// Waits until the queue is idle.
-    pub fn wait(&self) -> Result<()> {
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map(|_| ())
-            .map_err(|e| GpuError::Readback(e.to_string()))
-    }
 }
 
 /// A compute pipeline from a WGSL module's `main`, its layout derived from the shader.

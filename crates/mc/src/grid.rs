@@ -32,16 +32,6 @@ impl Grid {
         (c + 1.0 / (12.0 * c)) * self.dr
     }
 
-    /// Centre of depth bin `iz` [cm].
-    pub fn z_center(&self, iz: usize) -> f64 {
-        (iz as f64 + 0.5) * self.dz
-    }
-
-    /// Centre of exit-angle bin `ia` [rad].
-    pub fn a_center(&self, ia: usize) -> f64 {
-        (ia as f64 + 0.5) * self.da()
-    }
-
     /// Checks sizes and spacings; the error names the offending field.
     pub fn validate(&self) -> Result<()> {
         for (field, v) in [("dr", self.dr), ("dz", self.dz)] {

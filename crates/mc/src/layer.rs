@@ -91,11 +91,6 @@ impl Sample {
         }
         Ok(())
     }
-
-    /// Depth of the bottom of the stack [cm].
-    pub fn depth(&self) -> f64 {
-        self.layers.iter().map(|l| l.thickness).sum()
-    }
 }
 
 fn check_index(field: &str, n: f64) -> Result<()> {

@@ -178,9 +178,4 @@ impl Output {
             tt_ra,
         }
     }
-
-    /// Radial coordinates of the `Rd(r)` bins [cm] (MCML's optimal coordinates).
-    pub fn r_coordinates(&self) -> Vec<f64> {
-        (0..self.grid.nr).map(|i| self.grid.r_optimal(i)).collect()
-    }
 }
