@@ -69,6 +69,9 @@ pub struct Spectrum {
     plans: Plans,
 }
 
+/// A 1D transform.
+type Spectrum1 = Vec<Complex<f64>>;
+
 /// Forward and inverse 1D plans along both axes of a padded image.
 struct Plans {
     fx: Arc<dyn Fft<f64>>,
@@ -142,7 +145,8 @@ impl Spectrum {
             plan.process(&mut t);
             t
         };
-        let terms: Vec<(f64, Vec<Complex<f64>>, Vec<Complex<f64>>)> = s
+        // (sign, transform along x, transform along y) of each term.
+        let terms: Vec<(f64, Spectrum1, Spectrum1)> = s
             .terms
             .iter()
             .map(|t| {
