@@ -6,8 +6,6 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
-use fit::convolve::{Image, convolve_2d};
-use fit::metrics::bin_kernel;
 use fit::taps::ShaderKernel;
 use fit::{KernelModel, Profile};
 use glam::Vec3;
@@ -678,9 +676,8 @@ fn display_rgb(v: [f32; 3], exposure: f32) -> [u8; 3] {
     })
 }
 
-/// Every model rendered at one kernel scale (the target's depth, rounded so that a pixel is an
-/// odd number of profile bins) without a depth test, against the CPU 2D convolution of the same
-/// irradiance with the ground-truth kernel binned to pixels; errors on SSS pixels.
+/// Every model rendered against the CPU 2D ground truth (`gpu::compare_models`): the table on
+/// stdout, each model's PNG, the sheet of cut-outs with difference images, and compare.json.
 fn compare(
     gpu: &Gpu,
     scene: &Scene,
@@ -690,66 +687,19 @@ fn compare(
     a: &RenderArgs,
     files: &mut Outputs,
 ) -> Result<serde_json::Value> {
-    let f = scene.camera.px_per_cm_at_unit_depth(base.height);
-    let depth = (scene.camera.target - scene.camera.position).length();
-    let bin =
-        (((depth / f) as f64 / p.dr / a.sss_width.max(1e-6) as f64).round() as usize).max(1) | 1;
-    let fixed_depth = (bin as f64 * p.dr * f as f64 * a.sss_width as f64) as f32;
-    let params = RenderParams {
-        depth_mode: DepthMode::None,
-        fixed_depth: Some(fixed_depth),
-        ..*base
-    };
-    let (w, h) = (base.width as usize, base.height as usize);
+    let scale = gpu::compare::kernel_scale(scene, base.height, p, a.sss_width);
     eprintln!(
-        "comparing models at {:.4} cm/px (profile bins of {:.4} cm × {bin}) …",
-        p.dr * bin as f64,
-        p.dr
+        "comparing models at {:.4} cm/px (profile bins of {:.4} cm × {}) …",
+        scale.cm_per_px, p.dr, scale.bin
     );
-    let lambert = gpu::render(gpu, scene, Scatter::None, &params)?;
-    let sss: Vec<bool> = lambert.geometry.iter().map(|g| g[1] > 0.0).collect();
-    // The ground truth: each channel convolved with the 2D kernel, SSS pixels only.
-    let mut truth = lambert.irradiance.clone();
-    for c in 0..3 {
-        let k = bin_kernel(&fit::ground_truth(p, c, None), bin);
-        let img = Image {
-            width: w,
-            height: h,
-            v: lambert.irradiance.iter().map(|v| v[c] as f64).collect(),
-        };
-        let conv = convolve_2d(&img, &k);
-        for i in 0..w * h {
-            if sss[i] {
-                truth[i][c] = conv.v[i] as f32;
-            }
-        }
-    }
-    // A cut-out around the strongest irradiance gradient on the object (a shadow edge).
-    let side = (w.min(h) / 3).max(16).min(w).min(h);
-    let grad = |i: usize| {
-        let (x, y) = (i % w, i / w);
-        if x + 1 >= w || y + 1 >= h || !sss[i] {
-            return 0.0;
-        }
-        let e = |j: usize| lambert.irradiance[j].iter().take(3).sum::<f32>();
-        (e(i + 1) - e(i)).abs() + (e(i + w) - e(i)).abs()
+    let models: Vec<KernelModel> = MODELS.iter().map(|(_, m)| *m).collect();
+    let spec = fit::taps::TapSpec {
+        taps: a.taps,
+        ..Default::default()
     };
-    let best = (0..w * h)
-        .max_by(|&i, &j| grad(i).total_cmp(&grad(j)))
-        .unwrap_or(0);
-    let x0 = (best % w).saturating_sub(side / 2).min(w - side);
-    let y0 = (best / w).saturating_sub(side / 2).min(h - side);
-    let mean: f64 = {
-        let (s, n) = (0..w * h)
-            .filter(|&i| sss[i])
-            .fold((0.0, 0usize), |(s, n), i| {
-                (
-                    s + truth[i][..3].iter().map(|&v| v as f64).sum::<f64>() / 3.0,
-                    n + 1,
-                )
-            });
-        s / n.max(1) as f64
-    };
+    let cmp = gpu::compare_models(gpu, scene, base, p, slug, &models, spec)?;
+    let (w, side) = (cmp.width, cmp.crop.side);
+    let (x0, y0) = (cmp.crop.x0, cmp.crop.y0);
     let crop = |img: &[[f32; 4]]| -> Vec<u8> {
         let mut rgb = Vec::with_capacity(side * side * 3);
         for y in y0..y0 + side {
@@ -761,12 +711,12 @@ fn compare(
         rgb
     };
     let diff_crop = |img: &[[f32; 4]]| -> Vec<u8> {
-        let gain = 10.0 / mean.max(1e-12) as f32;
+        let gain = 10.0 / cmp.mean.max(1e-12) as f32;
         let mut rgb = Vec::with_capacity(side * side * 3);
         for y in y0..y0 + side {
             for x in x0..x0 + side {
                 let i = y * w + x;
-                let d = (0..3).map(|c| img[i][c] - truth[i][c]).sum::<f32>() / 3.0 * gain;
+                let d = (0..3).map(|c| img[i][c] - cmp.truth[i][c]).sum::<f32>() / 3.0 * gain;
                 let m = (d.abs().min(1.0) * 255.0) as u8;
                 rgb.extend(if d >= 0.0 {
                     [255, 255 - m, 255 - m]
@@ -776,20 +726,6 @@ fn compare(
             }
         }
         rgb
-    };
-    let rms = |img: &[[f32; 4]]| -> f64 {
-        let (s, n) = (0..w * h)
-            .filter(|&i| sss[i])
-            .fold((0.0, 0usize), |(s, n), i| {
-                (
-                    s + (0..3)
-                        .map(|c| ((img[i][c] - truth[i][c]) as f64).powi(2))
-                        .sum::<f64>()
-                        / 3.0,
-                    n + 1,
-                )
-            });
-        (s / n.max(1) as f64).sqrt() / mean.max(1e-300)
     };
     // Cut-outs are shown at least 240 px wide (nearest-neighbour), so labels fit.
     let zoom = 240usize.div_ceil(side).max(1);
@@ -809,25 +745,6 @@ fn compare(
             rgb: big,
         }
     };
-    let mut cells = vec![
-        cell("2D ground truth (CPU)".into(), crop(&truth)),
-        cell(
-            "difference ×10 (red +, blue −)".into(),
-            vec![255; side * side * 3],
-        ),
-    ];
-    let mut rows = vec![json!({"model": "lambert", "image_rms_rel": rms(&lambert.irradiance)})];
-    cells.push(cell(
-        format!(
-            "no SSS (Lambert): rms {:.2}%",
-            100.0 * rms(&lambert.irradiance)
-        ),
-        crop(&lambert.irradiance),
-    ));
-    cells.push(cell(
-        "no SSS − truth".into(),
-        diff_crop(&lambert.irradiance),
-    ));
     // With --json the table stays off stdout.
     let table = |line: String| {
         if !a.json {
@@ -839,46 +756,51 @@ fn compare(
         a.scene
     ));
     table(format!(
-        "  {:<8} {:>9}",
-        "lambert",
-        format!("{:.3}%", 100.0 * rms(&lambert.irradiance))
+        "  {:<8} {:>9} {:>8} {:>8} {:>8}",
+        "model", "RGB", "R", "G", "B"
     ));
-    for (label, model) in MODELS {
-        let k = kernel_of(p, slug, model, a.taps)?;
-        let frame = gpu::render(
-            gpu,
-            scene,
-            Scatter::Separable(&GpuKernel::from_shader_kernel(&k)?),
-            &params,
-        )?;
-        // What the image shows: scattered light on SSS pixels, the unscattered elsewhere.
-        let shown: Vec<[f32; 4]> = (0..w * h)
-            .map(|i| {
-                if sss[i] {
-                    frame.scattered[i]
-                } else {
-                    frame.irradiance[i]
-                }
-            })
-            .collect();
-        let e = rms(&shown);
-        table(format!("  {label:<8} {:>9}", format!("{:.3}%", 100.0 * e)));
-        files.add(
-            a.out.join(format!("{label}.png")),
-            png_rgba(frame.width, frame.height, &frame.display)?,
-        );
-        rows.push(
-            json!({"model": label, "image_rms_rel": e, "png": a.out.join(format!("{label}.png"))}),
-        );
+    let line = |label: &str, e: &gpu::compare::ImageError| {
+        let pct = |x: f64| format!("{:.3}%", 100.0 * x);
+        format!(
+            "  {label:<8} {:>9} {:>8} {:>8} {:>8}",
+            pct(e.rms_rel_all),
+            pct(e.rms_rel[0]),
+            pct(e.rms_rel[1]),
+            pct(e.rms_rel[2])
+        )
+    };
+    let l = &cmp.lambert;
+    table(line("lambert", &l.error));
+    let mut rows = vec![
+        json!({"model": "lambert", "image_rms_rel": l.error.rms_rel_all, "image_rms_rel_rgb": l.error.rms_rel}),
+    ];
+    let mut cells = vec![
+        cell("2D ground truth (CPU)".into(), crop(&cmp.truth)),
+        cell(
+            "difference ×10 (red +, blue −)".into(),
+            vec![255; side * side * 3],
+        ),
+        cell(
+            format!("no SSS (Lambert): rms {:.2}%", 100.0 * l.error.rms_rel_all),
+            crop(&l.shown),
+        ),
+        cell("no SSS − truth".into(), diff_crop(&l.shown)),
+    ];
+    for ((label, _), k) in MODELS.iter().zip(&cmp.kernels) {
+        let e = k.error.rms_rel_all;
+        table(line(label, &k.error));
+        let png = a.out.join(format!("{label}.png"));
+        files.add(&png, png_rgba(base.width, base.height, &k.display)?);
+        rows.push(json!({"model": label, "image_rms_rel": e, "image_rms_rel_rgb": k.error.rms_rel, "png": png}));
         cells.push(cell(
             format!("{label}: rms {:.2}%", 100.0 * e),
-            crop(&shown),
+            crop(&k.shown),
         ));
-        cells.push(cell(format!("{label} − truth"), diff_crop(&shown)));
+        cells.push(cell(format!("{label} − truth"), diff_crop(&k.shown)));
     }
     let sheet = a.out.join("compare_sheet.png");
     files.add(&sheet, fit::plot::image_sheet(&cells, 2)?);
-    let v = json!({ "cm_per_px": p.dr * bin as f64, "models": rows, "sheet": sheet });
+    let v = json!({ "cm_per_px": cmp.scale.cm_per_px, "models": rows, "sheet": sheet });
     files.add(
         a.out.join("compare.json"),
         serde_json::to_string_pretty(&v)?,

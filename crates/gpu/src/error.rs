@@ -24,6 +24,9 @@ pub enum GpuError {
     /// Reading results back failed.
     #[error("GPU readback failed: {0}")]
     Readback(String),
+    /// Fitting a kernel model for a comparison failed.
+    #[error(transparent)]
+    Fit(#[from] fit::FitError),
 }
 
 impl GpuError {

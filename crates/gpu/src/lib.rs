@@ -7,6 +7,9 @@
 //! (× post-scatter albedo, + specular, tone map). World units are cm; kernel tap offsets are cm on
 //! the surface. Everything runs without a window; results are read back as float images.
 //!
+//! [`compare_models`] ([`compare`]) renders kernel models beside the CPU 2D ground truth of the
+//! same irradiance and measures their image errors (thesis Tables 6.4 and 6.5).
+//!
 //! The other method, [`Scatter::DirectionalDipole`] ([`dipole`]), replaces the separable passes:
 //! position/normal maps from the camera and from each light, then progressive Monte Carlo frames
 //! that integrate the directional dipole over the lit surface points around each pixel.
@@ -15,6 +18,7 @@
 //! spans z/f cm with f = height/(2·tan(fov_y/2)) (`px_per_cm_at_unit_depth`).
 
 mod blur;
+pub mod compare;
 mod context;
 pub mod dipole;
 mod error;
@@ -24,6 +28,7 @@ mod scene;
 mod timing;
 
 pub use blur::{BlurParams, DepthMode, GpuKernel, blur_image};
+pub use compare::{Comparison, compare_kernels, compare_models};
 pub use context::Gpu;
 pub use dipole::DipoleSetup;
 pub use error::{GpuError, Result};
