@@ -3,13 +3,20 @@
 //! Parameters come from the thesis's Table A.1 (√τ in mm) or from an automatic fit that minimizes
 //! the image-space error on the test signals. On the grid each sample is the Gaussian mixture
 //! integrated over its cell (erf), so narrow near-field Gaussians keep their mass.
+//!
+//! [`WSweep`] is thesis Fig. 5.17: w moves the kernel from far (w = 0) to near scattering (w = 1).
+//! The draft calls the mixture "linearly interpolated via w", which holds for a_m; the 2D kernel
+//! a_m(x)a_m(y) is quadratic in w: the near pair carries w², the far pair (1−w)² and the cross
+//! terms (near along one axis, far along the other) 2w(1−w), so "balanced" w = ½ is a quarter
+//! near, a quarter far and half cross.
 
 use argmin::core::{CostFunction, Error, Executor};
 use argmin::solver::neldermead::NelderMead;
 use serde::Deserialize;
 
+use crate::evaluate::ImageSize;
 use crate::kernel2d::Kernel2;
-use crate::metrics::ImageEval;
+use crate::metrics::{ImageEval, edge_response, edge_width};
 use crate::separable::Separable;
 
 /// Parameters of one channel: w, and variances τ_n, τ_f [cm²].
@@ -143,5 +150,101 @@ impl CostFunction for ManualCost<'_> {
     fn cost(&self, p: &Self::Param) -> Result<f64, Error> {
         let s = from_params(p).separable(self.half, self.h);
         Ok(self.eval.rms(&s).iter().map(|(_, e)| e * e).sum())
+    }
+}
+
+/// Thesis Fig. 5.17: the manual model with fixed τ_n, τ_f per channel and w swept over [0, 1].
+/// The thesis's claim: raising w moves the kernel "from emphasised far scattering, which offers a
+/// more pronounced falloff" to "predominant near scattering, which preserves sharper features".
+/// Measured per w and channel: the image-space error against the 2D ground truth and the 10–90 %
+/// width of the light across a shadow edge, beside the ground truth's own edge width (exact by
+/// pre-integration, eq. 5.15).
+#[derive(Clone, Debug)]
+pub struct WSweep {
+    /// The swept parameters' τ_n, τ_f [cm²] per channel (their w is replaced by each swept w).
+    pub params: [Manual; 3],
+    /// The swept w, ascending.
+    pub w: Vec<f64>,
+    /// Per w: RMS over the five test signals of the image-space RMS error per channel (the
+    /// images' units: irradiance 1 = white).
+    pub image_rms: Vec<[f64; 3]>,
+    /// Per w: the 10–90 % edge width [cm] per channel.
+    pub edge_width: Vec<[f64; 3]>,
+    /// The ground truth's 10–90 % edge width [cm] per channel.
+    pub truth_edge_width: [f64; 3],
+    /// Edge responses shown in the figure: (w, M(x) per channel on the kernel grid, x from −X to
+    /// X with spacing [`WSweep::h`]); dimensionless.
+    pub edges: Vec<(f64, [Vec<f64>; 3])>,
+    /// The ground truth's edge response per channel (same grid).
+    pub truth_edge: [Vec<f64>; 3],
+    /// Sample spacing [cm].
+    pub h: f64,
+}
+
+impl WSweep {
+    /// Sweeps `w` (each in [0, 1]) with the τ of `params` on the three channels' normalized
+    /// ground truths, with test images of `image`'s size; `shown` are the w whose edge responses
+    /// the figure draws.
+    pub fn measure(
+        truths: &[Kernel2],
+        params: [Manual; 3],
+        w: &[f64],
+        shown: &[f64],
+        image: ImageSize,
+    ) -> crate::Result<WSweep> {
+        let at = |c: usize, w: f64| -> crate::Result<Separable> {
+            let m = Manual { w, ..params[c] };
+            m.validate()?;
+            Ok(m.separable(truths[c].half, truths[c].h))
+        };
+        let evals: Vec<ImageEval> = truths
+            .iter()
+            .map(|k| ImageEval::new(k, image.size, image.max_half))
+            .collect();
+        let mut w = w.to_vec();
+        w.sort_by(f64::total_cmp);
+        let (mut image_rms, mut widths) = (Vec::new(), Vec::new());
+        for &wi in &w {
+            let mut e = [0.0; 3];
+            let mut width = [0.0; 3];
+            for c in 0..3 {
+                let s = at(c, wi)?;
+                let r = evals[c].rms(&s);
+                e[c] = (r.iter().map(|(_, x)| x * x).sum::<f64>() / r.len() as f64).sqrt();
+                width[c] = edge_width(&edge_response(&s.terms[0].a), s.h);
+            }
+            image_rms.push(e);
+            widths.push(width);
+        }
+        let edges = shown
+            .iter()
+            .map(|&wi| {
+                let m = [0, 1, 2].map(|c| at(c, wi).map(|s| edge_response(&s.terms[0].a)));
+                let [r, g, b] = m;
+                Ok((wi, [r?, g?, b?]))
+            })
+            .collect::<crate::Result<Vec<_>>>()?;
+        // The ground truth's edge is pre-integration's (eq. 5.15): a_p is the column sum of K.
+        let truth_edge = [0, 1, 2].map(|c| edge_response(&crate::preint(&truths[c]).terms[0].a));
+        Ok(WSweep {
+            params,
+            truth_edge_width: [0, 1, 2].map(|c| edge_width(&truth_edge[c], truths[c].h)),
+            w,
+            image_rms,
+            edge_width: widths,
+            edges,
+            truth_edge,
+            h: truths[0].h,
+        })
+    }
+
+    /// The swept w with the lowest image-space error, per channel.
+    pub fn best_w(&self) -> [f64; 3] {
+        [0, 1, 2].map(|c| {
+            let i = (0..self.w.len())
+                .min_by(|&i, &j| self.image_rms[i][c].total_cmp(&self.image_rms[j][c]))
+                .expect("at least one w is swept");
+            self.w[i]
+        })
     }
 }

@@ -269,3 +269,41 @@ impl KernelMetrics {
         (self.model_l1(a) - self.l1).abs() / self.l1
     }
 }
+
+/// The exitance across a shadow edge of a rank-1 kernel a(x)a(y) (thesis §5.2): the irradiance
+/// E = 1 for x < 0 and 0 beyond, so M(x) = ∫_{−∞}^{0} a(x − x′) dx′ = ∫_x^∞ a(u) du with a
+/// normalized to Σa = 1 (the y pass sums to 1). Sample i holds Σ_{j>i} a_j + a_i/2: each sample is
+/// its cell's mass, the cell through x_i counted half, so M(x) + M(−x) = 1 and M(0) = ½.
+///
+/// For the pre-integrated a_p this is the ground truth's own edge exactly (eq. 5.15; the draft's
+/// eq. 5.17 writes a_p(x) = ∫R_d(x, y) dx, but a function of x integrates out y: ∫R_d(x, y) dy).
+/// Dimensionless, per unit irradiance; one value per sample of `a`.
+pub fn edge_response(a: &[f64]) -> Vec<f64> {
+    let total: f64 = a.iter().sum();
+    let mut m = vec![0.0; a.len()];
+    let mut beyond = 0.0;
+    for (i, x) in a.iter().enumerate().rev() {
+        let x = x / total;
+        m[i] = beyond + 0.5 * x;
+        beyond += x;
+    }
+    m
+}
+
+/// The 10–90 % width [cm] of an [`edge_response`] `m` sampled every `h` cm and centred (length
+/// 2n+1): twice the distance into the shadow where M falls to 0.1 (M is point-symmetric about
+/// the edge), by linear interpolation between samples.
+pub fn edge_width(m: &[f64], h: f64) -> f64 {
+    let n = m.len() / 2;
+    let side = &m[n..];
+    match side.iter().position(|&v| v <= 0.1) {
+        // Less than 10 % crosses the edge itself: a kernel narrower than a sample.
+        Some(0) => 0.0,
+        // The grid ends before M falls to 0.1: wider than the grid can tell.
+        None => f64::INFINITY,
+        Some(i) => {
+            let (m0, m1) = (side[i - 1], side[i]);
+            2.0 * h * ((i - 1) as f64 + (m0 - 0.1) / (m0 - m1))
+        }
+    }
+}

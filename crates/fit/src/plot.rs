@@ -1,8 +1,10 @@
 //! Comparison plots as PNG (plotters, bitmap backend, an embedded DejaVu Sans so output does not
 //! depend on system fonts): profiles (thesis Fig. 6.1), kernel slices against the ground truth
-//! (Fig. 6.2), singular-value decay (Fig. 5.1), convolution/difference sheets (Fig. 6.3–6.10), and
-//! total diffuse reflectance against the incidence angle ([`incidence`]). Every plot is returned
-//! as PNG bytes: the caller decides where, and whether, it is written.
+//! (Fig. 6.2), singular-value decay (Fig. 5.1), convolution/difference sheets (Fig. 6.3–6.10),
+//! guided optimization against pre-integration (Fig. 5.15, [`imitation`]), the manual model's w
+//! sweep (Fig. 5.17, [`w_sweep`]) and total diffuse reflectance against the incidence angle
+//! ([`incidence`]). Every plot is returned as PNG bytes: the caller decides where, and whether, it
+//! is written.
 
 use std::sync::Once;
 
@@ -1110,6 +1112,350 @@ pub fn incidence(
         root.present().map_err(|e| fail(&e))?;
     }
     encode_png(&rgb, (w, h), &format!("{title} incidence plot"))
+}
+
+/// Thesis Fig. 5.15 as a plot: top, per channel, the 1D function a(x) (log scale down to 10⁻⁴
+/// of the peak) of pre-integration (dots),
+/// of guided optimization with k = 1.55, b = 50, and of the other compared models; bottom, each
+/// model's image-space distance to pre-integration on the shaded test signal (log scale, one
+/// marker per channel). As PNG bytes.
+pub fn imitation(im: &crate::imitation::Imitation, title: &str) -> Result<Vec<u8>> {
+    png_of(
+        (1500, 960),
+        &format!("{title} guided-vs-preint plot"),
+        |root, path| draw_imitation(root, path, im, title),
+    )
+}
+
+fn draw_imitation(
+    root: Area<'_>,
+    path: &str,
+    im: &crate::imitation::Imitation,
+    title: &str,
+) -> Result<()> {
+    font();
+    root.fill(&WHITE).map_err(|e| err(path, e))?;
+    let root = root
+        .titled(
+            &format!(
+                "{title}: guided optimization with k = 1.55, b = 50 imitates pre-integration (thesis Fig. 5.15)"
+            ),
+            ("sans-serif", 20),
+        )
+        .map_err(|e| err(path, e))?;
+    let (top, bottom) = root.split_vertically(520);
+    // The models drawn as curves: the imitation, Fig. 5.15c–d, the thesis's default, SVD rank-1.
+    let drawn = [
+        crate::imitation::IMITATION,
+        KernelModel::Guided { k: 0.0, b: 50.0 },
+        KernelModel::Guided { k: 2.0, b: 50.0 },
+        KernelModel::Guided { k: 1.0, b: 0.0 },
+        KernelModel::Svd {
+            rank: 1,
+            renormalize: false,
+        },
+    ];
+    for (c, cell) in top.split_evenly((1, 3)).iter().enumerate() {
+        let truth = &im.preint[c];
+        // Log scale, down to 10⁻⁴ of pre-integration's peak: the centre and the falloff at once.
+        let floor = 1e-4 * truth[0];
+        let n = truth
+            .iter()
+            .position(|&v| v < floor)
+            .unwrap_or(truth.len())
+            .max(10)
+            .min(truth.len());
+        let max = drawn
+            .iter()
+            .filter_map(|&m| im.candidate(m))
+            .map(|m| m.a[c][0])
+            .fold(truth[0], f64::max)
+            * 1.5;
+        let mut ch = ChartBuilder::on(cell)
+            .caption(
+                format!("channel {}: 1D function a(x) of A = a(x)a(y)", CHANNELS[c]),
+                ("sans-serif", 16),
+            )
+            .margin(8)
+            .x_label_area_size(36)
+            .y_label_area_size(70)
+            .build_cartesian_2d(
+                0.0..n as f64 * im.h,
+                (floor.max(1e-300)..max.max(2e-300)).log_scale(),
+            )
+            .map_err(|e| err(path, e))?;
+        ch.configure_mesh()
+            .x_desc("distance from the centre x [cm]")
+            .y_desc("a(x) per sample [-]")
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .draw()
+            .map_err(|e| err(path, e))?;
+        ch.draw_series(
+            truth[..n]
+                .iter()
+                .enumerate()
+                .step_by((n / 60).max(1))
+                .map(|(i, &v)| Circle::new((i as f64 * im.h, v), 3, BLACK.filled())),
+        )
+        .map_err(|e| err(path, e))?
+        .label("pre-integration (eq. 5.18)")
+        .legend(|(x, y)| Circle::new((x + 10, y), 3, BLACK.filled()));
+        for (m, &model) in drawn.iter().enumerate() {
+            let Some(cand) = im.candidate(model) else {
+                continue;
+            };
+            let color = MODEL_COLORS[(m + 1) % MODEL_COLORS.len()];
+            let width = if m == 0 { 3 } else { 2 };
+            // Non-positive values (a fit's zero floor) have no place on the log axis.
+            let line: Vec<(f64, f64)> = cand.a[c][..n]
+                .iter()
+                .enumerate()
+                .map(|(i, &v)| (i as f64 * im.h, v.max(floor * 0.5)))
+                .collect();
+            let style = color.stroke_width(width);
+            if matches!(model, KernelModel::Guided { b, .. } if b > 0.0) && m > 0 {
+                ch.draw_series(DashedLineSeries::new(line, 8, 5, style))
+            } else {
+                ch.draw_series(LineSeries::new(line, style))
+            }
+            .map_err(|e| err(path, e))?
+            .label(model.title())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+        }
+        if c == 0 {
+            ch.configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .border_style(BLACK)
+                .background_style(WHITE.mix(0.8))
+                .draw()
+                .map_err(|e| err(path, e))?;
+        }
+    }
+
+    // Bottom: image-space distance to pre-integration per model and channel.
+    let values = im
+        .candidates
+        .iter()
+        .flat_map(|m| m.image_distance)
+        .filter(|v| *v > 0.0 && v.is_finite());
+    let (lo, hi) = values.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+    let (lo, hi) = if lo <= hi { (lo, hi) } else { (1e-3, 1.0) };
+    let count = im.candidates.len();
+    let names: Vec<String> = im.candidates.iter().map(|m| m.model.title()).collect();
+    let mut ch = ChartBuilder::on(&bottom)
+        .caption(
+            "shaded test signal: ‖E∗A − E∗A_p‖ / ‖E∗A_p‖, distance of each model's image from pre-integration's (lower = closer)",
+            ("sans-serif", 16),
+        )
+        .margin(12)
+        .x_label_area_size(44)
+        .y_label_area_size(70)
+        .build_cartesian_2d(-0.5..count as f64 - 0.5, (lo / 2.0..hi * 2.0).log_scale())
+        .map_err(|e| err(path, e))?;
+    ch.configure_mesh()
+        .x_labels(count)
+        .x_label_formatter(&|x| {
+            let i = x.round();
+            if (x - i).abs() < 1e-6 && i >= 0.0 {
+                names.get(i as usize).cloned().unwrap_or_default()
+            } else {
+                String::new()
+            }
+        })
+        .x_desc("model")
+        .y_desc("relative image distance [-]")
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .draw()
+        .map_err(|e| err(path, e))?;
+    for c in 0..3 {
+        let color = CHANNEL_COLORS[c];
+        let offset = (c as f64 - 1.0) * 0.12;
+        ch.draw_series(im.candidates.iter().enumerate().filter_map(|(i, m)| {
+            let v = m.image_distance[c];
+            (v > 0.0 && v.is_finite())
+                .then(|| Circle::new((i as f64 + offset, v), 6, color.filled()))
+        }))
+        .map_err(|e| err(path, e))?
+        .label(format!("channel {}", CHANNELS[c]))
+        .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
+    }
+    ch.configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .border_style(BLACK)
+        .background_style(WHITE.mix(0.8))
+        .draw()
+        .map_err(|e| err(path, e))?;
+    root.present().map_err(|e| err(path, e))
+}
+
+/// Thesis Fig. 5.17 as a plot: top, per channel, the light across a shadow edge for the shown w
+/// against the ground truth (dots); bottom left, the image-space error against w per channel;
+/// bottom right, the edge's 10–90 % width relative to the ground truth's against w. The w of
+/// `sweep.params` (Table A.1's) is marked. As PNG bytes.
+pub fn w_sweep(sweep: &crate::manual::WSweep, title: &str) -> Result<Vec<u8>> {
+    png_of(
+        (1500, 960),
+        &format!("{title} manual w sweep plot"),
+        |root, path| draw_w_sweep(root, path, sweep, title),
+    )
+}
+
+fn draw_w_sweep(root: Area<'_>, path: &str, s: &crate::manual::WSweep, title: &str) -> Result<()> {
+    font();
+    root.fill(&WHITE).map_err(|e| err(path, e))?;
+    let root = root
+        .titled(
+            &format!(
+                "{title}: the manual model's w moves it from far (w = 0) to near scattering (w = 1) (thesis Fig. 5.17)"
+            ),
+            ("sans-serif", 20),
+        )
+        .map_err(|e| err(path, e))?;
+    let reference_w = s.params[0].w;
+    let (top, bottom) = root.split_vertically(480);
+    for (c, cell) in top.split_evenly((1, 3)).iter().enumerate() {
+        let truth = &s.truth_edge[c];
+        let n = truth.len() / 2;
+        // ±1.5 edge widths of the ground truth (at least 5 samples) around the edge.
+        let reach = ((1.5 * s.truth_edge_width[c] / s.h).ceil() as usize).clamp(5, n.max(5));
+        let reach = reach.min(n);
+        let x = |i: usize| (i as f64 - n as f64) * s.h;
+        let span = n - reach..=n + reach;
+        let mut ch = ChartBuilder::on(cell)
+            .caption(
+                format!("channel {}: light across a shadow edge", CHANNELS[c]),
+                ("sans-serif", 16),
+            )
+            .margin(8)
+            .x_label_area_size(36)
+            .y_label_area_size(60)
+            .build_cartesian_2d(x(n - reach)..x(n + reach), 0.0..1.05)
+            .map_err(|e| err(path, e))?;
+        ch.configure_mesh()
+            .x_desc("x [cm] (lit for x < 0, shadow beyond)")
+            .y_desc("exitance / irradiance M(x) [-]")
+            .draw()
+            .map_err(|e| err(path, e))?;
+        let step = (2 * reach / 50).max(1);
+        ch.draw_series(
+            span.clone()
+                .step_by(step)
+                .map(|i| Circle::new((x(i), truth[i]), 3, BLACK.filled())),
+        )
+        .map_err(|e| err(path, e))?
+        .label("2D ground truth (= pre-integration, eq. 5.15)")
+        .legend(|(x, y)| Circle::new((x + 10, y), 3, BLACK.filled()));
+        for (k, (w, edges)) in s.edges.iter().enumerate() {
+            let color = MODEL_COLORS[(k + 1) % MODEL_COLORS.len()];
+            let what = if (*w - reference_w).abs() < 1e-9 {
+                "Table A.1"
+            } else if *w < reference_w {
+                "far"
+            } else {
+                "near"
+            };
+            ch.draw_series(LineSeries::new(
+                span.clone().map(|i| (x(i), edges[c][i])),
+                color.stroke_width(2),
+            ))
+            .map_err(|e| err(path, e))?
+            .label(format!("manual, w = {w} ({what})"))
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
+        }
+        if c == 0 {
+            // Lit (M ≈ 1) on the left, dark on the right: the lower left is empty.
+            ch.configure_series_labels()
+                .position(SeriesLabelPosition::LowerLeft)
+                .border_style(BLACK)
+                .background_style(WHITE.mix(0.8))
+                .draw()
+                .map_err(|e| err(path, e))?;
+        }
+    }
+
+    let (left, right) = bottom.split_horizontally(750);
+    let panels: [(&Area<'_>, &str, &str, Vec<[f64; 3]>); 2] = [
+        (
+            &left,
+            "image-space error against the ground truth (five test signals)",
+            "RMS error [irradiance units]",
+            s.image_rms.clone(),
+        ),
+        (
+            &right,
+            "edge 10–90 % width / the ground truth's (1 = as wide)",
+            "width ratio [-]",
+            s.edge_width
+                .iter()
+                .map(|w| [0, 1, 2].map(|c| w[c] / s.truth_edge_width[c]))
+                .collect(),
+        ),
+    ];
+    for (p, (area, caption, y_desc, values)) in panels.iter().enumerate() {
+        let all = values.iter().flatten().filter(|v| v.is_finite());
+        let hi = all.fold(if p == 1 { 1.0f64 } else { 0.0 }, |a, &v| a.max(v)) * 1.1;
+        let mut ch = ChartBuilder::on(*area)
+            .caption(*caption, ("sans-serif", 16))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0.0..1.0, 0.0..hi.max(1e-300))
+            .map_err(|e| err(path, e))?;
+        ch.configure_mesh()
+            .x_desc("w (weight of the near Gaussian) [-]")
+            .y_desc(*y_desc)
+            .y_label_formatter(&|v| {
+                if p == 1 {
+                    format!("{v:.2}")
+                } else {
+                    format!("{v:.1e}")
+                }
+            })
+            .draw()
+            .map_err(|e| err(path, e))?;
+        for c in 0..3 {
+            let color = CHANNEL_COLORS[c];
+            let pts: Vec<(f64, f64)> = s.w.iter().zip(values).map(|(&w, v)| (w, v[c])).collect();
+            ch.draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
+                .map_err(|e| err(path, e))?
+                .label(format!("channel {}", CHANNELS[c]))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+            ch.draw_series(pts.into_iter().map(|q| Circle::new(q, 3, color.filled())))
+                .map_err(|e| err(path, e))?;
+        }
+        let grey = RGBColor(120, 120, 120);
+        ch.draw_series(DashedLineSeries::new(
+            vec![(reference_w, 0.0), (reference_w, hi)],
+            6,
+            4,
+            grey.stroke_width(2),
+        ))
+        .map_err(|e| err(path, e))?
+        .label(format!("Table A.1: w = {reference_w}"))
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], grey.stroke_width(2)));
+        if p == 1 {
+            ch.draw_series(DashedLineSeries::new(
+                vec![(0.0, 1.0), (1.0, 1.0)],
+                10,
+                4,
+                BLACK.stroke_width(1),
+            ))
+            .map_err(|e| err(path, e))?
+            .label("ground truth's width")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
+        }
+        ch.configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .border_style(BLACK)
+            .background_style(WHITE.mix(0.8))
+            .draw()
+            .map_err(|e| err(path, e))?;
+    }
+    root.present().map_err(|e| err(path, e))
 }
 
 #[cfg(test)]
