@@ -17,6 +17,8 @@ mod profile;
 mod progress;
 mod render;
 mod reproduce;
+mod reproduce_chapter5;
+mod reproduce_rendered;
 mod simulate;
 
 use std::path::PathBuf;

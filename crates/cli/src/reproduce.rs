@@ -70,11 +70,11 @@ fn read_references(path: &std::path::Path) -> Result<Value> {
     })?;
     for m in models {
         if m["model"].as_str().is_none()
-            || m["rmse_noise_corrected_rel"].as_f64().is_none()
+            || m["rmse_noise_corrected"].as_f64().is_none()
             || m["energy_ratio"].as_array().is_none_or(|e| e.len() != 3)
         {
             bail!(
-                "--references {}: a model entry lacks model, rmse_noise_corrected_rel or energy_ratio (rerun images.py)",
+                "--references {}: a model entry lacks model, rmse_noise_corrected or energy_ratio (rerun images.py)",
                 path.display()
             );
         }
@@ -279,6 +279,10 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
     }
 
     let mut report = build(&all, &evals, &published, photons, simulate_seconds, a.quick);
+    // 3. Tables 6.4 and 6.5 rendered on our scenes (skipped, saying why, without an adapter).
+    crate::reproduce_rendered::add(&mut report, &all, &profiles, a.quick)?;
+    // 4. Fig. 5.15 and 5.17 on Skin1: their plots, numbers and claims.
+    crate::reproduce_chapter5::add(&mut report, &all, &profiles, image, &a.out, &mut files)?;
     if let Some(r) = references {
         report["rendered"] = r;
     }
@@ -493,7 +497,7 @@ fn claims(
 }
 
 /// A table cell with our value above the published one (grey).
-fn cell(ours: f64, published: f64) -> String {
+pub(crate) fn cell(ours: f64, published: f64) -> String {
     format!("<td>{ours:.3}<br><span class=\"pub\">{published:.3}</span></td>")
 }
 
@@ -671,6 +675,8 @@ fn html(r: &Value, all: &[library::Named]) -> String {
     for n in all {
         let _ = write!(h, "<img src=\"{}.profile.png\" width=\"49%\">", n.slug);
     }
+    h += &crate::reproduce_chapter5::html(r);
+    h += &crate::reproduce_rendered::html(&r["rendered_tables"]);
     h += &rendered_html(&r["rendered"]);
     h += "</body></html>\n";
     h
@@ -707,7 +713,7 @@ fn rendered_html(v: &Value) -> String {
             "<tr><td style=\"text-align:left\">{}</td><td>{:.2} %</td><td>{:.2} ± {:.2} %</td><td>{:.4}</td><td>{}</td></tr>",
             m["model"].as_str().unwrap_or("?"),
             pct("rmse_rel"),
-            pct("rmse_noise_corrected_rel"),
+            pct("rmse_noise_corrected"),
             pct("rmse_noise_corrected_se"),
             m["ssim"].as_f64().unwrap_or(f64::NAN),
             e.join(" / ")
