@@ -1,5 +1,6 @@
 //! `sss reproduce --quick`: every table has every row and column, values are finite, the plots
-//! exist, and the qualitative claims of Tables 6.3 and 6.5 that must hold do hold.
+//! exist, and the qualitative claims that must hold do hold (Tables 6.3, 6.4 and 6.5, Fig. 5.15
+//! and 5.17); the rendered comparison against Mitsuba shows its calibration.
 
 use std::process::Command;
 
@@ -8,12 +9,17 @@ fn quick_report_is_complete_and_the_claims_hold() {
     let dir = tempfile::tempdir().unwrap();
     // A comparison against Mitsuba as images.py writes it (two models).
     let images = serde_json::json!({
-        "width": 192, "height": 108, "spp": 384, "reference_noise_rel": 0.28,
+        "scene": "sphere", "width": 192, "height": 108, "spp": 384, "reference_noise_rel": 0.28,
+        "silhouette_fraction": 0.042, "calibration_rmse_rel": 0.0092, "calibration_rmse_se": 0.0094,
+        "calibration_energy_ratio": [1.0012, 0.9971, 1.0010], "calibration_pass": true,
+        "negative_control": {"energy_ratio": [0.798, 0.800, 0.800], "rejected": true},
         "models": [
             {"model": "preint", "rmse_rel": 0.34, "rmse_noise_corrected": 0.198,
-             "rmse_noise_corrected_se": 0.005, "ssim": 0.913, "energy_ratio": [0.901, 0.851, 0.834]},
+             "rmse_noise_corrected_se": 0.005, "rmse_spatial": 0.132, "ssim": 0.913,
+             "energy_ratio": [0.901, 0.851, 0.834]},
             {"model": "preint-incidence", "rmse_rel": 0.30, "rmse_noise_corrected": 0.110,
-             "rmse_noise_corrected_se": 0.003, "ssim": 0.929, "energy_ratio": [0.990, 0.997, 1.018]}
+             "rmse_noise_corrected_se": 0.003, "rmse_spatial": 0.098, "ssim": 0.929,
+             "energy_ratio": [0.990, 0.997, 1.018]}
         ],
         "rankings": {"incidence-aware closer than preint": true}
     });
@@ -134,6 +140,9 @@ fn quick_report_is_complete_and_the_claims_hold() {
         "Rendered scenes against Mitsuba 3",
         "preint-incidence",
         "11.00 ± 0.30 %",
+        "Calibration",
+        "0.92 ± 0.94 %",
+        "9.80 %",
     ] {
         assert!(html.contains(section), "missing {section}");
     }

@@ -1,16 +1,45 @@
 #!/usr/bin/env python3
-"""Regenerates every Mitsuba 3 reference and prints the comparison tables: Rd(r) profiles
-(profiles.py) and images of the sphere scene and of the fin scene (images.py). --quick is the CI
-size (a few minutes on 2 cores); without it, the full version (larger images, much longer).
-Exits non-zero when an agreement test fails. Outputs: OUT/profiles.json, OUT/images/,
-OUT/images-fin/."""
+"""Regenerates every Mitsuba 3 reference and prints one table of the image comparisons: Rd(r)
+profiles (profiles.py), then images (images.py) of each scene and material: scene × material ×
+model, the noise-corrected error ± its standard error, SSIM and the energy ratio per channel,
+after each scene's calibration. --quick is the CI size (Skin1 on the sphere, fin and bust scenes;
+about 12 minutes on 2 cores); without it, the full version (larger images, more samples, Skin1,
+Marble, Ketchup and Whole milk; hours). Exits non-zero when an agreement test or a calibration
+fails. Outputs: OUT/profiles.json, OUT/images*/images.json and their PNGs, OUT/summary.json."""
 
 import argparse
+import json
 import os
 import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+# (scene, material) pairs: the sphere's hard shadow, the fins lit from behind, the bust's small
+# features; short (Skin1, Ketchup) and long (Marble, Whole milk) mean free paths.
+QUICK = [("sphere", "skin1"), ("fin", "skin1"), ("bust", "skin1")]
+FULL = QUICK + [("sphere", "marble"), ("sphere", "ketchup"), ("sphere", "wholemilk"), ("fin", "marble"),
+                ("bust", "marble")]
+
+
+def table(results):
+    """One line per scene × material × model; the calibration above each scene's block."""
+    lines = []
+    for (scene, mat), r in results:
+        e = r["calibration_energy_ratio"]
+        lines.append(f"{scene} / {mat}: calibration {100 * r['calibration_rmse_rel']:.2f} ± "
+                     f"{100 * r['calibration_rmse_se']:.2f} %, energy {e[0]:.3f}/{e[1]:.3f}/{e[2]:.3f} "
+                     f"({'passes' if r['calibration_pass'] else 'FAILS: not used'}); reference noise "
+                     f"{100 * r['reference_noise_rel']:.1f} % per 2×2 block")
+        if not r["calibration_pass"]:
+            continue
+        lines.append(f"  {'model':<30} {'error (noise-corrected)':>24} {'spatial':>8} {'SSIM':>7}  energy R/G/B")
+        for m in r["models"]:
+            e = m["energy_ratio"]
+            lines.append(f"  {m['model']:<30} {100 * m['rmse_noise_corrected']:>14.2f} ± {100 * m['rmse_noise_corrected_se']:4.2f} %"
+                         f" {100 * m['rmse_spatial']:>6.2f} % {m['ssim']:>7.4f}  {e[0]:.3f}/{e[1]:.3f}/{e[2]:.3f}")
+    return "\n".join(lines)
 
 
 def main():
@@ -20,12 +49,27 @@ def main():
     ap.add_argument("--out", default="out/references")
     a = ap.parse_args()
     extra = (["--quick"] if a.quick else []) + (["--sss", a.sss] if a.sss else []) + ["--out", a.out]
-    failed = []
-    for script, args in [("profiles.py", []), ("images.py", []), ("images.py", ["--scene", "fin"])]:
+    failed, results = [], []
+    jobs = [("profiles.py", [], None)] + [
+        ("images.py", ["--scene", sc, "--material", mat], (sc, mat)) for sc, mat in (QUICK if a.quick else FULL)]
+    for script, args, key in jobs:
         name = " ".join([script, *args])
         print(f"== {name}", flush=True)
         if subprocess.run([sys.executable, os.path.join(HERE, script), *args, *extra]).returncode != 0:
             failed.append(name)
+        if key:
+            sc, mat = key
+            folder = ("images" if sc == "sphere" else f"images-{sc}") + ("" if mat == "skin1" else f"-{mat}")
+            path = os.path.join(a.out, folder, "images.json")
+            if os.path.exists(path):
+                results.append((key, json.load(open(path))))
+    print("\n== images: scene / material: calibration against Mitsuba's direct light, then each model's "
+          "error against the path-traced reference (% of its mean; spatial: once each channel is scaled "
+          "by its best global factor)")
+    print(table(results))
+    with open(os.path.join(a.out, "summary.json"), "w") as f:
+        json.dump({"failed": failed, "images": [{"scene": k[0], "material": k[1], **r} for k, r in results]},
+                  f, indent=2)
     print("references: " + ("all agree" if not failed else "FAILED " + ", ".join(failed)))
     return 1 if failed else 0
 

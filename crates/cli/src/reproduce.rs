@@ -691,13 +691,42 @@ fn rendered_html(v: &Value) -> String {
     };
     let _ = write!(
         h,
-        "<p>The sphere scene with a hard shadow, η = 1, {}×{} pixels, Mitsuba with {} samples per pixel (mean of two seeds; its noise {:.1} % of the mean on 2×2 blocks). Errors relative to the reference's mean; noise-corrected = √(MSE − var(reference)) ± standard error.</p>",
+        "<p>The {} scene, η = 1, {}×{} pixels, Mitsuba with {} samples per pixel (mean of two seeds; its noise {:.1} % of the mean on 2×2 blocks; silhouettes, {:.1} % of the lit blocks, excluded on both sides). Errors relative to the reference's mean; noise-corrected = √(MSE − var(reference)) ± standard error; spatial = what remains once each channel is scaled by its best global factor.</p>",
+        v["scene"].as_str().unwrap_or("sphere"),
         v["width"],
         v["height"],
         v["spp"],
-        100.0 * v["reference_noise_rel"].as_f64().unwrap_or(f64::NAN)
+        100.0 * v["reference_noise_rel"].as_f64().unwrap_or(f64::NAN),
+        100.0 * v["silhouette_fraction"].as_f64().unwrap_or(f64::NAN)
     );
-    h += "<table><tr><th>model</th><th>RMSE</th><th>noise-corrected RMSE</th><th>SSIM</th><th>energy R / G / B</th></tr>";
+    if let Some(pass) = v["calibration_pass"].as_bool() {
+        let e: Vec<String> = v["calibration_energy_ratio"]
+            .as_array()
+            .map(|e| {
+                e.iter()
+                    .map(|x| format!("{:.4}", x.as_f64().unwrap_or(f64::NAN)))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let _ = write!(
+            h,
+            "<p>Calibration (<code>--no-sss</code> against Mitsuba's direct light on the same opaque Lambertian surfaces): noise-corrected RMSE {:.2} ± {:.2} %, energy {}: {}. A deliberately wrong render (albedo × 0.8) is {}.</p>",
+            100.0 * v["calibration_rmse_rel"].as_f64().unwrap_or(f64::NAN),
+            100.0 * v["calibration_rmse_se"].as_f64().unwrap_or(f64::NAN),
+            e.join(" / "),
+            if pass {
+                "<span class=\"ok\">passes</span>"
+            } else {
+                "<span class=\"bad\">fails: the scene ranks nothing</span>"
+            },
+            if v["negative_control"]["rejected"] == true {
+                "rejected"
+            } else {
+                "<span class=\"bad\">not rejected</span>"
+            }
+        );
+    }
+    h += "<table><tr><th>model</th><th>RMSE</th><th>noise-corrected RMSE</th><th>spatial</th><th>SSIM</th><th>energy R / G / B</th></tr>";
     for m in models {
         let e: Vec<String> = m["energy_ratio"]
             .as_array()
@@ -710,11 +739,12 @@ fn rendered_html(v: &Value) -> String {
         let pct = |k: &str| 100.0 * m[k].as_f64().unwrap_or(f64::NAN);
         let _ = write!(
             h,
-            "<tr><td style=\"text-align:left\">{}</td><td>{:.2} %</td><td>{:.2} ± {:.2} %</td><td>{:.4}</td><td>{}</td></tr>",
+            "<tr><td style=\"text-align:left\">{}</td><td>{:.2} %</td><td>{:.2} ± {:.2} %</td><td>{:.2} %</td><td>{:.4}</td><td>{}</td></tr>",
             m["model"].as_str().unwrap_or("?"),
             pct("rmse_rel"),
             pct("rmse_noise_corrected"),
             pct("rmse_noise_corrected_se"),
+            pct("rmse_spatial"),
             m["ssim"].as_f64().unwrap_or(f64::NAN),
             e.join(" / ")
         );
