@@ -52,6 +52,9 @@ pub struct IncidenceRow {
     pub rsp: Vec<f64>,
     /// Total diffuse reflectance per channel, per unit incident power [-].
     pub rd: Vec<Estimate>,
+    /// Per channel, the reflected radiance against exit angle relative to a Lambertian
+    /// surface's, h(θ) per exit-angle bin ([`crate::exitance`]).
+    pub exit: Vec<Vec<crate::exitance::ExitBin>>,
 }
 
 /// Total diffuse reflectance of every channel of `spec` at each of `angles` [degrees]. Angle `i`
@@ -81,6 +84,7 @@ pub fn rd_table(
                 theta_deg,
                 rsp: out.iter().map(|o| o.rsp).collect(),
                 rd: out.iter().map(|o| o.rd).collect(),
+                exit: out.iter().map(crate::exitance::radiance_ratio).collect(),
             })
         })
         .collect()

@@ -33,6 +33,7 @@ mod batch;
 mod cfmt;
 mod config;
 mod error;
+pub mod exitance;
 mod fresnel;
 mod grid;
 pub mod incidence;

@@ -135,6 +135,12 @@ fn non_absorbing_slab_conserves_to_rounding() {
 /// Chandrasekhar's H-function for isotropic scattering with albedo a, by iterating
 /// 1/H(μ) = √(1−a) + (a/2) ∫₀¹ μ' H(μ')/(μ+μ') dμ' on Gauss–Legendre nodes.
 fn h_function(a: f64, mu: f64) -> f64 {
+    h_solver(a)(mu)
+}
+
+/// H(·) for albedo a: the fixed point solved once on the nodes, then evaluated anywhere by the
+/// same equation.
+fn h_solver(a: f64) -> impl Fn(f64) -> f64 {
     let (x, w) = gauss_legendre_01(96);
     let mut h = vec![1.0; x.len()];
     for _ in 0..10_000 {
@@ -160,13 +166,15 @@ fn h_function(a: f64, mu: f64) -> f64 {
             break;
         }
     }
-    let s: f64 = x
-        .iter()
-        .zip(&w)
-        .zip(&h)
-        .map(|((&xp, &wp), &hp)| wp * xp * hp / (mu + xp))
-        .sum();
-    1.0 / ((1.0 - a).sqrt() + 0.5 * a * s)
+    move |mu: f64| {
+        let s: f64 = x
+            .iter()
+            .zip(&w)
+            .zip(&h)
+            .map(|((&xp, &wp), &hp)| wp * xp * hp / (mu + xp))
+            .sum();
+        1.0 / ((1.0 - a).sqrt() + 0.5 * a * s)
+    }
 }
 
 /// Gauss–Legendre nodes and weights on [0, 1] (Newton iteration on Legendre polynomials).
@@ -272,6 +280,73 @@ fn run_at(sample: Sample, grid: Grid, photons: u64, seed: u64, theta_deg: f64) -
         tallies: TallySet::default(),
     };
     mc::run_at(&spec, mc::incidence::Incidence { theta_deg }, &|_| {}).unwrap()
+}
+
+/// The angular distribution of the reflected light against Chandrasekhar's (1960) reflection
+/// function of an isotropic, index-matched half-space: the intensity reflected into cosine μ from
+/// incidence cosine μ₀ is Rd_a(μ) = a·μ·H(μ)·H(μ₀)/(4π(μ + μ₀)) per unit incident power and
+/// solid angle (single and multiple scattering together), here at normal incidence and at 60°,
+/// for two albedos, per 10° exit bin (the bin's weight over MCML's solid angle
+/// 2π sin θ_c Δθ), within 4 standard errors. `mc::exitance::radiance_ratio` is then exact too:
+/// it rises from grazing towards the normal, as H(μ)/(μ + μ₀) does.
+#[test]
+fn exit_angle_distribution_matches_chandrasekhar() {
+    let (gx, gw) = gauss_legendre_01(16);
+    for (i, &a) in [0.9, 0.99].iter().enumerate() {
+        let h = h_solver(a);
+        let layer = Layer {
+            n: 1.0,
+            mu_a: 10.0 * (1.0 - a),
+            mu_s: 10.0 * a,
+            g: 0.0,
+            thickness: 1.0e8,
+        };
+        for (j, &theta0) in [0.0f64, 60.0].iter().enumerate() {
+            let grid = Grid {
+                na: 9,
+                ..small_grid()
+            };
+            let o = run_at(
+                Sample::single(layer),
+                grid,
+                400_000,
+                700 + (2 * i + j) as u64,
+                theta0,
+            );
+            let mu0 = theta0.to_radians().cos();
+            let rd_a =
+                |mu: f64| a * mu * h(mu) * h(mu0) / (4.0 * std::f64::consts::PI * (mu + mu0));
+            let da = grid.da();
+            for (k, e) in o.rd_a.iter().enumerate() {
+                let (t0, t1) = (k as f64 * da, (k + 1) as f64 * da);
+                let weight: f64 = gx
+                    .iter()
+                    .zip(&gw)
+                    .map(|(&x, &w)| {
+                        let t = t0 + x * (t1 - t0);
+                        w * (t1 - t0) * rd_a(t.cos()) * t.sin()
+                    })
+                    .sum();
+                let exact = weight / (((k as f64 + 0.5) * da).sin() * da);
+                within(
+                    &format!("Rd_a(a={a}, θ₀={theta0}°, bin {k})"),
+                    e.value,
+                    e.se,
+                    exact,
+                    4.0,
+                );
+            }
+            if a == 0.99 && theta0 == 0.0 {
+                let r = mc::exitance::radiance_ratio(&o);
+                assert!(
+                    r[0].h.value > r[8].h.value + 4.0 * (r[0].h.se + r[8].h.se),
+                    "radiance ratio near the normal {:?} vs grazing {:?}",
+                    r[0],
+                    r[8]
+                );
+            }
+        }
+    }
 }
 
 /// Oblique incidence on an isotropic, index-matched half-space: total diffuse reflectance for an
