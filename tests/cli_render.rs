@@ -100,6 +100,16 @@ fn render_refuses_bad_input_naming_it() {
             ],
             "--incidence-aware",
         ),
+        (
+            vec![
+                "render",
+                "--method",
+                "directional-dipole",
+                "--exit-aware",
+                "on",
+            ],
+            "--exit-aware",
+        ),
     ] {
         let o = sss(&args, dir.path());
         assert_eq!(o.status.code(), Some(2), "{args:?}");

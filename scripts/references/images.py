@@ -28,7 +28,8 @@ models block by block (paired) and are resolved only when the difference of thei
 noise-corrected MSEs exceeds 3 standard errors; otherwise they are reported as undecided. What
 must hold: no ranking is resolved the wrong way round (every kernel model closer to Mitsuba than
 plain Lambertian shading, pre-integration and SVD rank-3 closer than SVD rank-1, incidence-aware
-shading closer than pre-integration), and incidence-aware shading brings every channel's energy
+shading closer than pre-integration, exit-angle-aware closer than incidence-aware alone), and
+incidence-aware shading brings every channel's energy
 ratio within 2 % of 1 (or closer to 1 than pre-integration's). The rescaled directional dipole's
 rankings against pre-integration with and without incidence-aware shading are reported, not
 required.
@@ -65,6 +66,9 @@ MODELS = [  # label, `sss fit` arguments (None: no scattering), extra `sss rende
     ("burley", ["--model", "burley"], []),
     # Incidence-aware shading (ρ(θ)/ρ(0) from `mc` for the η = 1 material, issue 15 item 4).
     ("preint-incidence", ["--model", "preint"], ["--incidence-aware", "on", "--material", "{material}"]),
+    # ... and exit-angle-aware (h(θ): the reflected radiance over a Lambertian surface's, from `mc`).
+    ("preint-incidence-exit", ["--model", "preint"],
+     ["--incidence-aware", "on", "--exit-aware", "on", "--material", "{material}"]),
     # No kernel: the directional dipole integrated per pixel over lit points (`--method`), as
     # published and rescaled to the Monte Carlo total reflectance.
     ("directional-dipole", [], ["--method", "directional-dipole", "--material", "{material}",
@@ -87,6 +91,9 @@ FIN_MODELS = [
     ("preint-incidence-translucency", ["--model", "preint"],
      ["--translucency", "on", "--incidence-aware", "on", "--material", "{material}",
       "--profiles", "{profiles}"]),
+    ("preint-incidence-translucency-exit", ["--model", "preint"],
+     ["--translucency", "on", "--incidence-aware", "on", "--exit-aware", "on", "--material", "{material}",
+      "--profiles", "{profiles}"]),
     ("directional-dipole-mc", [], ["--method", "directional-dipole", "--material", "{material}",
                                    "--profiles", "{profiles}",
                                    "--samples", "32", "--frames", "32", "--light-map", "2048"]),
@@ -94,7 +101,8 @@ FIN_MODELS = [
 
 # Small features and depth discontinuities: the depth tests, the incidence-aware shading.
 BUST_MODELS = [m for m in MODELS if m[0] in (
-    "lambert", "preint", "preint-reject", "preint-nodepth", "svd1", "svd3", "preint-incidence")]
+    "lambert", "preint", "preint-reject", "preint-nodepth", "svd1", "svd3", "preint-incidence",
+    "preint-incidence-exit")]
 
 # camera (eye, target, vertical fov [deg]); SSS media (sphere: centre, radius; box: corners [cm],
 # the geometry of `gpu::Scene`; obj: a generated mesh); black occluders; light (point: position, intensity; dir: towards
@@ -513,7 +521,10 @@ def main():
     if cal_ok:
         ranked = {f"{k} closer than lambert": closer(k, "lambert") for k in o2s if k != "lambert" and "-" not in k}
         for a_, b_, name in [("preint", "svd1", "preint closer than svd1"), ("svd3", "svd1", "svd3 closer than svd1"),
-                             ("preint-incidence", "preint", "incidence-aware closer than preint")]:
+                             ("preint-incidence", "preint", "incidence-aware closer than preint"),
+                             ("preint-incidence-exit", "preint-incidence", "exit-aware closer than incidence-aware"),
+                             ("preint-incidence-translucency-exit", "preint-incidence-translucency",
+                              "exit-aware closer than incidence-aware (with translucency)")]:
             if pair(a_, b_):
                 ranked[name] = closer(a_, b_)
         # Energy is a sum over thousands of pixels, far less noisy than the RMSE: with

@@ -25,40 +25,90 @@ pub enum OnOff {
     Off,
 }
 
-/// ρ(θ)/ρ(0) per channel at θ = 0°, 10°, …, 80° for a material, by `mc` (profile-only batch runs
-/// on the material's grid, `photons` per channel and angle).
-fn incidence_table(
+/// A table at θ = 0°, 10°, …, 80° per channel.
+type AngleTable = [[f32; 3]; gpu::INCIDENCE_STEPS];
+
+/// The material's angle tables by `mc` (profile-only batch runs on the material's grid with 10°
+/// exit-angle bins, `photons` per channel and angle): the incidence table ρ(θ)/ρ(0) (all ones
+/// unless `incidence`; runs every angle) and the exit table h(θ) (all ones unless `exit`; from
+/// the normal-incidence run, h at 0° is the first bin's, at 10°…80° the mean of the two bins
+/// around it).
+fn angle_tables(
     named: &library::Named,
     photons: u64,
     seed: u64,
-) -> Result<[[f32; 3]; gpu::INCIDENCE_STEPS]> {
-    let config = library::config(None)?;
+    incidence: bool,
+    exit: bool,
+) -> Result<(AngleTable, AngleTable)> {
+    let mut tables = (
+        [[1.0f32; 3]; gpu::INCIDENCE_STEPS],
+        [[1.0f32; 3]; gpu::INCIDENCE_STEPS],
+    );
+    if !(incidence || exit) {
+        return Ok(tables);
+    }
+    let mut config = library::config(None)?;
+    config.grid.na = gpu::INCIDENCE_STEPS;
     let spec =
         crate::simulate::batch_spec(std::slice::from_ref(named), &config, photons, seed, true)?;
-    let angles: Vec<f64> = (0..gpu::INCIDENCE_STEPS).map(|k| 10.0 * k as f64).collect();
+    let angles: Vec<f64> = if incidence {
+        (0..gpu::INCIDENCE_STEPS).map(|k| 10.0 * k as f64).collect()
+    } else {
+        vec![0.0]
+    };
     let bar = crate::progress::photons(
         photons * spec.groups().len() as u64 * angles.len() as u64,
-        "incidence table",
+        "angle tables",
     );
     let rows = mc::incidence::rd_table(&spec, &angles, &|k| bar.inc(k))?;
     bar.finish_and_clear();
     let rd0 = &rows[0].rd;
     if rd0.iter().any(|e| e.value.is_nan() || e.value <= 0.0) {
         bail!(
-            "--incidence-aware: {} has no diffuse reflectance at normal incidence in some channel",
+            "--incidence-aware/--exit-aware: {} has no diffuse reflectance at normal incidence in some channel",
             named.slug
         );
     }
-    let mut table = [[1.0f32; 3]; gpu::INCIDENCE_STEPS];
-    eprintln!("incidence table of {} (ρ(θ)/ρ(0), R G B):", named.slug);
-    for (k, row) in rows.iter().enumerate() {
-        table[k] = [0, 1, 2].map(|c| (row.rd[c].value / rd0[c].value) as f32);
-        eprintln!(
-            "  {:>4.0}°  {:.3} {:.3} {:.3}",
-            row.theta_deg, table[k][0], table[k][1], table[k][2]
-        );
+    if incidence {
+        eprintln!("incidence table of {} (ρ(θ)/ρ(0), R G B):", named.slug);
+        for (k, row) in rows.iter().enumerate() {
+            tables.0[k] = [0, 1, 2].map(|c| (row.rd[c].value / rd0[c].value) as f32);
+            eprintln!(
+                "  {:>4.0}°  {:.3} {:.3} {:.3}",
+                row.theta_deg, tables.0[k][0], tables.0[k][1], tables.0[k][2]
+            );
+        }
     }
-    Ok(table)
+    if exit {
+        let bins = &rows[0].exit;
+        eprintln!(
+            "exit table of {} (h(θ): radiance over a Lambertian surface's, R G B, ± SE):",
+            named.slug
+        );
+        for k in 0..gpu::INCIDENCE_STEPS {
+            let (lo, hi) = (k.saturating_sub(1), k.min(gpu::INCIDENCE_STEPS - 1));
+            let at = |c: usize| {
+                let b = &bins[c];
+                (
+                    0.5 * (b[lo].h.value + b[hi].h.value),
+                    0.5 * (b[lo].h.se.powi(2) + b[hi].h.se.powi(2)).sqrt(),
+                )
+            };
+            let h = [0, 1, 2].map(at);
+            tables.1[k] = h.map(|(v, _)| v as f32);
+            eprintln!(
+                "  {:>4}°  {:.3} {:.3} {:.3}  ± {:.3} {:.3} {:.3}",
+                10 * k,
+                h[0].0,
+                h[1].0,
+                h[2].0,
+                h[0].1,
+                h[1].1,
+                h[2].1
+            );
+        }
+    }
+    Ok(tables)
 }
 
 /// The translucency table of a material: Tt(d)/ρ per channel at 16 geometric thicknesses from a
@@ -254,7 +304,14 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value = "off")]
     incidence_aware: OnOff,
 
-    /// Photons per channel and angle for the incidence table of --incidence-aware on
+    /// Exit-angle-aware shading: multiply the scattered light of SSS pixels by the material's
+    /// reflected radiance at the pixel's view angle relative to a Lambertian surface's,
+    /// h(θ) = π·Rd_a(θ)/(Rd·cos θ) per channel, from `mc` at normal incidence in 10° exit bins
+    /// (its cosine-weighted mean is 1: it moves light between view angles, it adds none)
+    #[arg(long, value_enum, default_value = "off")]
+    exit_aware: OnOff,
+
+    /// Photons per channel and angle for the tables of --incidence-aware and --exit-aware
     #[arg(long, value_parser = crate::parse_count, default_value = "100000")]
     incidence_photons: u64,
 
@@ -543,6 +600,13 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     };
     let gpu = Gpu::new()?;
     eprintln!("GPU: {}", gpu.adapter_name);
+    let (incidence, exit) = angle_tables(
+        &named,
+        a.incidence_photons,
+        a.source.seed(),
+        a.incidence_aware == OnOff::On && !a.no_sss,
+        a.exit_aware == OnOff::On && !a.no_sss,
+    )?;
     let params = RenderParams {
         width: a.width,
         height: a.height,
@@ -561,12 +625,8 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         jitter: a.jitter,
         fixed_depth: None,
         exposure: a.exposure,
-        incidence: match a.incidence_aware {
-            OnOff::On if !a.no_sss => {
-                incidence_table(&named, a.incidence_photons, a.source.seed())?
-            }
-            _ => [[1.0; 3]; gpu::INCIDENCE_STEPS],
-        },
+        incidence,
+        exit,
         translucency: match a.translucency {
             OnOff::On if !a.no_sss && dipole.is_none() => Some(translucency_table(
                 &named,
@@ -818,9 +878,9 @@ fn dipole_setup(
     if a.kernel.is_some() || a.compare_models || a.no_sss {
         bail!("--method directional-dipole does not use --kernel, --compare-models or --no-sss");
     }
-    if a.incidence_aware == OnOff::On {
+    if a.incidence_aware == OnOff::On || a.exit_aware == OnOff::On {
         bail!(
-            "--incidence-aware is for the separable method: the directional dipole depends on the incidence itself"
+            "--incidence-aware and --exit-aware are for the separable method: the directional dipole depends on both angles itself"
         );
     }
     if a.translucency == OnOff::On {

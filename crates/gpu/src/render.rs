@@ -45,11 +45,17 @@ pub struct RenderParams {
     /// last value). The scene pass multiplies each light's irradiance on SSS surfaces by it, and
     /// the ambient light by its cosine-weighted hemispherical mean. All ones: off.
     pub incidence: [[f32; 3]; INCIDENCE_STEPS],
+    /// Exit-angle-aware shading: the radiance leaving the SSS material at polar angle
+    /// θ = 0°, 10°, …, 80° relative to that of a Lambertian surface with the same total
+    /// reflectance, h(θ) per channel (`mc::exitance`; beyond 80° the last value). The scattered
+    /// light of each SSS pixel is multiplied by h at the pixel's view angle. All ones: off
+    /// (Lambertian exit).
+    pub exit: [[f32; 3]; INCIDENCE_STEPS],
     /// Light through thin parts of SSS surfaces (None: off).
     pub translucency: Option<Translucency>,
 }
 
-/// Entries of [`RenderParams::incidence`]: θ = 0°, 10°, …, 80°.
+/// Entries of [`RenderParams::incidence`] and [`RenderParams::exit`]: θ = 0°, 10°, …, 80°.
 pub const INCIDENCE_STEPS: usize = 9;
 
 /// Entries of a [`Translucency`] table.
@@ -147,8 +153,8 @@ impl Translucency {
     }
 }
 
-/// ρ(θ)/ρ(0) at cos θ = `cos_i` from an incidence table, linear in θ between entries (what the
-/// scene shader evaluates).
+/// ρ(θ)/ρ(0) at cos θ = `cos_i` from an incidence table (or h(θ) from an exit table), linear in θ
+/// between entries (what the scene shader evaluates).
 pub fn incidence_ratio(table: &[[f32; 3]; INCIDENCE_STEPS], cos_i: f32) -> [f32; 3] {
     let t = cos_i.clamp(0.0, 1.0).acos().to_degrees() / 10.0;
     let i = (t.floor() as usize).min(INCIDENCE_STEPS - 1);
@@ -188,6 +194,7 @@ impl Default for RenderParams {
             fixed_depth: None,
             exposure: 1.0,
             incidence: [[1.0; 3]; INCIDENCE_STEPS],
+            exit: [[1.0; 3]; INCIDENCE_STEPS],
             translucency: None,
         }
     }
@@ -239,6 +246,8 @@ struct Globals {
     translucency: [[f32; 4]; TRANSLUCENCY_STEPS],
     /// x: first thickness [cm], y: ln ratio, z: 1 on / 0 off.
     translucency_params: [f32; 4],
+    /// h(θ) at θ = 0°, 10°, …, 80° (rgb) for SSS surfaces.
+    exit: [[f32; 4]; INCIDENCE_STEPS],
 }
 
 /// The scene shader with the shared Fresnel function prepended.
@@ -248,8 +257,8 @@ pub(crate) const SCENE_WGSL: &str = concat!(
 );
 
 /// The size of scene.wgsl's `Globals`: 2 mat4 + 3 vec4 + 4 lights × 160 + 10 vec4 of incidence
-/// + 17 vec4 of translucency (checked against naga's layout in a test).
-pub(crate) const GLOBALS_SIZE: usize = 2 * 64 + 3 * 16 + 4 * 160 + 10 * 16 + 17 * 16;
+/// + 17 vec4 of translucency + 9 vec4 of exit (checked against naga's layout in a test).
+pub(crate) const GLOBALS_SIZE: usize = 2 * 64 + 3 * 16 + 4 * 160 + 10 * 16 + 17 * 16 + 9 * 16;
 const _: () = assert!(std::mem::size_of::<Globals>() == GLOBALS_SIZE);
 
 /// Scene targets: diffuse; specular + strength; view depth + packed post-scatter albedo.
@@ -279,6 +288,24 @@ pub fn render(gpu: &Gpu, scene: &Scene, scatter: Scatter, params: &RenderParams)
     }
     if let Some(t) = &params.translucency {
         t.validate()?;
+    }
+    // Exit factors reach the shader through pack_albedo's 8-bit shared scale of at most 4: with
+    // albedos ≤ 1, h up to 4 is exact to 8 bits.
+    for (what, table, max) in [
+        ("incidence table", &params.incidence, None),
+        ("exit table", &params.exit, Some(4.0)),
+    ] {
+        if let Some(v) = table
+            .iter()
+            .flatten()
+            .find(|v| !(v.is_finite() && **v >= 0.0 && max.is_none_or(|m| **v <= m)))
+        {
+            let reason = match max {
+                Some(m) => format!("entries must be finite, ≥ 0 and ≤ {m}"),
+                None => "entries must be finite and ≥ 0".into(),
+            };
+            return Err(GpuError::invalid(what, v, reason));
+        }
     }
     if !(params.sss_width.is_finite() && params.sss_width >= 0.0) {
         return Err(GpuError::invalid(
@@ -453,6 +480,11 @@ pub fn render(gpu: &Gpu, scene: &Scene, scatter: Scatter, params: &RenderParams)
         translucency_params: match &params.translucency {
             Some(t) if !dipole => [t.first_cm, t.ratio.ln(), 1.0, t.eta],
             _ => [1.0, 1.0, 0.0, 1.0],
+        },
+        exit: if dipole {
+            [[1.0; 4]; INCIDENCE_STEPS]
+        } else {
+            params.exit.map(|r| [r[0], r[1], r[2], 0.0])
         },
     };
     let gbuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {

@@ -156,3 +156,62 @@ fn a_camera_straight_above_sees_the_sphere() {
     assert_eq!(frame.geometry[centre][1], 1.0);
     assert!(frame.irradiance[centre][0] > 0.0);
 }
+
+/// Exit-angle-aware shading multiplies what leaves each SSS pixel by h(θ) at its view angle and
+/// changes nothing else: without scattering or specular light, the ratio of the linear images with
+/// and without an exit table is the table at the angle between the sphere's normal and the
+/// direction to the camera (linear in θ between 10° entries: the CPU twin `incidence_ratio`),
+/// including factors above 1 (the packed albedo's shared scale), and 1 on the floor.
+#[test]
+fn an_exit_table_scales_each_sss_pixel_by_its_view_angle() {
+    let Some(gpu) = gpu() else { return };
+    let mut scene = Scene::sphere();
+    scene.specular = 0.0;
+    let plain = RenderParams {
+        width: W,
+        height: H,
+        albedo: AlbedoMode::Post,
+        ..RenderParams::default()
+    };
+    let mut table = [[1.0f32; 3]; gpu::INCIDENCE_STEPS];
+    for (k, row) in table.iter_mut().enumerate() {
+        *row = [1.0 + 0.1 * k as f32, 1.0 - 0.08 * k as f32, 2.0];
+    }
+    let exit = RenderParams {
+        exit: table,
+        ..plain
+    };
+    let a = render(&gpu, &scene, Scatter::None, &plain).unwrap();
+    let b = render(&gpu, &scene, Scatter::None, &exit).unwrap();
+    let centre = Vec3::new(0.0, 5.0, 0.0);
+    for dir in [
+        Vec3::new(0.0, 0.3, 1.0),
+        Vec3::new(-0.5, 0.5, 1.0),
+        Vec3::new(0.6, 0.2, 0.8),
+        Vec3::new(-0.95, 0.1, 0.3),
+    ] {
+        let n = dir.normalize();
+        let p = centre + 5.0 * n;
+        let (x, y) = pixel(&scene, p);
+        let i = y * W as usize + x;
+        let want = gpu::incidence_ratio(&table, n.dot((scene.camera.position - p).normalize()));
+        for (c, h) in want.iter().enumerate() {
+            let r = b.linear[i][c] / a.linear[i][c];
+            assert!(
+                (r - h).abs() < 0.03 * h,
+                "n = {n}, channel {c}: ratio {r} vs h = {h}"
+            );
+        }
+    }
+    let floor = pixel(&scene, Vec3::new(8.0, 0.0, 6.0));
+    let i = floor.1 * W as usize + floor.0;
+    assert!(a.linear[i][0] > 0.0, "the floor point is lit");
+    for c in 0..3 {
+        assert!(
+            (b.linear[i][c] / a.linear[i][c] - 1.0).abs() < 1e-6,
+            "floor: {:?} vs {:?}",
+            b.linear[i],
+            a.linear[i]
+        );
+    }
+}

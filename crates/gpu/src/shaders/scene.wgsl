@@ -1,6 +1,7 @@
 // Scene pass: shadowed irradiance (rgba32float), specular with the SSS strength in alpha
-// (rgba16float), and linear view depth with the post-scatter albedo packed as RGBA8 bits
-// (rg32float): 32 bytes per pixel, WebGPU's portable limit. World units are cm.
+// (rgba16float), and linear view depth with the post-scatter albedo (times the exit-angle factor)
+// packed as RGBA8 bits (rg32float): 32 bytes per pixel, WebGPU's portable limit. World units
+// are cm.
 
 struct Light {
     view_proj: mat4x4<f32>,
@@ -29,6 +30,9 @@ struct Globals {
     // y: ln ratio, z: 1 on / 0 off, w: η (gpu::Translucency).
     translucency: array<vec4<f32>, 16>,
     translucency_params: vec4<f32>,
+    // Exit-angle-aware shading of SSS surfaces: the radiance leaving at view angle θ relative to a
+    // Lambertian surface's, h(θ) at θ = 0°, 10°, …, 80° (rgb; all ones: off).
+    exit: array<vec4<f32>, 9>,
 };
 
 @group(0) @binding(0) var<uniform> g: Globals;
@@ -86,14 +90,23 @@ fn shadow(i: u32, world: vec3<f32>, n_dot_l: f32) -> f32 {
     return lit / 9.0;
 }
 
-// ρ(θ)/ρ(0) at cos θ = cos_i: linear in θ between the table's 10° steps, the 80° value beyond.
-fn incidence_ratio(cos_i: f32) -> vec3<f32> {
-    let t = degrees(acos(clamp(cos_i, 0.0, 1.0))) / 10.0;
-    let i = min(u32(floor(t)), 8u);
+// An angle table (θ = 0°, 10°, …, 80°: `incidence` or `exit`) at cos θ: linear in θ between
+// entries, the 80° value beyond (gpu::incidence_ratio is its CPU twin).
+fn angle_table(table: array<vec4<f32>, 9>, cos_a: f32) -> vec3<f32> {
+    var t = table;
+    let x = degrees(acos(clamp(cos_a, 0.0, 1.0))) / 10.0;
+    let i = min(u32(floor(x)), 8u);
     if i >= 8u {
-        return g.incidence[8].rgb;
+        return t[8].rgb;
     }
-    return mix(g.incidence[i].rgb, g.incidence[i + 1u].rgb, t - f32(i));
+    return mix(t[i].rgb, t[i + 1u].rgb, x - f32(i));
+}
+
+// The post-scatter albedo times the exit factor, c ≥ 0 per channel, as RGBA8 bits: rgb = c/m,
+// alpha = m/4, with m ≥ max(1, max c) on the alpha's 8-bit steps (so m ≤ 4); unpack.wgsl decodes.
+fn pack_albedo(c: vec3<f32>) -> u32 {
+    let a = min(ceil(max(1.0, max(c.r, max(c.g, c.b))) * 255.0 / 4.0), 255.0);
+    return pack4x8unorm(vec4<f32>(c / (a * 4.0 / 255.0), a / 255.0));
 }
 
 // Tt(d)/ρ at thickness d [cm]: linear in ln d between entries, held outside them.
@@ -181,7 +194,7 @@ fn fs(v: VOut, @builtin(front_facing) front: bool) -> FOut {
             continue;
         }
         let vis = shadow(i, v.world, n_dot_l);
-        irradiance += scale * n_dot_l * vis * select(vec3<f32>(1.0), incidence_ratio(n_dot_l), sss);
+        irradiance += scale * n_dot_l * vis * select(vec3<f32>(1.0), angle_table(g.incidence, n_dot_l), sss);
         let h = normalize(l + view_dir);
         spec += scale * g.params.z * pow(max(dot(n, h), 0.0), g.params.w) * n_dot_l * vis;
     }
@@ -198,6 +211,8 @@ fn fs(v: VOut, @builtin(front_facing) front: bool) -> FOut {
     var o: FOut;
     o.diffuse = vec4<f32>(irradiance * pre, 1.0);
     o.specular = vec4<f32>(spec, v.strength);
-    o.geometry = vec4<f32>(v.view_depth, bitcast<f32>(pack4x8unorm(vec4<f32>(post, 1.0))), 0.0, 1.0);
+    // What leaves towards the camera: h(θ) at the view angle on SSS surfaces.
+    let exit = select(vec3<f32>(1.0), angle_table(g.exit, dot(n, view_dir)), sss);
+    o.geometry = vec4<f32>(v.view_depth, bitcast<f32>(pack_albedo(post * exit)), 0.0, 1.0);
     return o;
 }

@@ -21,5 +21,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     // x: view depth [cm], y: SSS strength (stored in the specular target's alpha).
     let geo = textureLoad(geometry, p, 0);
     out_geometry[i] = vec4<f32>(geo.x, spec.a, 0.0, 1.0);
-    out_albedo[i] = unpack4x8unorm(bitcast<u32>(geo.y));
+    // scene.wgsl's pack_albedo: rgb × m with m = 4·alpha.
+    let a = unpack4x8unorm(bitcast<u32>(geo.y));
+    out_albedo[i] = vec4<f32>(a.rgb * (4.0 * a.a), 1.0);
 }
