@@ -11,7 +11,9 @@ use crate::separable::Separable;
 /// A fitted Burley profile: shape d [cm] and total A.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Burley {
+    /// Shape length d [cm] of R(r) ∝ (e^{−r/d} + e^{−r/(3d)})/r.
     pub d: f64,
+    /// Total A [-]: R's integral over the plane.
     pub a: f64,
 }
 

@@ -19,12 +19,16 @@ use crate::separable::Separable;
 /// A single-channel float image, row-major.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
+    /// Width [px].
     pub width: usize,
+    /// Height [px].
     pub height: usize,
+    /// Pixel values, row-major, `width × height`.
     pub v: Vec<f64>,
 }
 
 impl Image {
+    /// An all-zero image.
     pub fn new(width: usize, height: usize) -> Self {
         Image {
             width,
@@ -33,6 +37,7 @@ impl Image {
         }
     }
 
+    /// The value at column `x`, row `y`.
     pub fn at(&self, x: usize, y: usize) -> f64 {
         self.v[y * self.width + x]
     }

@@ -38,13 +38,18 @@ use crate::select::Judge;
 /// The engines parameters are written for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Engine {
+    /// Unreal Engine 5: Subsurface Profile in Burley mode.
     Unreal,
+    /// Unity HDRP: Diffusion Profile.
     Unity,
+    /// Blender Cycles: Principled BSDF with the Christensen-Burley subsurface method.
     Blender,
+    /// OpenPBR 1.1: subsurface parameters from the material's coefficients, not from a fit.
     OpenPbr,
 }
 
 impl Engine {
+    /// Every engine.
     pub const ALL: [Engine; 4] = [
         Engine::Unreal,
         Engine::Unity,
@@ -123,7 +128,9 @@ impl BurleyProfileFit {
 /// One parameter as the engine's user interface names it.
 #[derive(Clone, Debug, Serialize)]
 pub struct Field {
+    /// The parameter's name in the engine's user interface, e.g. `Surface Albedo`.
     pub name: &'static str,
+    /// Its value.
     pub value: Value,
     /// Unit, or "" for unitless values and colours.
     pub unit: &'static str,
@@ -133,8 +140,11 @@ pub struct Field {
 #[derive(Clone, Debug, Serialize)]
 #[serde(untagged)]
 pub enum Value {
+    /// A number.
     Number(f64),
+    /// An RGB colour.
     Color([f64; 3]),
+    /// A choice, spelled as the user interface shows it.
     Text(&'static str),
 }
 
@@ -151,9 +161,11 @@ impl fmt::Display for Value {
 /// An engine's parameter set.
 #[derive(Clone, Debug, Serialize)]
 pub struct EngineParams {
+    /// The engine these fields are for.
     pub engine: Engine,
     /// Where in the engine these fields live.
     pub location: &'static str,
+    /// The parameters to set, each as the engine names it.
     pub fields: Vec<Field>,
     /// Clamps applied, ranges exceeded, assumptions.
     pub notes: Vec<String>,

@@ -6,20 +6,32 @@ pub enum FitError {
     /// A profile or parameter is unusable (too few bins, NaN, negative, all zero, …).
     #[error("invalid {field} = {value}: {reason}")]
     Invalid {
+        /// The input's name, e.g. `sigma_a`.
         field: String,
+        /// The offending value, as text.
         value: String,
+        /// Why it was refused.
         reason: String,
     },
 
     /// A plot could not be drawn or written.
     #[error("plot {path}: {message}")]
-    Plot { path: String, message: String },
+    Plot {
+        /// What the picture is, e.g. `skin1 Pareto plot` (plots are returned as bytes, so this
+        /// names the picture, not a file).
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
 
     /// A text input (profile CSV, kernel TOML, parameter table) could not be parsed.
     #[error("{source_name}:{line}: {message}")]
     Parse {
+        /// File name (or other label) of the input.
         source_name: String,
+        /// 1-based line, 0 when unknown.
         line: usize,
+        /// What is wrong there.
         message: String,
     },
 }
@@ -38,4 +50,5 @@ impl FitError {
     }
 }
 
+/// Result with [`FitError`].
 pub type Result<T> = std::result::Result<T, FitError>;

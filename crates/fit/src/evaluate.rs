@@ -87,14 +87,21 @@ pub struct Row {
     pub variant: Option<&'static str>,
     /// Channel index (R, G, B).
     pub channel: usize,
+    /// Kernel-space RMS √(mean over the grid of (K − A)²) against the normalized ground truth K [-]
+    /// (thesis §5.1).
     pub kernel_rms: f64,
+    /// The same after scaling the model to ‖A‖₁ = ‖K‖₁ (eq. 5.12) [-].
     pub kernel_rms_normalized: f64,
+    /// |‖A‖₁ − ‖K‖₁| / ‖K‖₁ before any renormalization [-].
     pub l1_error: f64,
+    /// Image RMS per test signal against the ground truth's convolution, the model scaled to the
+    /// truth's sum (energy conservation; images in [0, 1]) [-].
     pub image_rms: Vec<(Signal, f64)>,
     /// Fit time of this channel [s]; nested fits (SVD ranks, d'Eon counts) share one time.
     pub fit_seconds: f64,
     /// Main-axis slice A(x, 0) and diagonal slice A(x, x) of the (raw) model, x ≥ 0.
     pub axis: Vec<f64>,
+    /// Diagonal slice A(x, x) of the (raw) model, x ≥ 0.
     pub diagonal: Vec<f64>,
 }
 
@@ -125,7 +132,9 @@ pub struct Evaluation {
     pub singular_values: [Vec<f64>; 3],
     /// Ground truth slices per channel (axis, diagonal), x ≥ 0, and the sample spacing [cm].
     pub truth_axis: [Vec<f64>; 3],
+    /// Ground truth diagonal slice K(x, x) per channel, x ≥ 0.
     pub truth_diagonal: [Vec<f64>; 3],
+    /// Sample spacing of the kernels and slices [cm].
     pub h: f64,
     /// Every separable model's kernel per channel, for convolution plots.
     pub kernels: Vec<(KernelModel, Vec<Separable>)>,
@@ -178,7 +187,9 @@ fn dense_slices(k: &Kernel2) -> (Vec<f64>, Vec<f64>) {
 /// half-width of at most `max_half` pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ImageSize {
+    /// Side of the square test signals [px].
     pub size: usize,
+    /// Largest half-width of the binned kernels [px].
     pub max_half: usize,
 }
 

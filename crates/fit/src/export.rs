@@ -26,13 +26,18 @@ use crate::taps::{Pass, ShaderKernel};
 /// What [`export`] writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ShaderFormat {
+    /// HLSL, the demo's own language.
     Hlsl,
+    /// GLSL.
     Glsl,
+    /// WGSL.
     Wgsl,
+    /// JSON: the same numbers as data.
     Json,
 }
 
 impl ShaderFormat {
+    /// Every format.
     pub const ALL: [ShaderFormat; 4] = [
         ShaderFormat::Hlsl,
         ShaderFormat::Glsl,
@@ -70,11 +75,14 @@ impl FromStr for ShaderFormat {
 /// Length unit of the exported offsets and range.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum OffsetUnit {
+    /// Centimetres (the unit of kernel files).
     Cm,
+    /// Millimetres.
     Mm,
 }
 
 impl OffsetUnit {
+    /// Every unit.
     pub const ALL: [OffsetUnit; 2] = [OffsetUnit::Cm, OffsetUnit::Mm];
 
     /// Units per cm: multiplies a length in cm into this unit.

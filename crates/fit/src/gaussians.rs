@@ -19,7 +19,9 @@ use crate::separable::{Separable, Term};
 /// A fitted sum of Gaussians: variances [cm²] and weights (Σw = the fitted L1 norm).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Gaussians {
+    /// Variances vᵢ [cm²].
     pub variances: Vec<f64>,
+    /// Weights wᵢ ≥ 0 [-], one per variance.
     pub weights: Vec<f64>,
 }
 

@@ -41,6 +41,7 @@ pub struct Guided {
     pub constrained: bool,
     /// Relative change of a below which the iteration stops.
     pub tolerance: f64,
+    /// Most alternating-least-squares sweeps before stopping with [`GuidedStop::MaxIterations`].
     pub max_iterations: usize,
 }
 
@@ -59,16 +60,23 @@ impl Default for Guided {
 /// Why the solver stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum GuidedStop {
+    /// The relative change of a fell below the tolerance, and the two factors a, b agree to its
+    /// square root.
     Converged,
+    /// `max_iterations` sweeps ran first.
     MaxIterations,
 }
 
 /// The result with its solver report.
 #[derive(Clone, Debug)]
 pub struct GuidedFit {
+    /// The rank-1 kernel a(x)a(y) on the input kernel's grid.
     pub kernel: Separable,
+    /// Sweeps run (each two exact half-steps).
     pub iterations: usize,
+    /// Why the solver stopped.
     pub stop: GuidedStop,
+    /// Wall-clock time of the fit [s].
     pub seconds: f64,
     /// |‖a‖₁² − ‖K‖₁| / ‖K‖₁ of the result.
     pub constraint_error: f64,
@@ -96,6 +104,9 @@ impl Guided {
         radial * self.axis(x) * self.axis(y)
     }
 
+    /// Fits to `k` the rank-1 kernel a(x)a(y) that minimizes the Γ-weighted error
+    /// (eq. 5.19–5.20), under ‖a‖₁² = ‖K‖₁ when `constrained`, starting from the pre-integrated
+    /// kernel.
     pub fn fit(&self, k: &Kernel2) -> GuidedFit {
         let start = Instant::now();
         let f = Folded::new(k);

@@ -58,6 +58,7 @@ pub const COMPARED: [KernelModel; 7] = [
 /// One model against pre-integration, per channel (R, G, B).
 #[derive(Clone, Debug)]
 pub struct Candidate {
+    /// The model, as in [`COMPARED`].
     pub model: KernelModel,
     /// The 1D function a(x) of the rank-1 kernel a(x)a(y) for x ≥ 0 (sample spacing
     /// [`Imitation::h`]); unitless weights, the 2D kernel summing to ≈ 1.

@@ -19,6 +19,7 @@ pub struct Kernel2 {
 }
 
 impl Kernel2 {
+    /// Side m = 2n+1 in samples.
     pub fn side(&self) -> usize {
         2 * self.half + 1
     }

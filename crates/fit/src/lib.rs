@@ -21,6 +21,7 @@
 //! assert!(fit::metrics::kernel_rms(&k, &a1) <= fit::metrics::kernel_rms(&k, &pre));
 //! ```
 
+#![warn(missing_docs)]
 // Per-channel loops index parallel [_; 3] arrays (profile, kernels, colours) by channel.
 #![allow(clippy::needless_range_loop)]
 

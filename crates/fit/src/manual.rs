@@ -22,8 +22,11 @@ use crate::separable::Separable;
 /// Parameters of one channel: w, and variances τ_n, τ_f [cm²].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Manual {
+    /// Weight w of the near Gaussian [-], in [0, 1]; the far one has 1 − w.
     pub w: f64,
+    /// Variance τ_n of the near Gaussian [cm²].
     pub tau_near: f64,
+    /// Variance τ_f of the far Gaussian [cm²].
     pub tau_far: f64,
 }
 

@@ -60,6 +60,8 @@ pub fn bin_kernel(k: &Kernel2, f: usize) -> Kernel2 {
     }
 }
 
+/// Block-summing every term's 1D function by an odd factor `f` about the centre, as
+/// [`bin_kernel`] does the 2D kernel (a block sum of a(x)a(y) is A(X)A(Y)).
 pub fn bin_separable(s: &Separable, f: usize) -> Separable {
     let (half, map) = bin_map(s.half(), f);
     let terms = s
@@ -103,7 +105,9 @@ pub fn eval_factor(half: usize, max_half: usize) -> usize {
 /// padded transform is computed once and shared by every model (one inverse transform per model
 /// and signal).
 pub struct ImageEval {
+    /// Odd factor by which kernels are block-summed onto the evaluation grid.
     pub factor: usize,
+    /// Side of the square test signals [px].
     pub size: usize,
     ground_truth: Kernel2,
     /// (signal, its image, its transform padded by the binned kernel's half-width, the ground
@@ -198,6 +202,7 @@ pub struct KernelMetrics {
 }
 
 impl KernelMetrics {
+    /// Prepares the metrics against the ground truth `k`.
     pub fn new(k: &Kernel2) -> Self {
         KernelMetrics {
             folded: Folded::new(k),

@@ -52,20 +52,36 @@ pub enum SkinParams {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum KernelModel {
     /// SVD rank-N (§5.1); `renormalize`: rescaled to ‖A‖₁ = ‖R_d‖₁ (eq. 5.12).
-    Svd { rank: usize, renormalize: bool },
+    Svd {
+        /// Rank N: the number of rank-1 terms, 1 to 32.
+        rank: usize,
+        /// Rescale to ‖A‖₁ = ‖R_d‖₁ (eq. 5.12).
+        renormalize: bool,
+    },
     /// Pre-integration (§5.2).
     Preint,
     /// Guided optimization (§5.3): radial exponent k, axis suppression b on [−1, 1].
-    Guided { k: f64, b: f64 },
+    Guided {
+        /// Radial weight exponent k ≥ 0 ([`Guided::k`]).
+        k: f64,
+        /// Axis suppression b ≥ 0 on [−1, 1] ([`Guided::b`]; 0: none).
+        b: f64,
+    },
     /// Manual two-Gaussian model (§5.4).
     Manual(ManualParams),
     /// d'Eon sum of N Gaussians (eq. 4.4): N rank-1 terms.
-    Deon { n: usize },
+    Deon {
+        /// Number of Gaussians N, 1 to 6.
+        n: usize,
+    },
     /// The original SSSS skin kernel (eq. 4.8).
     Skin(SkinParams),
     /// Christensen–Burley normalized diffusion fitted to the profile; `radial`: the dense 2D
     /// kernel engines use (not separable), else its rank-1 projection.
-    Burley { radial: bool },
+    Burley {
+        /// The dense 2D kernel instead of its rank-1 projection.
+        radial: bool,
+    },
 }
 
 /// A model fitted to the three channels of a profile.

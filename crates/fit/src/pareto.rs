@@ -82,9 +82,11 @@ impl Cost {
 /// One model's cost and error on one material.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Point {
+    /// The model, as keyed in the [`Evaluation`].
     pub model: KernelModel,
     /// The name for tables (`manual (table A.1)`: the model with its parameters' source).
     pub label: String,
+    /// Its GPU cost at the given taps per pass.
     pub cost: Cost,
     /// Image RMS averaged over the test signals and the three channels [-, images in [0, 1]].
     pub mean_image_rms: f64,

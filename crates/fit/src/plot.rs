@@ -691,9 +691,13 @@ fn draw_area_effect(
 /// One labelled picture of a [`Sheet`]: RGB8, row-major.
 #[derive(Clone)]
 pub struct SheetCell {
+    /// Caption shown with the picture.
     pub label: String,
+    /// Width [px].
     pub width: u32,
+    /// Height [px].
     pub height: u32,
+    /// Pixels, `width × height × 3` bytes.
     pub rgb: Vec<u8>,
 }
 
@@ -710,8 +714,11 @@ pub struct ColourBar {
 /// Labelled pictures in rows (a row may be shorter than the others) under title lines and above
 /// colour bars.
 pub struct Sheet {
+    /// Title lines, drawn above the rows.
     pub title: Vec<String>,
+    /// The pictures, row by row, top to bottom.
     pub rows: Vec<Vec<SheetCell>>,
+    /// The colour bars, drawn under the rows.
     pub bars: Vec<ColourBar>,
 }
 

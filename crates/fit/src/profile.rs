@@ -200,7 +200,6 @@ impl Profile {
         s
     }
 
-    /// Number of radial bins.
     /// Total diffuse reflectance of channel `c`: Σ Rd(rᵢ)·2πrᵢ·dr over the bins (MCML's annuli;
     /// the overflow bin, dropped on load, is not included) [-].
     pub fn total(&self, c: usize) -> f64 {
@@ -211,10 +210,12 @@ impl Profile {
             .sum()
     }
 
+    /// Number of radial bins.
     pub fn len(&self) -> usize {
         self.r.len()
     }
 
+    /// Whether the profile has no bins.
     pub fn is_empty(&self) -> bool {
         self.r.is_empty()
     }

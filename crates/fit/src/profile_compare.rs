@@ -18,6 +18,7 @@ pub struct ChannelAgreement {
     /// as independent, an upper bound (a photon's weight leaves through one bin, so bins are
     /// anti-correlated); the exact one is in `simulate`'s summary.
     pub total_mc: f64,
+    /// Its standard error [-].
     pub total_mc_se: f64,
     /// The model's total on the grid [-].
     pub total_model: f64,
@@ -33,8 +34,11 @@ pub struct ChannelAgreement {
 /// One model against MC: its profile on MC's grid and the agreement per channel.
 #[derive(Clone, Debug)]
 pub struct ModelAgreement {
+    /// The analytic model.
     pub model: Model,
+    /// Its profile on MC's grid (annulus averages; standard errors 0).
     pub profile: Profile,
+    /// The agreement per channel (R, G, B).
     pub channels: [ChannelAgreement; 3],
 }
 

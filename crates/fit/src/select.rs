@@ -19,7 +19,10 @@ use crate::taps::{ShaderKernel, TapSpec};
 /// A renderer's budget: 1D convolution passes (2 per rank-1 term) × taps per pass.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Budget {
+    /// 1D convolution passes: even (one horizontal and one vertical per rank-1 term), 2 to 12 when
+    /// parsed.
     pub passes: usize,
+    /// Taps per pass, 1 to 1025 when parsed.
     pub taps: usize,
 }
 
@@ -98,6 +101,7 @@ pub fn candidates(passes: usize) -> Vec<KernelModel> {
 pub struct Scored {
     /// The model as fitted (parameters resolved).
     pub model: KernelModel,
+    /// The fitted kernel sampled into the budget's taps: what a renderer loads.
     pub kernel: ShaderKernel,
     /// Image RMS per channel: the root mean square over the test signals of each signal's RMS
     /// difference to the 2D ground-truth convolution (images in [0, 1]).
@@ -118,6 +122,8 @@ pub struct Judge {
 }
 
 impl Judge {
+    /// Builds the normalized ground truths of `p`'s three channels and their image evaluators
+    /// (test signals of 256 px, kernels binned to a half-width of at most 128 px).
     pub fn new(p: &Profile) -> Self {
         let truths: Vec<Kernel2> = (0..3).map(|c| ground_truth(p, c, None)).collect();
         let evals = truths

@@ -10,6 +10,7 @@ use crate::kernel2d::Kernel2;
 pub struct Term {
     /// +1 or −1: a symmetric kernel's eigenvalues can be negative.
     pub sign: f64,
+    /// The 1D function a on the kernel's grid, 2n+1 samples centred at index n [-].
     pub a: Vec<f64>,
 }
 
@@ -18,10 +19,12 @@ pub struct Term {
 pub struct Separable {
     /// Sample spacing [cm].
     pub h: f64,
+    /// The rank-1 terms, summed; every term's `a` has the same length.
     pub terms: Vec<Term>,
 }
 
 impl Separable {
+    /// The rank-1 kernel a(x)a(y) (sign +1) with sample spacing `h` [cm].
     pub fn rank1(h: f64, a: Vec<f64>) -> Self {
         Separable {
             h,

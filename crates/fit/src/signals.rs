@@ -19,6 +19,7 @@ pub enum Signal {
 }
 
 impl Signal {
+    /// Every signal.
     pub const ALL: [Signal; 5] = [
         Signal::Edge,
         Signal::CircleSquares,
@@ -27,6 +28,8 @@ impl Signal {
         Signal::Uniform,
     ];
 
+    /// The signal's name in reports and file names (`edge`, `circle_squares`, `dot`, `shaded`,
+    /// `uniform`).
     pub fn name(self) -> &'static str {
         match self {
             Signal::Edge => "edge",
@@ -37,6 +40,7 @@ impl Signal {
         }
     }
 
+    /// The signal on a `size` × `size` image, values in [0, 1].
     pub fn image(self, size: usize) -> Image {
         let mut img = Image::new(size, size);
         let s = size as f64;

@@ -29,10 +29,13 @@ pub enum Stop {
 /// Eigenpairs of a symmetric kernel, sorted by |λ| descending.
 #[derive(Clone, Debug)]
 pub struct Eigen {
+    /// Eigenvalues λᵢ, signed.
     pub values: Vec<f64>,
     /// Unit eigenvectors, each of length `side`.
     pub vectors: Vec<Vec<f64>>,
+    /// Subspace iterations run.
     pub iterations: usize,
+    /// Why the iteration stopped.
     pub stop: Stop,
 }
 

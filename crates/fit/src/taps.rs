@@ -16,21 +16,28 @@ use crate::separable::Separable;
 /// One tap: offset [cm] and per-channel weight.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Tap {
+    /// Offset from the centre along the pass's axis, in [`ShaderKernel::unit`] (cm once read by
+    /// [`ShaderKernel::from_toml`]).
     pub offset: f64,
+    /// Weight per channel R, G, B [-]: the 1D function's integral over the tap's cell.
     pub weight: [f64; 3],
 }
 
 /// One separable pass pair (horizontal then vertical) with its per-channel sign.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Pass {
+    /// The term's sign per channel R, G, B (±1): the vertical pass adds sign × its result.
     pub sign: [f64; 3],
+    /// The taps of both 1D passes, by increasing offset.
     pub tap: Vec<Tap>,
 }
 
 /// A shader kernel file (`KERNEL.toml`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ShaderKernel {
+    /// The model the kernel comes from, with its parameters resolved.
     pub model: KernelModel,
+    /// The material's name.
     pub material: String,
     /// Length unit of the offsets.
     pub unit: String,
@@ -40,6 +47,7 @@ pub struct ShaderKernel {
     pub range: f64,
     /// Fraction of taps the renderer should jitter per pixel (supplement Fig. S.6–S.7); 0 = none.
     pub jitter: f64,
+    /// One entry per rank-1 term, each run as a horizontal then a vertical pass.
     pub pass: Vec<Pass>,
 }
 
@@ -302,6 +310,7 @@ impl ShaderKernel {
         Separable { h, terms }
     }
 
+    /// The kernel file's text (`KERNEL.toml`), as [`ShaderKernel::from_toml`] reads it.
     pub fn to_toml(&self) -> String {
         toml::to_string(self).expect("kernel serializes")
     }

@@ -10,6 +10,8 @@ use crate::error::{GpuError, Result};
 /// A kernel as the shader takes it: per pass, the RGB sign and the taps (RGB weight, offset [cm]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct GpuKernel {
+    /// One entry per separable term, in order: its sign per channel R, G, B (±1) and its taps, each
+    /// [weight R, weight G, weight B, offset [cm]].
     pub passes: Vec<([f32; 3], Vec<[f32; 4]>)>,
     /// Largest |offset| [cm].
     pub range_cm: f32,
@@ -86,6 +88,7 @@ pub struct BlurParams {
     pub px_per_cm_at_unit_depth: f32,
     /// Global width multiplier (1 = the kernel's physical size).
     pub sss_width: f32,
+    /// How samples across depth discontinuities are treated.
     pub depth_mode: DepthMode,
     /// Depth difference [cm] at which a sample is fully replaced or rejected.
     pub tolerance_cm: f32,

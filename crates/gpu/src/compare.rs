@@ -49,8 +49,11 @@ pub fn kernel_scale(scene: &Scene, height: u32, p: &Profile, sss_width: f32) -> 
 /// A square cut-out of the image [px].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Crop {
+    /// Left column [px].
     pub x0: usize,
+    /// Top row [px].
     pub y0: usize,
+    /// Side length [px].
     pub side: usize,
 }
 
@@ -72,14 +75,18 @@ pub struct Shown {
     pub shown: Vec<[f32; 4]>,
     /// The whole frame as rendered (albedo, specular, tone map), sRGB RGBA8.
     pub display: Vec<u8>,
+    /// Its error against the ground truth.
     pub error: ImageError,
 }
 
 /// Kernels rendered against the 2D ground truth.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Comparison {
+    /// Image width [px].
     pub width: usize,
+    /// Image height [px].
     pub height: usize,
+    /// The one kernel scale of every image and of the truth.
     pub scale: KernelScale,
     /// Where errors are measured: pixels of SSS surfaces.
     pub sss: Vec<bool>,

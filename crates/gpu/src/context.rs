@@ -5,7 +5,9 @@ use crate::error::{GpuError, Result};
 
 /// A device and its queue.
 pub struct Gpu {
+    /// The device every buffer, texture and pipeline is created on.
     pub device: wgpu::Device,
+    /// Its queue: every frame's commands are submitted here.
     pub queue: wgpu::Queue,
     /// Adapter name and backend, for reports.
     pub adapter_name: String,

@@ -14,13 +14,21 @@ pub enum GpuError {
     /// An input is unusable; names the field.
     #[error("invalid {field} = {value}: {reason}")]
     Invalid {
+        /// The input's name, e.g. `image size`.
         field: String,
+        /// The offending value, as text.
         value: String,
+        /// Why it was refused.
         reason: String,
     },
     /// A mesh file could not be read.
     #[error("mesh {path}: {message}")]
-    Mesh { path: String, message: String },
+    Mesh {
+        /// The file's path.
+        path: String,
+        /// What went wrong: the I/O or parse error, or why the mesh was refused.
+        message: String,
+    },
     /// Reading results back failed.
     #[error("GPU readback failed: {0}")]
     Readback(String),

@@ -17,6 +17,8 @@
 //! Conventions: images are row-major, top row first, RGBA f32 per pixel. A pixel at view depth z
 //! spans z/f cm with f = height/(2·tan(fov_y/2)) (`px_per_cm_at_unit_depth`).
 
+#![warn(missing_docs)]
+
 mod blur;
 pub mod compare;
 mod context;

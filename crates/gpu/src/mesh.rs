@@ -38,7 +38,9 @@ impl Vertex {
 /// An indexed triangle list.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
+    /// The vertices.
     pub vertices: Vec<Vertex>,
+    /// Triangle corners as indices into `vertices`, three per triangle.
     pub indices: Vec<u32>,
 }
 

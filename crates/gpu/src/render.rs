@@ -27,14 +27,20 @@ pub enum Scatter<'a> {
 /// Render settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderParams {
+    /// Image width [px].
     pub width: u32,
+    /// Image height [px].
     pub height: u32,
+    /// How the albedo is split around the scattering; [`Scatter::DirectionalDipole`] ignores it.
     pub albedo: AlbedoMode,
     /// Kernel width multiplier (1 = physical size).
     pub sss_width: f32,
+    /// How the blur treats samples across depth discontinuities.
     pub depth_mode: DepthMode,
     /// Depth tolerance [cm]; None: the kernel's range × `sss_width`.
     pub tolerance_cm: Option<f32>,
+    /// Per-pixel random scale of the kernel's offsets in [1 − j/2, 1 + j/2] (see
+    /// [`BlurParams::jitter`]); 0: off.
     pub jitter: f32,
     /// Fixed view depth [cm] for the kernel scale (see [`BlurParams::fixed_depth`]).
     pub fixed_depth: Option<f32>,
@@ -203,7 +209,9 @@ impl Default for RenderParams {
 /// A rendered frame: row-major, top row first.
 #[derive(Clone, Debug)]
 pub struct Frame {
+    /// Image width [px].
     pub width: u32,
+    /// Image height [px].
     pub height: u32,
     /// Final linear radiance (scattered diffuse × post albedo + specular).
     pub linear: Vec<[f32; 4]>,

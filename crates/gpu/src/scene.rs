@@ -46,14 +46,20 @@ pub enum Light {
     /// Light from direction `towards` (pointing at the light) with `irradiance` at normal
     /// incidence, RGB.
     Directional {
+        /// Direction towards the light (normalized when rendering).
         towards: Vec3,
+        /// Irradiance on a surface facing the light, RGB.
         irradiance: Vec3,
+        /// Whether the light casts shadows (has a shadow map).
         shadow: bool,
     },
     /// A point light at `position` [cm] with radiant `intensity` (irradiance × distance² [cm²]).
     Point {
+        /// Position [cm].
         position: Vec3,
+        /// Radiant intensity, RGB: the irradiance at normal incidence times distance² [cm²].
         intensity: Vec3,
+        /// Whether the light casts shadows (has a shadow map).
         shadow: bool,
     },
 }
@@ -61,21 +67,29 @@ pub enum Light {
 /// How the albedo is split around the scattering (thesis §4.4): before, after, or √ on both sides.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AlbedoMode {
+    /// All of the albedo before the scattering: the blur spreads irradiance × albedo.
     Pre,
+    /// All of the albedo after the scattering: the blur spreads the irradiance, and its result is
+    /// multiplied by the albedo.
     Post,
+    /// √albedo before and √albedo after the scattering.
     PrePost,
 }
 
 /// What the scene pass draws.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
+    /// All geometry: the SSS objects (strength > 0) and the floor.
     pub mesh: Mesh,
+    /// The view.
     pub camera: Camera,
+    /// At most 4 lights (what the scene pass holds).
     pub lights: Vec<Light>,
     /// Constant ambient irradiance, RGB.
     pub ambient: Vec3,
     /// Blinn–Phong specular intensity and exponent.
     pub specular: f32,
+    /// Blinn–Phong exponent of the specular highlight.
     pub shininess: f32,
 }
 

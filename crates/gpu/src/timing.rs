@@ -6,7 +6,9 @@ use crate::error::Result;
 /// GPU time of one pass [ms] (timestamp queries).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PassTime {
+    /// The pass's label, e.g. `pass 1 horizontal`.
     pub label: String,
+    /// Its GPU time [ms].
     pub ms: f64,
 }
 

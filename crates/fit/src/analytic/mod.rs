@@ -168,10 +168,15 @@ impl Model {
 /// A model set up for one channel: Rd(r) on demand.
 #[derive(Clone, Debug)]
 pub enum Radial {
+    /// Jensen et al.'s dipole ([`Model::Dipole`]).
     Dipole(Dipole),
+    /// d'Eon's better dipole ([`Model::BetterDipole`]).
     BetterDipole(BetterDipole),
+    /// Frisvad et al.'s directional dipole at normal incidence ([`Model::DirectionalDipole`]).
     DirectionalDipole(DirectionalDipole),
+    /// Photon beam diffusion ([`Model::Pbd`]).
     Pbd(BeamDiffusion),
+    /// Christensen–Burley from the medium's coefficients ([`Model::Burley`]).
     Burley(Burley),
 }
 
