@@ -362,7 +362,7 @@ def main():
     ap.add_argument("--out", default="out/references", help="output folder")
     a = ap.parse_args()
     sss = sss_binary(a.sss)
-    width, height, spp, photons = (192, 108, 384, 300_000) if a.quick else (640, 360, 8192, 10_000_000)
+    width, height, spp, photons = (192, 108, 384, 300_000) if a.quick else (384, 216, 2048, 10_000_000)
     # Opaque surfaces lit directly converge fast: a quarter of the samples.
     cal_spp = max(spp // 4, 16)
     m = material(sss, a.material)

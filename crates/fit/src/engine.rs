@@ -144,8 +144,6 @@ pub enum Value {
     Number(f64),
     /// An RGB colour.
     Color([f64; 3]),
-    /// A choice, spelled as the user interface shows it.
-    Text(&'static str),
 }
 
 impl fmt::Display for Value {
@@ -153,7 +151,6 @@ impl fmt::Display for Value {
         match self {
             Value::Number(x) => write!(f, "{x:.6}"),
             Value::Color(c) => write!(f, "({:.6}, {:.6}, {:.6})", c[0], c[1], c[2]),
-            Value::Text(t) => f.write_str(t),
         }
     }
 }
@@ -317,7 +314,6 @@ pub fn materialx(p: &EngineParams, name: &str) -> String {
                 "    <input name=\"{}\" type=\"color3\" value=\"{}, {}, {}\" />\n",
                 f.name, c[0], c[1], c[2]
             ),
-            Value::Text(_) => String::new(),
         })
         .collect();
     format!(

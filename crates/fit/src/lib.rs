@@ -59,7 +59,7 @@ pub use guided::{Guided, GuidedFit, GuidedStop};
 pub use kernel2d::{Kernel2, SUPPORT_EPSILON, ground_truth};
 pub use manual::{Manual, WSweep, table_a1};
 pub use model::{FittedKernel, KernelModel, ManualParams, SkinParams};
-pub use preint::{preint, preint_continuous, projection};
+pub use preint::preint;
 pub use profile::Profile;
 pub use separable::{Separable, Term};
 pub use svd::{Eigen, Stop, svd, top_eigen, top_eigen_to};
