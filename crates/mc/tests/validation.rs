@@ -142,20 +142,20 @@ fn h_function(a: f64, mu: f64) -> f64 {
 /// same equation.
 fn h_solver(a: f64) -> impl Fn(f64) -> f64 {
     let (x, w) = gauss_legendre_01(96);
-    let mut h = vec![1.0; x.len()];
-    for _ in 0..10_000 {
-        let next: Vec<f64> = x
+    // The right-hand side of the H equation at μ, from H on the nodes.
+    let step = move |h: &[f64], mu: f64| {
+        let s: f64 = x
             .iter()
-            .map(|&m| {
-                let s: f64 = x
-                    .iter()
-                    .zip(&w)
-                    .zip(&h)
-                    .map(|((&xp, &wp), &hp)| wp * xp * hp / (m + xp))
-                    .sum();
-                1.0 / ((1.0 - a).sqrt() + 0.5 * a * s)
-            })
-            .collect();
+            .zip(&w)
+            .zip(h)
+            .map(|((&xp, &wp), &hp)| wp * xp * hp / (mu + xp))
+            .sum();
+        1.0 / ((1.0 - a).sqrt() + 0.5 * a * s)
+    };
+    let nodes = gauss_legendre_01(96).0;
+    let mut h = vec![1.0; nodes.len()];
+    for _ in 0..10_000 {
+        let next: Vec<f64> = nodes.iter().map(|&m| step(&h, m)).collect();
         let diff = next
             .iter()
             .zip(&h)
@@ -166,15 +166,7 @@ fn h_solver(a: f64) -> impl Fn(f64) -> f64 {
             break;
         }
     }
-    move |mu: f64| {
-        let s: f64 = x
-            .iter()
-            .zip(&w)
-            .zip(&h)
-            .map(|((&xp, &wp), &hp)| wp * xp * hp / (mu + xp))
-            .sum();
-        1.0 / ((1.0 - a).sqrt() + 0.5 * a * s)
-    }
+    move |mu: f64| step(&h, mu)
 }
 
 /// Gauss–Legendre nodes and weights on [0, 1] (Newton iteration on Legendre polynomials).
