@@ -132,6 +132,18 @@ fn non_absorbing_slab_conserves_to_rounding() {
     assert!((total - 1.0).abs() < 1e-12, "{total}");
 }
 
+/// An isotropically scattering, index-matched half-space of single-scattering albedo a
+/// (μt = 10 cm⁻¹): the medium of Chandrasekhar's exact results.
+fn isotropic_half_space(a: f64) -> Layer {
+    Layer {
+        n: 1.0,
+        mu_a: 10.0 * (1.0 - a),
+        mu_s: 10.0 * a,
+        g: 0.0,
+        thickness: 1.0e8,
+    }
+}
+
 /// Chandrasekhar's H-function for isotropic scattering with albedo a, by iterating
 /// 1/H(μ) = √(1−a) + (a/2) ∫₀¹ μ' H(μ')/(μ+μ') dμ' on Gauss–Legendre nodes.
 fn h_function(a: f64, mu: f64) -> f64 {
@@ -218,14 +230,7 @@ fn h_function_satisfies_known_identities() {
 #[test]
 fn isotropic_half_space_matches_chandrasekhar() {
     for (i, &a) in [0.1, 0.5, 0.9, 0.99, 0.999].iter().enumerate() {
-        let mu_t = 10.0;
-        let layer = Layer {
-            n: 1.0,
-            mu_a: mu_t * (1.0 - a),
-            mu_s: mu_t * a,
-            g: 0.0,
-            thickness: 1.0e8,
-        };
+        let layer = isotropic_half_space(a);
         let o = run(Sample::single(layer), small_grid(), 200_000, 100 + i as u64);
         let exact = 1.0 - (1.0 - a).sqrt() * h_function(a, 1.0);
         within(&format!("Rd(a={a})"), o.rd.value, o.rd.se, exact, 3.0);
@@ -286,13 +291,7 @@ fn exit_angle_distribution_matches_chandrasekhar() {
     let (gx, gw) = gauss_legendre_01(16);
     for (i, &a) in [0.9, 0.99].iter().enumerate() {
         let h = h_solver(a);
-        let layer = Layer {
-            n: 1.0,
-            mu_a: 10.0 * (1.0 - a),
-            mu_s: 10.0 * a,
-            g: 0.0,
-            thickness: 1.0e8,
-        };
+        let layer = isotropic_half_space(a);
         for (j, &theta0) in [0.0f64, 60.0].iter().enumerate() {
             let grid = Grid {
                 na: 9,
@@ -347,13 +346,7 @@ fn exit_angle_distribution_matches_chandrasekhar() {
 #[test]
 fn oblique_half_space_matches_chandrasekhar() {
     for (i, &a) in [0.5, 0.9, 0.99].iter().enumerate() {
-        let layer = Layer {
-            n: 1.0,
-            mu_a: 10.0 * (1.0 - a),
-            mu_s: 10.0 * a,
-            g: 0.0,
-            thickness: 1.0e8,
-        };
+        let layer = isotropic_half_space(a);
         let mut last = 0.0;
         for (j, &theta) in [30.0f64, 60.0, 75.0].iter().enumerate() {
             let o = run_at(
