@@ -57,6 +57,14 @@ fn err(path: &str, e: impl std::fmt::Display) -> FitError {
 /// A drawing area on an in-memory RGB picture.
 pub(crate) type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
 
+/// A white page with `heading` above its drawing area, the font loaded; errors name `path`.
+fn page<'a>(root: Area<'a>, path: &str, heading: &str) -> Result<Area<'a>> {
+    font();
+    root.fill(&WHITE).map_err(|e| err(path, e))?;
+    root.titled(heading, ("sans-serif", 20))
+        .map_err(|e| err(path, e))
+}
+
 /// Draws a picture of `size` with `draw` and returns it as PNG bytes; `path` names it in errors.
 pub(crate) fn png_of(
     size: (u32, u32),
@@ -189,16 +197,13 @@ fn draw_slices(
     models: &[KernelModel],
     title: &str,
 ) -> Result<()> {
-    font();
-    root.fill(&WHITE).map_err(|e| err(path, e))?;
-    let root = root
-        .titled(
-            &format!(
-                "{title}: kernel slices against the 2D ground truth (normalized to Σ = 1 per channel)"
-            ),
-            ("sans-serif", 20),
-        )
-        .map_err(|e| err(path, e))?;
+    let root = page(
+        root,
+        path,
+        &format!(
+            "{title}: kernel slices against the 2D ground truth (normalized to Σ = 1 per channel)"
+        ),
+    )?;
     let cells = root.split_evenly((2, 3));
     for (idx, cell) in cells.iter().enumerate() {
         let (row, c) = (idx / 3, idx % 3);
@@ -1140,16 +1145,13 @@ fn draw_imitation(
     im: &crate::imitation::Imitation,
     title: &str,
 ) -> Result<()> {
-    font();
-    root.fill(&WHITE).map_err(|e| err(path, e))?;
-    let root = root
-        .titled(
-            &format!(
-                "{title}: guided optimization with k = 1.55, b = 50 imitates pre-integration (thesis Fig. 5.15)"
-            ),
-            ("sans-serif", 20),
-        )
-        .map_err(|e| err(path, e))?;
+    let root = page(
+        root,
+        path,
+        &format!(
+            "{title}: guided optimization with k = 1.55, b = 50 imitates pre-integration (thesis Fig. 5.15)"
+        ),
+    )?;
     let (top, bottom) = root.split_vertically(520);
     // The models drawn as curves: the imitation, Fig. 5.15c–d, the thesis's default, SVD rank-1.
     let drawn = [
@@ -1308,16 +1310,13 @@ pub fn w_sweep(sweep: &crate::manual::WSweep, title: &str) -> Result<Vec<u8>> {
 }
 
 fn draw_w_sweep(root: Area<'_>, path: &str, s: &crate::manual::WSweep, title: &str) -> Result<()> {
-    font();
-    root.fill(&WHITE).map_err(|e| err(path, e))?;
-    let root = root
-        .titled(
-            &format!(
-                "{title}: the manual model's w moves it from far (w = 0) to near scattering (w = 1) (thesis Fig. 5.17)"
-            ),
-            ("sans-serif", 20),
-        )
-        .map_err(|e| err(path, e))?;
+    let root = page(
+        root,
+        path,
+        &format!(
+            "{title}: the manual model's w moves it from far (w = 0) to near scattering (w = 1) (thesis Fig. 5.17)"
+        ),
+    )?;
     let reference_w = s.params[0].w;
     let (top, bottom) = root.split_vertically(480);
     for (c, cell) in top.split_evenly((1, 3)).iter().enumerate() {
