@@ -7,7 +7,8 @@
 
 use std::sync::OnceLock;
 
-use fit::analytic::Model;
+mod common;
+
 use fit::evaluate::ImageSize;
 use fit::imitation::{IMITATION, Imitation};
 use fit::{KernelModel, ground_truth};
@@ -15,18 +16,9 @@ use fit::{KernelModel, ground_truth};
 fn skin1() -> &'static Imitation {
     static MEASURED: OnceLock<Imitation> = OnceLock::new();
     MEASURED.get_or_init(|| {
-        let path = format!("{}/../../materials/skin1.toml", env!("CARGO_MANIFEST_DIR"));
-        let m = mc::Material::from_toml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
-        let mfp: Vec<f64> = (0..3).map(|c| m.mfp(c)).collect();
-        let (lo, hi) = (
-            mfp.iter().copied().fold(f64::INFINITY, f64::min),
-            mfp.iter().copied().fold(0.0, f64::max),
-        );
-        // `sss reproduce --quick`'s grid: dr = min MFP / 6, the profile to 10 max MFP.
-        let dr = lo / 6.0;
-        let p =
-            fit::analytic::profile(Model::Pbd, &m, dr, (10.0 * hi / dr).ceil() as usize).unwrap();
-        let half = (32.0 * hi / dr).ceil() as usize;
+        let (p, mfp) = common::skin1_quick();
+        let hi = mfp.iter().copied().fold(0.0, f64::max);
+        let half = (32.0 * hi / p.dr).ceil() as usize;
         let truths: Vec<_> = (0..3).map(|c| ground_truth(&p, c, Some(half))).collect();
         Imitation::measure(
             &truths,

@@ -7,6 +7,8 @@ use fit::evaluate::ImageSize;
 use fit::metrics::{edge_response, edge_width};
 use fit::{Kernel2, Manual, WSweep, ground_truth, table_a1};
 
+mod common;
+
 const IMAGE: ImageSize = ImageSize {
     size: 96,
     max_half: 32,
@@ -44,21 +46,7 @@ fn the_edge_of_a_gaussian_is_its_cumulative_distribution() {
 /// widens as it falls (far scattering, more light into the shadow), in every channel.
 #[test]
 fn raising_w_moves_skin1_from_far_to_near_scattering() {
-    let path = format!("{}/../../materials/skin1.toml", env!("CARGO_MANIFEST_DIR"));
-    let m = mc::Material::from_toml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
-    let mfp: Vec<f64> = (0..3).map(|c| m.mfp(c)).collect();
-    let (lo, hi) = (
-        mfp.iter().copied().fold(f64::INFINITY, f64::min),
-        mfp.iter().copied().fold(0.0, f64::max),
-    );
-    let dr = lo / 6.0;
-    let p = fit::analytic::profile(
-        fit::analytic::Model::Pbd,
-        &m,
-        dr,
-        (10.0 * hi / dr).ceil() as usize,
-    )
-    .unwrap();
+    let (p, mfp) = common::skin1_quick();
     let truths: Vec<Kernel2> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
     let w: Vec<f64> = (0..=10).map(|i| i as f64 / 10.0).collect();
     let s = WSweep::measure(&truths, table_a1("skin1").unwrap(), &w, &[0.1, 0.9], IMAGE).unwrap();
