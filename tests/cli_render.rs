@@ -110,6 +110,34 @@ fn render_refuses_bad_input_naming_it() {
             ],
             "--exit-aware",
         ),
+        (vec!["render", "--scene", "pair"], "--material"),
+        (
+            vec![
+                "render",
+                "--scene",
+                "pair",
+                "--material",
+                "skin1,marble",
+                "--bench",
+            ],
+            "--bench",
+        ),
+        (
+            vec![
+                "render",
+                "--scene",
+                "pair",
+                "--material",
+                "skin1,marble",
+                "--object-albedo",
+                "1,0,0",
+                "--object-albedo",
+                "0,1,0",
+                "--object-albedo",
+                "0,0,1",
+            ],
+            "--object-albedo",
+        ),
     ] {
         let o = sss(&args, dir.path());
         assert_eq!(o.status.code(), Some(2), "{args:?}");
@@ -117,6 +145,66 @@ fn render_refuses_bad_input_naming_it() {
         assert!(e.contains(field), "{args:?}: {e}");
     }
     assert!(!dir.path().join("out").exists(), "nothing written");
+}
+
+#[test]
+fn render_pair_puts_two_materials_in_one_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = sss(
+        &[
+            "render",
+            "--scene",
+            "pair",
+            "--material",
+            "skin1,marble",
+            "--object-albedo",
+            "0.8,0.2,0.2",
+            "--object-albedo",
+            "0.2,0.2,0.8",
+            "--width",
+            "160",
+            "--height",
+            "90",
+            "--photons",
+            "30000",
+            "--profiles",
+            "p",
+            "--out",
+            "r",
+            "--json",
+        ],
+        dir.path(),
+    );
+    if no_adapter(&o) {
+        return;
+    }
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["materials"], serde_json::json!(["skin1", "marble"]));
+    // Each material's profile was simulated for its own kernel.
+    for m in ["skin1", "marble"] {
+        assert!(
+            dir.path().join(format!("p/{m}.profile.csv")).exists(),
+            "{m}"
+        );
+    }
+    // The left sphere carries the first albedo, the right one the second.
+    let px = pfm_pixels(&dir.path().join("r/render.pfm"));
+    let (w, h) = (160usize, 90usize);
+    let mean = |x0: usize, x1: usize| {
+        let mut acc = [0.0f64; 3];
+        for y in h / 3..2 * h / 3 {
+            for x in x0..x1 {
+                for c in 0..3 {
+                    acc[c] += px[y * w + x][c] as f64;
+                }
+            }
+        }
+        acc
+    };
+    let (left, right) = (mean(w / 5, 2 * w / 5), mean(3 * w / 5, 4 * w / 5));
+    assert!(left[0] > 2.0 * left[2], "left {left:?}");
+    assert!(right[2] > 2.0 * right[0], "right {right:?}");
 }
 
 /// The linear RGB pixels of a PFM `sss render` wrote.
@@ -255,7 +343,7 @@ fn render_translucency_lights_the_fins_from_behind_with_the_materials_table() {
 
     // The table against mc: Tt(d)/ρ with ρ the profile's total reflectance.
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    let t = &v["translucency"];
+    let t = &v["translucency"][0];
     let (first, ratio) = (
         t["first_cm"].as_f64().unwrap(),
         t["ratio"].as_f64().unwrap(),

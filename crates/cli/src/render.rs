@@ -11,6 +11,7 @@ use fit::{KernelModel, Profile};
 use glam::Vec3;
 use gpu::{
     AlbedoMode, DepthMode, DipoleSetup, Gpu, GpuKernel, Light, RenderParams, Scatter, Scene,
+    Shading,
 };
 use serde_json::json;
 
@@ -212,11 +213,14 @@ pub enum DepthTest {
 
 #[derive(Args)]
 pub struct RenderArgs {
-    /// Scene: sphere (sphere on a floor), fin (sphere with two thin fins) or a Wavefront .obj path
+    /// Scene: sphere (sphere on a floor), fin (sphere with two thin fins), pair (two spheres side
+    /// by side, two SSS materials) or a Wavefront .obj path
     #[arg(long, default_value = "sphere")]
     scene: String,
 
-    /// Material whose profile the default kernel (and --compare-models) is fitted to
+    /// Material whose profile the default kernel (and --compare-models) is fitted to; for a scene
+    /// of several SSS materials one per material, separated by commas (pair: left,right, e.g.
+    /// skin1,marble). A material's kernel takes no light from another material's pixels
     #[arg(long, default_value = "skin1")]
     material: String,
 
@@ -277,9 +281,10 @@ pub struct RenderArgs {
     #[arg(long = "light", value_parser = parse_light)]
     lights: Vec<Light>,
 
-    /// Diffuse albedo R,G,B of the SSS objects (e.g. the material's total diffuse reflectance)
+    /// Diffuse albedo R,G,B of the SSS objects (e.g. the material's total diffuse reflectance);
+    /// given once for every material, or once per material in --material's order
     #[arg(long, value_parser = parse_vec3)]
-    object_albedo: Option<Vec3>,
+    object_albedo: Vec<Vec3>,
 
     /// Diffuse albedo R,G,B of the floor
     #[arg(long, value_parser = parse_vec3)]
@@ -545,19 +550,46 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     if !a.lights.is_empty() {
         scene.lights = a.lights.clone();
     }
-    for (field, v) in [
-        ("--object-albedo", a.object_albedo),
-        ("--floor-albedo", a.floor_albedo),
-    ] {
-        if let Some(v) = v
-            && !(v.min_element() >= 0.0 && v.max_element() <= 1.0)
-        {
+    let names: Vec<&str> = a.material.split(',').map(str::trim).collect();
+    let materials = scene.material_count().max(1);
+    if names.len() != materials {
+        bail!(
+            "invalid --material {:?}: --scene {} has {materials} SSS material(s), give one name per material separated by commas",
+            a.material,
+            a.scene
+        );
+    }
+    if materials > 1 && (a.kernel.is_some() || a.compare_models || a.bench) {
+        bail!(
+            "--kernel, --compare-models and --bench take a scene of one SSS material (--scene {} has {materials})",
+            a.scene
+        );
+    }
+    if materials > 1 && a.method == Method::DirectionalDipole {
+        bail!("--method directional-dipole renders one SSS material per frame");
+    }
+    if ![0, 1, materials].contains(&a.object_albedo.len()) {
+        bail!(
+            "invalid --object-albedo: given {} times, expected once or once per material ({materials})",
+            a.object_albedo.len()
+        );
+    }
+    for (field, v) in a
+        .object_albedo
+        .iter()
+        .map(|v| ("--object-albedo", v))
+        .chain(a.floor_albedo.iter().map(|v| ("--floor-albedo", v)))
+    {
+        if !(v.min_element() >= 0.0 && v.max_element() <= 1.0) {
             bail!("invalid {field} {v}: each channel must lie in [0, 1]");
         }
     }
     for vert in &mut scene.mesh.vertices {
         let albedo = if vert.strength > 0.0 {
             a.object_albedo
+                .get(vert.material as usize)
+                .or(a.object_albedo.first())
+                .copied()
         } else {
             a.floor_albedo
         };
@@ -582,7 +614,11 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     if (scene.camera.position - scene.camera.target).length() <= 0.0 {
         bail!("invalid --camera/--target: they coincide");
     }
-    let named = library::material(&a.material)?;
+    let all_named = names
+        .iter()
+        .map(|n| library::material(n))
+        .collect::<Result<Vec<_>>>()?;
+    let named = &all_named[0];
     // Nothing is written outside --out unless --profiles says where.
     a.source.profiles.get_or_insert_with(|| a.out.clone());
     let kernel_file = match &a.kernel {
@@ -596,17 +632,34 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     let mut files = Outputs::default();
     let dipole = match a.method {
         Method::Separable => None,
-        Method::DirectionalDipole => Some(dipole_setup(&named, &a, &mut files)?),
+        Method::DirectionalDipole => Some(dipole_setup(named, &a, &mut files)?),
     };
     let gpu = Gpu::new()?;
     eprintln!("GPU: {}", gpu.adapter_name);
-    let (incidence, exit) = angle_tables(
-        &named,
-        a.incidence_photons,
-        a.source.seed(),
-        a.incidence_aware == OnOff::On && !a.no_sss,
-        a.exit_aware == OnOff::On && !a.no_sss,
-    )?;
+    let mut shading = [Shading::default(); gpu::MAX_MATERIALS];
+    for (s, n) in shading.iter_mut().zip(&all_named) {
+        let (incidence, exit) = angle_tables(
+            n,
+            a.incidence_photons,
+            a.source.seed(),
+            a.incidence_aware == OnOff::On && !a.no_sss,
+            a.exit_aware == OnOff::On && !a.no_sss,
+        )?;
+        let translucency = match a.translucency {
+            OnOff::On if !a.no_sss && dipole.is_none() => Some(translucency_table(
+                n,
+                &a.source.profile(n, &mut files)?,
+                a.translucency_photons,
+                a.source.seed(),
+            )?),
+            _ => None,
+        };
+        *s = Shading {
+            incidence,
+            exit,
+            translucency,
+        };
+    }
     let params = RenderParams {
         width: a.width,
         height: a.height,
@@ -625,47 +678,44 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         jitter: a.jitter,
         fixed_depth: None,
         exposure: a.exposure,
-        incidence,
-        exit,
-        translucency: match a.translucency {
-            OnOff::On if !a.no_sss && dipole.is_none() => Some(translucency_table(
-                &named,
-                &a.source.profile(&named, &mut files)?,
-                a.translucency_photons,
-                a.source.seed(),
-            )?),
-            _ => None,
-        },
+        skip_empty: true,
+        shading,
     };
     if a.bench {
         match &dipole {
             Some(setup) => bench_dipole(&gpu, &scene, setup, &named.slug, &a)?,
             None => {
-                let p = a.source.profile(&named, &mut files)?;
+                let p = a.source.profile(named, &mut files)?;
                 bench(&gpu, &scene, &p, &named.slug, &a)?
             }
         }
         return files.commit();
     }
-    let kernel = match kernel_file {
-        _ if a.no_sss || dipole.is_some() => None,
-        Some(k) => Some(k),
-        None => Some(kernel_of(
-            &a.source.profile(&named, &mut files)?,
-            &named.slug,
-            KernelModel::Preint,
-            a.taps,
-        )?),
+    // One kernel per material: --kernel, or pre-integration fitted to each material's profile.
+    let kernels: Vec<ShaderKernel> = match kernel_file {
+        _ if a.no_sss || dipole.is_some() => Vec::new(),
+        Some(k) => vec![k],
+        None => all_named
+            .iter()
+            .map(|n| {
+                kernel_of(
+                    &a.source.profile(n, &mut files)?,
+                    &n.slug,
+                    KernelModel::Preint,
+                    a.taps,
+                )
+            })
+            .collect::<Result<_>>()?,
     };
-    let gpu_kernel = kernel
-        .as_ref()
+    let gpu_kernels = kernels
+        .iter()
         .map(GpuKernel::from_shader_kernel)
-        .transpose()?;
+        .collect::<std::result::Result<Vec<_>, _>>()?;
     let start = std::time::Instant::now();
-    let scatter = match (&dipole, &gpu_kernel) {
-        (Some(setup), _) => Scatter::DirectionalDipole(setup),
-        (None, Some(k)) => Scatter::Separable(k),
-        (None, None) => Scatter::None,
+    let scatter = match &dipole {
+        Some(setup) => Scatter::DirectionalDipole(setup),
+        None if gpu_kernels.is_empty() => Scatter::None,
+        None => Scatter::Separable(&gpu_kernels),
     };
     let frame = gpu::render(&gpu, &scene, scatter, &params)?;
     let seconds = start.elapsed().as_secs_f64();
@@ -678,28 +728,34 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         a.out.join("render.pfm"),
         pfm(frame.width, frame.height, &frame.linear),
     );
-    let what = match (&dipole, &kernel) {
+    let what = match (&dipole, kernels.first()) {
         (Some(d), _) => format!(
             "directional dipole ({} samples × {} frames per pixel and light, r* = {:.3} cm)",
             d.samples, d.frames, d.radius_cm
         ),
         (None, Some(k)) => format!(
-            "{} kernel ({} pass(es) × {} taps)",
+            "{} kernel ({} pass(es) × {} taps){}",
             k.model,
             k.pass.len(),
-            k.taps
+            k.taps,
+            if kernels.len() > 1 {
+                format!(" per material ({})", a.material)
+            } else {
+                String::new()
+            }
         ),
         (None, None) => "no SSS".to_string(),
     };
     let mut summary = json!({
         "adapter": gpu.adapter_name, "scene": a.scene, "method": if dipole.is_some() { "directional-dipole" } else { "separable" },
-        "kernel": kernel.as_ref().map(|k| k.model.to_string()), "width": a.width, "height": a.height,
+        "materials": all_named.iter().map(|n| &n.slug).collect::<Vec<_>>(),
+        "kernel": kernels.first().map(|k| k.model.to_string()), "width": a.width, "height": a.height,
         "dipole": dipole.as_ref().map(|d| json!({"samples": d.samples, "frames": d.frames, "radius_cm": d.radius_cm, "light_map": d.map_size, "scale": d.scale})),
-        "translucency": params.translucency.as_ref().map(|t| json!({"first_cm": t.first_cm, "ratio": t.ratio, "tt_over_rho": t.table})),
+        "translucency": params.shading[..all_named.len()].iter().map(|s| s.translucency.as_ref().map(|t| json!({"first_cm": t.first_cm, "ratio": t.ratio, "tt_over_rho": t.table}))).collect::<Vec<_>>(),
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
     });
     if a.compare_models {
-        let p = a.source.profile(&named, &mut files)?;
+        let p = a.source.profile(named, &mut files)?;
         summary["compare"] = compare(&gpu, &scene, &params, &p, &named.slug, &a, &mut files)?;
     }
     files.commit()?;
@@ -1060,7 +1116,7 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
             let mut frames = Vec::new();
             for _ in 0..5 {
                 let t = std::time::Instant::now();
-                let f = gpu::render(gpu, scene, Scatter::Separable(&k), &params)?;
+                let f = gpu::render(gpu, scene, Scatter::Separable(&[k.clone()]), &params)?;
                 frames.push((f.times, t.elapsed().as_secs_f64() * 1e3));
             }
             let median = |mut v: Vec<f64>| {

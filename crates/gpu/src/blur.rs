@@ -1,6 +1,7 @@
-//! The separable SSS passes: for each term of the kernel, a horizontal then a vertical 1D compute
-//! pass; the vertical pass adds sign·result into the output, so rank-N SVD, d'Eon sums of
-//! Gaussians and rank-1 kernels all run the same way.
+//! The separable SSS passes: for each SSS material and each term of its kernel, a horizontal then a
+//! vertical 1D compute pass; the vertical pass adds sign·result into the output, so rank-N SVD,
+//! d'Eon sums of Gaussians and rank-1 kernels all run the same way. A material's passes write only
+//! its own pixels and take no light from another material's (see [`crate::Scatter::Separable`]).
 
 use wgpu::util::DeviceExt;
 
@@ -90,13 +91,19 @@ pub struct BlurParams {
     pub sss_width: f32,
     /// How samples across depth discontinuities are treated.
     pub depth_mode: DepthMode,
-    /// Depth difference [cm] at which a sample is fully replaced or rejected.
-    pub tolerance_cm: f32,
+    /// Depth difference [cm] at which a sample is fully replaced or rejected; None: each kernel's
+    /// range × `sss_width`.
+    pub tolerance_cm: Option<f32>,
     /// Per-pixel random scale of the offsets in [1 − j/2, 1 + j/2] (supplement Fig. S.6–S.7).
     pub jitter: f32,
     /// Use this view depth [cm] for every pixel's kernel scale (comparisons with a fixed-scale
     /// CPU reference); None: each pixel's own depth.
     pub fixed_depth: Option<f32>,
+    /// Pixels without SSS strength and pixels of other materials do no tap work (a horizontal
+    /// pass gives pixels without SSS Σw·centre, what their zero-width kernel would, for the
+    /// vertical pass to sample). Off: every pixel runs every tap, only to measure the saving; the
+    /// output on the pass's own pixels is the same.
+    pub skip_empty: bool,
 }
 
 #[repr(C)]
@@ -107,6 +114,8 @@ struct Uniform {
     taps: u32,
     horizontal: u32,
     sign: [f32; 4],
+    /// Σ of the taps' weights (rgb).
+    tap_sum: [f32; 4],
     px_per_cm_at_unit_depth: f32,
     sss_width: f32,
     tolerance: f32,
@@ -114,11 +123,13 @@ struct Uniform {
     jitter: f32,
     accumulate: u32,
     fixed_depth: f32,
-    _pad: u32,
+    material: u32,
+    skip_empty: u32,
+    _pad: [u32; 3],
 }
 
 /// The size of blur.wgsl's `Params` (checked against naga's layout in a test).
-pub(crate) const BLUR_UNIFORM_SIZE: usize = 64;
+pub(crate) const BLUR_UNIFORM_SIZE: usize = 96;
 const _: () = assert!(std::mem::size_of::<Uniform>() == BLUR_UNIFORM_SIZE);
 
 /// The compiled blur pipeline.
@@ -137,14 +148,15 @@ impl Blur {
         }
     }
 
-    /// Records every pass of `kernel`: src → tmp (horizontal) → dst (vertical, accumulated).
-    /// `dst` is cleared first. With `timer`, each 1D pass gets begin/end timestamps.
+    /// Records every pass of every material's kernel (`kernels[m]` on the pixels of material m):
+    /// src → tmp (horizontal) → dst (vertical, accumulated). `dst` is cleared first. With
+    /// `timer`, each 1D pass gets begin/end timestamps.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn encode(
         &self,
         gpu: &Gpu,
         enc: &mut wgpu::CommandEncoder,
-        kernel: &GpuKernel,
+        kernels: &[GpuKernel],
         params: &BlurParams,
         (width, height): (u32, u32),
         src: &wgpu::Buffer,
@@ -159,7 +171,13 @@ impl Blur {
             DepthMode::Lerp => 1,
             DepthMode::Reject => 2,
         };
-        for (p, (sign, taps)) in kernel.passes.iter().enumerate() {
+        let passes = kernels.iter().enumerate().flat_map(|(m, k)| {
+            k.passes
+                .iter()
+                .enumerate()
+                .map(move |(p, pass)| (m, k.range_cm, p, pass))
+        });
+        for (material, range_cm, p, (sign, taps)) in passes {
             let taps_buf = gpu
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -167,6 +185,13 @@ impl Blur {
                     contents: bytemuck::cast_slice(taps),
                     usage: wgpu::BufferUsages::STORAGE,
                 });
+            let sum = taps.iter().fold([0.0f32; 4], |a, t| {
+                [a[0] + t[0], a[1] + t[1], a[2] + t[2], 0.0]
+            });
+            let tolerance = params
+                .tolerance_cm
+                .unwrap_or(range_cm * params.sss_width)
+                .max(1e-12);
             for horizontal in [true, false] {
                 let u = Uniform {
                     width,
@@ -174,14 +199,17 @@ impl Blur {
                     taps: taps.len() as u32,
                     horizontal: horizontal as u32,
                     sign: [sign[0], sign[1], sign[2], 0.0],
+                    tap_sum: sum,
                     px_per_cm_at_unit_depth: params.px_per_cm_at_unit_depth,
                     sss_width: params.sss_width,
-                    tolerance: params.tolerance_cm.max(1e-12),
+                    tolerance,
                     mode,
                     jitter: params.jitter,
                     accumulate: (!horizontal) as u32,
                     fixed_depth: params.fixed_depth.unwrap_or(0.0),
-                    _pad: 0,
+                    material: material as u32,
+                    skip_empty: params.skip_empty as u32,
+                    _pad: [0; 3],
                 };
                 let ubuf = gpu
                     .device
@@ -218,7 +246,12 @@ impl Blur {
                     ],
                 });
                 let label = format!(
-                    "pass {} {}",
+                    "{}pass {} {}",
+                    if kernels.len() > 1 {
+                        format!("material {} ", material + 1)
+                    } else {
+                        String::new()
+                    },
                     p + 1,
                     if horizontal { "horizontal" } else { "vertical" }
                 );
@@ -247,15 +280,15 @@ pub(crate) fn pixels(gpu: &Gpu, n: usize, label: &str) -> wgpu::Buffer {
     })
 }
 
-/// Applies the kernel's passes to an image (RGBA per pixel, row-major) with per-pixel
-/// `geometry` (x: view depth [cm], y: SSS strength): the blur stage alone, for tests and CPU
-/// comparisons.
+/// Applies the kernels' passes to an image (RGBA per pixel, row-major) with per-pixel
+/// `geometry` (x: view depth [cm], y: SSS strength, z: material index): the blur stage alone, for
+/// tests and CPU comparisons. Pixels without SSS strength come back 0 with `skip_empty`.
 pub fn blur_image(
     gpu: &Gpu,
     image: &[[f32; 4]],
     geometry: &[[f32; 4]],
     (width, height): (u32, u32),
-    kernel: &GpuKernel,
+    kernels: &[GpuKernel],
     params: &BlurParams,
 ) -> Result<Vec<[f32; 4]>> {
     let n = (width * height) as usize;
@@ -264,6 +297,22 @@ pub fn blur_image(
             "image size",
             image.len(),
             format!("expected {width}×{height} = {n} pixels"),
+        ));
+    }
+    if kernels.is_empty() {
+        return Err(GpuError::invalid("kernels", 0, "at least one"));
+    }
+    if let Some(g) = geometry
+        .iter()
+        .find(|g| g[1] > 0.0 && !(g[2] >= 0.0 && (g[2] as usize) < kernels.len()))
+    {
+        return Err(GpuError::invalid(
+            "pixel material",
+            g[2],
+            format!(
+                "SSS pixels need one of the {} kernels' indices",
+                kernels.len()
+            ),
         ));
     }
     let upload = |data: &[[f32; 4]]| {
@@ -281,7 +330,7 @@ pub fn blur_image(
     blur.encode(
         gpu,
         &mut enc,
-        kernel,
+        kernels,
         params,
         (width, height),
         &src,

@@ -155,6 +155,13 @@ fn compare_with(
             "a comparison needs kernels of positive size",
         ));
     }
+    if scene.material_count() > 1 {
+        return Err(GpuError::invalid(
+            "materials",
+            scene.material_count(),
+            "a comparison against one profile needs a scene of one SSS material",
+        ));
+    }
     let scale = kernel_scale(scene, base.height, p, base.sss_width);
     let params = RenderParams {
         depth_mode: DepthMode::None,
@@ -187,7 +194,7 @@ fn compare_with(
             let frame = render(
                 gpu,
                 scene,
-                Scatter::Separable(&GpuKernel::from_shader_kernel(k)?),
+                Scatter::Separable(&[GpuKernel::from_shader_kernel(k)?]),
                 &params,
             )?;
             let shown: Vec<[f32; 4]> = (0..w * h)

@@ -2,8 +2,9 @@
 //! (Jimenez et al. 2015; Freude 2014 §4.2–4.4).
 //!
 //! Pipeline per frame: shadow maps → scene pass (irradiance with the chosen albedo split, specular,
-//! linear view depth, SSS strength, into rgba32float targets) → unpack to storage buffers → for
-//! each separable term of the kernel a horizontal and a vertical compute pass → recombine
+//! linear view depth, SSS strength and material, into render targets) → unpack to storage buffers
+//! → for each SSS material (up to [`MAX_MATERIALS`] per frame) and each separable term of its
+//! kernel a horizontal and a vertical compute pass over that material's pixels → recombine
 //! (× post-scatter albedo, + specular, tone map). World units are cm; kernel tap offsets are cm on
 //! the surface. Everything runs without a window; results are read back as float images.
 //!
@@ -36,8 +37,8 @@ pub use dipole::DipoleSetup;
 pub use error::{GpuError, Result};
 pub use mesh::{Mesh, Vertex};
 pub use render::{
-    Frame, INCIDENCE_STEPS, RenderParams, Scatter, TRANSLUCENCY_STEPS, Translucency,
-    incidence_hemispherical, incidence_ratio, render,
+    Frame, INCIDENCE_STEPS, MAX_MATERIALS, RenderParams, Scatter, Shading, TRANSLUCENCY_STEPS,
+    Translucency, incidence_hemispherical, incidence_ratio, render,
 };
 pub use scene::{AlbedoMode, Camera, Light, Scene};
 pub use timing::PassTime;

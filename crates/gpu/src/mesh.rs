@@ -19,11 +19,15 @@ pub struct Vertex {
     pub albedo: [f32; 3],
     /// SSS strength (scales the kernel's width; 0 = none).
     pub strength: f32,
+    /// Index of the SSS material (its kernel and shading tables), below
+    /// [`crate::MAX_MATERIALS`]; ignored where `strength` is 0.
+    pub material: u32,
 }
 
 impl Vertex {
-    const ATTRIBUTES: [wgpu::VertexAttribute; 4] =
-        wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32];
+    const ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
+        0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32, 4 => Uint32
+    ];
 
     /// The vertex buffer layout every pass that draws meshes uses.
     pub(crate) fn layout() -> wgpu::VertexBufferLayout<'static> {
@@ -52,6 +56,14 @@ impl Mesh {
         self.indices.extend(other.indices.iter().map(|i| i + base));
     }
 
+    /// The same mesh with every vertex on SSS material `material`.
+    pub fn with_material(mut self, material: u32) -> Mesh {
+        for v in &mut self.vertices {
+            v.material = material;
+        }
+        self
+    }
+
     /// A UV sphere.
     pub fn sphere(centre: Vec3, radius: f32, albedo: [f32; 3], strength: f32) -> Mesh {
         let (rings, segments) = (96u32, 192u32);
@@ -70,6 +82,7 @@ impl Mesh {
                     normal: n.into(),
                     albedo,
                     strength,
+                    material: 0,
                 });
             }
         }
@@ -105,6 +118,7 @@ impl Mesh {
                     normal: n.into(),
                     albedo,
                     strength,
+                    material: 0,
                 });
             }
             // Counter-clockwise seen from outside (u × v = n).
@@ -122,6 +136,7 @@ impl Mesh {
             normal: n,
             albedo,
             strength: 0.0,
+            material: 0,
         };
         Mesh {
             vertices: vec![
@@ -201,6 +216,7 @@ impl Mesh {
                     normal: n,
                     albedo,
                     strength,
+                    material: 0,
                 });
             }
             m.indices.extend(mesh.indices.iter().map(|i| i + base));

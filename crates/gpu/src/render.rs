@@ -16,8 +16,13 @@ use crate::timing::{PassTime, Timer};
 pub enum Scatter<'a> {
     /// Not at all: plain Lambertian shading.
     None,
-    /// A separable screen-space kernel (thesis §4.2–4.4).
-    Separable(&'a GpuKernel),
+    /// Separable screen-space kernels (thesis §4.2–4.4), one per SSS material: the i-th scatters
+    /// the light of the pixels whose `material` is i. A pixel's kernel takes no light from pixels of
+    /// another SSS material: their samples are rejected and the weight goes to the samples kept
+    /// (per channel, as the depth test's reject mode does), so materials side by side neither
+    /// bleed into each other nor lose energy at their border. Samples of surfaces without SSS
+    /// (the floor) are taken as before, subject to the depth test.
+    Separable(&'a [GpuKernel]),
     /// The directional dipole evaluated per pixel over lit surface points ([`crate::dipole`]);
     /// the albedo split and incidence table of [`RenderParams`] do not apply (the colour and the
     /// dependence on incidence come from the model).
@@ -46,7 +51,21 @@ pub struct RenderParams {
     pub fixed_depth: Option<f32>,
     /// Exposure before tone mapping.
     pub exposure: f32,
-    /// Incidence-aware shading: the SSS material's total diffuse reflectance at incidence
+    /// Pixels without SSS do no blur work (they keep their unscattered light either way; off
+    /// only to measure what the skip saves).
+    pub skip_empty: bool,
+    /// Per SSS material (the vertices' `material` index): how its surfaces are shaded.
+    pub shading: [Shading; MAX_MATERIALS],
+}
+
+/// The most SSS materials one frame holds (each with its kernel and [`Shading`]).
+pub const MAX_MATERIALS: usize = 4;
+
+/// How the surfaces of one SSS material are shaded around the scattering; the default is off
+/// (plain Lambertian entry and exit, no light through thin parts).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shading {
+    /// Incidence-aware shading: the material's total diffuse reflectance at incidence
     /// θ = 0°, 10°, …, 80° relative to normal incidence, ρ(θ)/ρ(0) per channel (beyond 80° the
     /// last value). The scene pass multiplies each light's irradiance on SSS surfaces by it, and
     /// the ambient light by its cosine-weighted hemispherical mean. All ones: off.
@@ -61,7 +80,45 @@ pub struct RenderParams {
     pub translucency: Option<Translucency>,
 }
 
-/// Entries of [`RenderParams::incidence`] and [`RenderParams::exit`]: θ = 0°, 10°, …, 80°.
+impl Shading {
+    /// Checks the tables; the error names the field.
+    pub fn validate(&self) -> Result<()> {
+        if let Some(t) = &self.translucency {
+            t.validate()?;
+        }
+        // Exit factors reach the shader through pack_albedo's 8-bit shared scale of at most 4:
+        // with albedos ≤ 1, h up to 4 is exact to 8 bits.
+        for (what, table, max) in [
+            ("incidence table", &self.incidence, None),
+            ("exit table", &self.exit, Some(4.0)),
+        ] {
+            if let Some(v) = table
+                .iter()
+                .flatten()
+                .find(|v| !(v.is_finite() && **v >= 0.0 && max.is_none_or(|m| **v <= m)))
+            {
+                let reason = match max {
+                    Some(m) => format!("entries must be finite, ≥ 0 and ≤ {m}"),
+                    None => "entries must be finite and ≥ 0".into(),
+                };
+                return Err(GpuError::invalid(what, v, reason));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Default for Shading {
+    fn default() -> Self {
+        Shading {
+            incidence: [[1.0; 3]; INCIDENCE_STEPS],
+            exit: [[1.0; 3]; INCIDENCE_STEPS],
+            translucency: None,
+        }
+    }
+}
+
+/// Entries of [`Shading::incidence`] and [`Shading::exit`]: θ = 0°, 10°, …, 80°.
 pub const INCIDENCE_STEPS: usize = 9;
 
 /// Entries of a [`Translucency`] table.
@@ -199,9 +256,8 @@ impl Default for RenderParams {
             jitter: 0.0,
             fixed_depth: None,
             exposure: 1.0,
-            incidence: [[1.0; 3]; INCIDENCE_STEPS],
-            exit: [[1.0; 3]; INCIDENCE_STEPS],
-            translucency: None,
+            skip_empty: true,
+            shading: [Shading::default(); MAX_MATERIALS],
         }
     }
 }
@@ -219,8 +275,8 @@ pub struct Frame {
     pub display: Vec<u8>,
     /// The scene pass's diffuse target (irradiance × pre-scatter albedo): the blur's input.
     pub irradiance: Vec<[f32; 4]>,
-    /// The blur's output (before the post-scatter albedo); pixels without SSS strength hold the
-    /// kernel's response to a delta there, and the final image uses their unscattered light.
+    /// The blur's output (before the post-scatter albedo); pixels without SSS strength hold 0,
+    /// and the final image uses their unscattered light.
     pub scattered: Vec<[f32; 4]>,
     /// x: view depth [cm] (background: far plane), y: SSS strength.
     pub geometry: Vec<[f32; 4]>,
@@ -246,16 +302,45 @@ struct Globals {
     params: [f32; 4],
     ambient: [f32; 4],
     lights: [LightU; 4],
-    /// ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80° (rgb) for SSS surfaces.
+    /// Per SSS material.
+    materials: [MaterialU; MAX_MATERIALS],
+}
+
+/// One material's [`Shading`] as scene.wgsl's `Material` holds it.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct MaterialU {
+    /// ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80° (rgb).
     incidence: [[f32; 4]; INCIDENCE_STEPS],
-    /// The ambient light's factor on SSS surfaces (rgb).
+    /// The ambient light's factor (rgb).
     incidence_ambient: [f32; 4],
     /// Tt(d)/ρ at the geometric thicknesses of [`Translucency`] (rgb).
     translucency: [[f32; 4]; TRANSLUCENCY_STEPS],
-    /// x: first thickness [cm], y: ln ratio, z: 1 on / 0 off.
+    /// x: first thickness [cm], y: ln ratio, z: 1 on / 0 off, w: η.
     translucency_params: [f32; 4],
-    /// h(θ) at θ = 0°, 10°, …, 80° (rgb) for SSS surfaces.
+    /// h(θ) at θ = 0°, 10°, …, 80° (rgb).
     exit: [[f32; 4]; INCIDENCE_STEPS],
+}
+
+impl MaterialU {
+    /// The material's tables; `plain`: all off (the dipole brings its own physics).
+    fn new(s: &Shading, plain: bool) -> MaterialU {
+        let s = if plain { &Shading::default() } else { s };
+        let rgb = |r: [f32; 3]| [r[0], r[1], r[2], 0.0];
+        MaterialU {
+            incidence: s.incidence.map(rgb),
+            incidence_ambient: rgb(incidence_hemispherical(&s.incidence)),
+            translucency: match &s.translucency {
+                Some(t) => t.table.map(rgb),
+                None => [[0.0; 4]; TRANSLUCENCY_STEPS],
+            },
+            translucency_params: match &s.translucency {
+                Some(t) => [t.first_cm, t.ratio.ln(), 1.0, t.eta],
+                None => [1.0, 1.0, 0.0, 1.0],
+            },
+            exit: s.exit.map(rgb),
+        }
+    }
 }
 
 /// The scene shader with the shared Fresnel function prepended.
@@ -264,9 +349,11 @@ pub(crate) const SCENE_WGSL: &str = concat!(
     include_str!("shaders/scene.wgsl")
 );
 
-/// The size of scene.wgsl's `Globals`: 2 mat4 + 3 vec4 + 4 lights × 160 + 10 vec4 of incidence
-/// + 17 vec4 of translucency + 9 vec4 of exit (checked against naga's layout in a test).
-pub(crate) const GLOBALS_SIZE: usize = 2 * 64 + 3 * 16 + 4 * 160 + 10 * 16 + 17 * 16 + 9 * 16;
+/// The size of scene.wgsl's `Globals`: 2 mat4 + 3 vec4 + 4 lights × 160 + per material 10 vec4
+/// of incidence, 17 vec4 of translucency and 9 vec4 of exit (checked against naga's layout in a
+/// test).
+pub(crate) const GLOBALS_SIZE: usize =
+    2 * 64 + 3 * 16 + 4 * 160 + MAX_MATERIALS * (10 * 16 + 17 * 16 + 9 * 16);
 const _: () = assert!(std::mem::size_of::<Globals>() == GLOBALS_SIZE);
 
 /// Scene targets: diffuse; specular + strength; view depth + packed post-scatter albedo.
@@ -294,26 +381,38 @@ pub fn render(gpu: &Gpu, scene: &Scene, scatter: Scatter, params: &RenderParams)
     if scene.lights.len() > 4 {
         return Err(GpuError::invalid("lights", scene.lights.len(), "at most 4"));
     }
-    if let Some(t) = &params.translucency {
-        t.validate()?;
+    for s in &params.shading {
+        s.validate()?;
     }
-    // Exit factors reach the shader through pack_albedo's 8-bit shared scale of at most 4: with
-    // albedos ≤ 1, h up to 4 is exact to 8 bits.
-    for (what, table, max) in [
-        ("incidence table", &params.incidence, None),
-        ("exit table", &params.exit, Some(4.0)),
-    ] {
-        if let Some(v) = table
-            .iter()
-            .flatten()
-            .find(|v| !(v.is_finite() && **v >= 0.0 && max.is_none_or(|m| **v <= m)))
-        {
-            let reason = match max {
-                Some(m) => format!("entries must be finite, ≥ 0 and ≤ {m}"),
-                None => "entries must be finite and ≥ 0".into(),
-            };
-            return Err(GpuError::invalid(what, v, reason));
+    if let Some(v) = scene
+        .mesh
+        .vertices
+        .iter()
+        .find(|v| v.strength > 0.0 && v.material as usize >= MAX_MATERIALS)
+    {
+        return Err(GpuError::invalid(
+            "vertex material",
+            v.material,
+            format!("must be below {MAX_MATERIALS}"),
+        ));
+    }
+    let used = scene.material_count();
+    match scatter {
+        Scatter::Separable(kernels) if kernels.len() < used || kernels.len() > MAX_MATERIALS => {
+            return Err(GpuError::invalid(
+                "kernels",
+                kernels.len(),
+                format!("one per SSS material: the scene uses {used}, at most {MAX_MATERIALS}"),
+            ));
         }
+        Scatter::DirectionalDipole(_) if used > 1 => {
+            return Err(GpuError::invalid(
+                "materials",
+                used,
+                "the directional dipole renders one SSS material per frame",
+            ));
+        }
+        _ => {}
     }
     if !(params.sss_width.is_finite() && params.sss_width >= 0.0) {
         return Err(GpuError::invalid(
@@ -468,32 +567,7 @@ pub fn render(gpu: &Gpu, scene: &Scene, scatter: Scatter, params: &RenderParams)
         ],
         ambient: scene.ambient.extend(0.0).into(),
         lights,
-        incidence: if dipole {
-            [[1.0; 4]; INCIDENCE_STEPS]
-        } else {
-            params.incidence.map(|r| [r[0], r[1], r[2], 0.0])
-        },
-        incidence_ambient: {
-            let h = if dipole {
-                [1.0; 3]
-            } else {
-                incidence_hemispherical(&params.incidence)
-            };
-            [h[0], h[1], h[2], 0.0]
-        },
-        translucency: match &params.translucency {
-            Some(t) if !dipole => t.table.map(|r| [r[0], r[1], r[2], 0.0]),
-            _ => [[0.0; 4]; TRANSLUCENCY_STEPS],
-        },
-        translucency_params: match &params.translucency {
-            Some(t) if !dipole => [t.first_cm, t.ratio.ln(), 1.0, t.eta],
-            _ => [1.0, 1.0, 0.0, 1.0],
-        },
-        exit: if dipole {
-            [[1.0; 4]; INCIDENCE_STEPS]
-        } else {
-            params.exit.map(|r| [r[0], r[1], r[2], 0.0])
-        },
+        materials: params.shading.map(|s| MaterialU::new(&s, dipole)),
     };
     let gbuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("globals"),
@@ -655,19 +729,20 @@ pub fn render(gpu: &Gpu, scene: &Scene, scatter: Scatter, params: &RenderParams)
     let tmp = pixels(gpu, n, "tmp");
     let mut timer = Timer::new(gpu);
     match scatter {
-        Scatter::Separable(k) => {
+        Scatter::Separable(kernels) => {
             let blur_params = BlurParams {
                 px_per_cm_at_unit_depth: cam.px_per_cm_at_unit_depth(h),
                 sss_width: params.sss_width,
                 depth_mode: params.depth_mode,
-                tolerance_cm: params.tolerance_cm.unwrap_or(k.range_cm * params.sss_width),
+                tolerance_cm: params.tolerance_cm,
                 jitter: params.jitter,
                 fixed_depth: params.fixed_depth,
+                skip_empty: params.skip_empty,
             };
             Blur::new(gpu).encode(
                 gpu,
                 &mut enc,
-                k,
+                kernels,
                 &blur_params,
                 (w, h),
                 &bufs[0],

@@ -152,6 +152,33 @@ impl Scene {
         )
     }
 
+    /// Two 4 cm spheres side by side, 0.4 cm apart: SSS material 0 on the left, 1 on the right
+    /// (two materials in one frame).
+    pub fn pair() -> Scene {
+        let mut m = Mesh::sphere(Vec3::new(-4.2, 4.0, 0.0), 4.0, OBJECT_ALBEDO, 1.0);
+        m.append(&Mesh::sphere(Vec3::new(4.2, 4.0, 0.0), 4.0, OBJECT_ALBEDO, 1.0).with_material(1));
+        Scene::around(
+            m,
+            Camera {
+                position: Vec3::new(0.0, 9.0, 26.0),
+                target: Vec3::new(0.0, 4.0, 0.0),
+                fov_y_deg: 35.0,
+            },
+        )
+    }
+
+    /// The SSS materials the scene uses: one more than the largest `material` index among its
+    /// vertices with SSS strength (0: no SSS surfaces).
+    pub fn material_count(&self) -> usize {
+        self.mesh
+            .vertices
+            .iter()
+            .filter(|v| v.strength > 0.0)
+            .map(|v| v.material as usize + 1)
+            .max()
+            .unwrap_or(0)
+    }
+
     /// An OBJ model scaled to 10 cm tall on the floor.
     pub fn obj(path: &Path) -> Result<Scene> {
         let mesh = Mesh::from_obj(path, 10.0, OBJECT_ALBEDO, 1.0)?;
@@ -165,16 +192,17 @@ impl Scene {
         ))
     }
 
-    /// A built-in scene by name (`sphere`, `fin`) or an OBJ path.
+    /// A built-in scene by name (`sphere`, `fin`, `pair`) or an OBJ path.
     pub fn named(name: &str) -> Result<Scene> {
         match name {
             "sphere" => Ok(Scene::sphere()),
             "fin" => Ok(Scene::fin()),
+            "pair" => Ok(Scene::pair()),
             p if p.ends_with(".obj") => Scene::obj(Path::new(p)),
             other => Err(GpuError::invalid(
                 "scene",
                 other,
-                "expected sphere, fin or a path to an .obj file",
+                "expected sphere, fin, pair or a path to an .obj file",
             )),
         }
     }

@@ -38,9 +38,10 @@ fn params(z: f32, h: f64, mode: DepthMode) -> BlurParams {
         px_per_cm_at_unit_depth: z / h as f32,
         sss_width: 1.0,
         depth_mode: mode,
-        tolerance_cm: 0.5,
+        tolerance_cm: Some(0.5),
         jitter: 0.0,
         fixed_depth: None,
+        skip_empty: true,
     }
 }
 
@@ -118,7 +119,7 @@ fn blur_passes_equal_the_cpu_separable_convolution() {
         &rgba([&img, &img, &img]),
         &geometry,
         (w as u32, h as u32),
-        &GpuKernel::from_shader_kernel(&kernel).unwrap(),
+        &[GpuKernel::from_shader_kernel(&kernel).unwrap()],
         &params(30.0, p.dr, DepthMode::None),
     )
     .unwrap();
@@ -156,7 +157,7 @@ fn preintegrated_edge_matches_the_2d_ground_truth_on_the_gpu() {
         &rgba([&edge, &edge, &edge]),
         &geometry,
         (w as u32, h as u32),
-        &GpuKernel::from_shader_kernel(&kernel).unwrap(),
+        &[GpuKernel::from_shader_kernel(&kernel).unwrap()],
         &params(30.0, p.dr, DepthMode::None),
     )
     .unwrap();
@@ -202,7 +203,7 @@ fn depth_discontinuities_stop_bleeding() {
             &rgba([&img, &img, &img]),
             &geometry,
             (w as u32, h as u32),
-            &kernel,
+            std::slice::from_ref(&kernel),
             &pr,
         )
         .unwrap();
@@ -253,7 +254,7 @@ fn doubling_the_depth_halves_the_blur_radius() {
             &rgba([&img, &img, &img]),
             &geometry,
             (w as u32, h as u32),
-            &kernel,
+            std::slice::from_ref(&kernel),
             &pr,
         )
         .unwrap();

@@ -2,7 +2,7 @@
 //! the sphere's shadow on the floor. Under CI=true a missing adapter fails.
 
 use glam::{Vec3, Vec4Swizzles};
-use gpu::{AlbedoMode, Light, RenderParams, Scatter, Scene, render};
+use gpu::{AlbedoMode, Light, MAX_MATERIALS, RenderParams, Scatter, Scene, Shading, render};
 
 mod common;
 use common::gpu;
@@ -98,7 +98,10 @@ fn incidence_table_scales_irradiance_on_sss_surfaces_only() {
         width: W,
         height: H,
         albedo: AlbedoMode::Post,
-        incidence: table,
+        shading: [Shading {
+            incidence: table,
+            ..Shading::default()
+        }; MAX_MATERIALS],
         ..RenderParams::default()
     };
     let frame = render(&gpu, &scene, Scatter::None, &params).unwrap();
@@ -178,7 +181,10 @@ fn an_exit_table_scales_each_sss_pixel_by_its_view_angle() {
         *row = [1.0 + 0.1 * k as f32, 1.0 - 0.08 * k as f32, 2.0];
     }
     let exit = RenderParams {
-        exit: table,
+        shading: [Shading {
+            exit: table,
+            ..Shading::default()
+        }; MAX_MATERIALS],
         ..plain
     };
     let a = render(&gpu, &scene, Scatter::None, &plain).unwrap();

@@ -6,8 +6,8 @@
 
 use glam::Vec3;
 use gpu::{
-    AlbedoMode, Camera, Light, Mesh, RenderParams, Scatter, Scene, TRANSLUCENCY_STEPS,
-    Translucency, render,
+    AlbedoMode, Camera, Light, MAX_MATERIALS, Mesh, RenderParams, Scatter, Scene, Shading,
+    TRANSLUCENCY_STEPS, Translucency, render,
 };
 
 mod common;
@@ -67,7 +67,10 @@ fn a_slab_lit_from_behind_receives_its_transmitted_light() {
         width: SIZE,
         height: SIZE,
         albedo: AlbedoMode::Post,
-        translucency: Some(t),
+        shading: [Shading {
+            translucency: Some(t),
+            ..Shading::default()
+        }; MAX_MATERIALS],
         ..RenderParams::default()
     };
     let cos = 30f32.to_radians().cos();
@@ -94,7 +97,7 @@ fn a_slab_lit_from_behind_receives_its_transmitted_light() {
     assert!((centre(&frame)[0] - last).abs() < 1e-6 + 0.01 * last);
     // Off: a surface facing away from the only light is black.
     let off = RenderParams {
-        translucency: None,
+        shading: [Shading::default(); MAX_MATERIALS],
         ..params
     };
     let frame = render(&gpu, &slab(0.05), Scatter::None, &off).unwrap();

@@ -4,6 +4,13 @@
 // z / px_per_cm_at_unit_depth cm, so offset_px = offset·sss_width·strength·px_per_cm_at_unit_depth/z
 // (eq. 4.11 with the NDC→pixel factor ½·height and square pixels: no aspect error). Samples are
 // linear interpolations of the two nearest pixels along the pass axis, clamped to the edge.
+//
+// Several SSS materials: each material's passes run over the image and write only its own pixels
+// (geom.z is the material index). Of a sample's two pixels, one of another SSS material is left
+// out of the interpolation and the sample's weight shrinks by its share; the weight lost goes to
+// the samples kept, per channel. So no light crosses from one material into another, and a
+// uniformly lit material stays uniform up to its border. Pixels without SSS (strength 0) are
+// sampled as before, subject to the depth test.
 
 struct Params {
     width: u32,
@@ -11,6 +18,8 @@ struct Params {
     taps: u32,
     horizontal: u32,
     sign: vec4<f32>,
+    // Σ of the taps' weights (rgb).
+    tap_sum: vec4<f32>,
     px_per_cm_at_unit_depth: f32,
     sss_width: f32,
     // Depth difference [cm] at which a sample is fully replaced (mode 1) or rejected (mode 2).
@@ -22,14 +31,20 @@ struct Params {
     accumulate: u32,
     // > 0: use this depth [cm] for every pixel's kernel scale.
     fixed_depth: f32,
-    _pad: u32,
+    // The material whose pixels this pass writes.
+    material: u32,
+    // 1: pixels without SSS and pixels of other materials do no tap work.
+    skip_empty: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 };
 
 @group(0) @binding(0) var<uniform> p: Params;
 // xyz: RGB weight, w: offset [cm].
 @group(0) @binding(1) var<storage, read> taps: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read> src: array<vec4<f32>>;
-// x: view depth [cm], y: SSS strength.
+// x: view depth [cm], y: SSS strength, z: material index.
 @group(0) @binding(3) var<storage, read> geom: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read_write> dst: array<vec4<f32>>;
 
@@ -37,6 +52,11 @@ fn index(x: i32, y: i32) -> u32 {
     let cx = clamp(x, 0, i32(p.width) - 1);
     let cy = clamp(y, 0, i32(p.height) - 1);
     return u32(cy) * p.width + u32(cx);
+}
+
+// 1 where pixel j may give light to this pass's material: its own pixels and those without SSS.
+fn accepts(j: u32) -> f32 {
+    return select(1.0, 0.0, geom[j].y > 0.0 && u32(geom[j].z) != p.material);
 }
 
 fn hash(x: u32, y: u32) -> f32 {
@@ -56,8 +76,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let y = i32(id.y);
     let i = id.y * p.width + id.x;
     let centre = src[i];
-    let depth = select(geom[i].x, p.fixed_depth, p.fixed_depth > 0.0);
     let strength = geom[i].y;
+    let own = strength > 0.0 && u32(geom[i].z) == p.material;
+    if p.skip_empty == 1u && !own {
+        // Another material's pixel: left alone. A pixel without SSS: a zero-width kernel, which
+        // the vertical pass may sample.
+        if p.accumulate == 0u && !(strength > 0.0) {
+            dst[i] = vec4<f32>(p.tap_sum.rgb * centre.rgb, 1.0);
+        }
+        return;
+    }
+    let depth = select(geom[i].x, p.fixed_depth, p.fixed_depth > 0.0);
     var scale = p.sss_width * strength * p.px_per_cm_at_unit_depth / max(depth, 1e-6);
     if p.jitter > 0.0 {
         scale *= 1.0 + p.jitter * (hash(id.x, id.y) - 0.5);
@@ -79,11 +108,25 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             a = index(x, y + i32(base));
             b = index(x, y + i32(base) + 1);
         }
-        var s = mix(src[a].rgb, src[b].rgb, f);
         var w = tap.xyz;
         all += w;
+        var s = mix(src[a].rgb, src[b].rgb, f);
+        var z = mix(geom[a].x, geom[b].x, f);
+        let ka = accepts(a);
+        let kb = accepts(b);
+        if ka * kb == 0.0 {
+            // One of the two pixels (or both) belongs to another material: the sample is the
+            // other one, with its share of the weight.
+            let share = (1.0 - f) * ka + f * kb;
+            if share <= 0.0 {
+                continue;
+            }
+            s = select(src[b].rgb, src[a].rgb, ka > 0.0);
+            z = select(geom[b].x, geom[a].x, ka > 0.0);
+            w *= share;
+        }
         if p.mode != 0u {
-            let dz = abs(mix(geom[a].x, geom[b].x, f) - geom[i].x);
+            let dz = abs(z - geom[i].x);
             if p.mode == 1u {
                 s = mix(s, centre.rgb, clamp(dz / p.tolerance, 0.0, 1.0));
             } else if dz > p.tolerance {
@@ -93,9 +136,15 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         kept += w;
         sum += w * s;
     }
-    if p.mode == 2u {
-        // Rejected samples' weight goes to those kept, per channel; none kept: the centre.
-        sum = select(all * centre.rgb, sum * all / max(kept, vec3<f32>(1e-30)), kept > vec3<f32>(0.0));
+    // Rejected samples' weight goes to those kept, per channel; none kept: the centre. (Without
+    // rejections kept = all, summed in the same order, and this changes nothing.)
+    sum = select(all * centre.rgb, sum * all / max(kept, vec3<f32>(1e-30)), kept > vec3<f32>(0.0));
+    if !own {
+        // skip_empty off: the work is done (to be timed), but only the pass's own pixels are
+        // written by its vertical pass, and other materials' pixels by neither.
+        if p.accumulate == 1u || strength > 0.0 {
+            return;
+        }
     }
     if p.accumulate == 1u {
         dst[i] = vec4<f32>(dst[i].rgb + p.sign.rgb * sum, 1.0);

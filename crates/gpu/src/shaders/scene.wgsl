@@ -13,6 +13,21 @@ struct Light {
     color: vec4<f32>,
 };
 
+// How one SSS material is shaded (gpu::Shading).
+struct Material {
+    // Incidence-aware shading: ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80° (rgb), and the ambient light's
+    // cosine-weighted mean of it (all ones: off).
+    incidence: array<vec4<f32>, 9>,
+    incidence_ambient: vec4<f32>,
+    // Light through thin parts: Tt(d)/ρ at d_k = first·ratio^k (rgb), and x: first [cm],
+    // y: ln ratio, z: 1 on / 0 off, w: η (gpu::Translucency).
+    translucency: array<vec4<f32>, 16>,
+    translucency_params: vec4<f32>,
+    // Exit-angle-aware shading: the radiance leaving at view angle θ relative to a Lambertian
+    // surface's, h(θ) at θ = 0°, 10°, …, 80° (rgb; all ones: off).
+    exit: array<vec4<f32>, 9>,
+};
+
 struct Globals {
     view_proj: mat4x4<f32>,
     view: mat4x4<f32>,
@@ -22,17 +37,8 @@ struct Globals {
     params: vec4<f32>,
     ambient: vec4<f32>,
     lights: array<Light, 4>,
-    // Incidence-aware shading of SSS surfaces: ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80° (rgb), and the
-    // ambient light's cosine-weighted mean of it (all ones: off).
-    incidence: array<vec4<f32>, 9>,
-    incidence_ambient: vec4<f32>,
-    // Light through thin SSS parts: Tt(d)/ρ at d_k = first·ratio^k (rgb), and x: first [cm],
-    // y: ln ratio, z: 1 on / 0 off, w: η (gpu::Translucency).
-    translucency: array<vec4<f32>, 16>,
-    translucency_params: vec4<f32>,
-    // Exit-angle-aware shading of SSS surfaces: the radiance leaving at view angle θ relative to a
-    // Lambertian surface's, h(θ) at θ = 0°, 10°, …, 80° (rgb; all ones: off).
-    exit: array<vec4<f32>, 9>,
+    // Per SSS material (the vertices' material index).
+    materials: array<Material, 4>,
 };
 
 @group(0) @binding(0) var<uniform> g: Globals;
@@ -44,6 +50,7 @@ struct VIn {
     @location(1) normal: vec3<f32>,
     @location(2) albedo: vec3<f32>,
     @location(3) strength: f32,
+    @location(4) material: u32,
 };
 
 struct VOut {
@@ -53,6 +60,7 @@ struct VOut {
     @location(2) albedo: vec3<f32>,
     @location(3) strength: f32,
     @location(4) view_depth: f32,
+    @location(5) @interpolate(flat) material: u32,
 };
 
 @vertex
@@ -63,6 +71,7 @@ fn vs(v: VIn) -> VOut {
     o.normal = v.normal;
     o.albedo = v.albedo;
     o.strength = v.strength;
+    o.material = v.material;
     o.view_depth = -(g.view * vec4<f32>(v.pos, 1.0)).z;
     return o;
 }
@@ -109,17 +118,18 @@ fn pack_albedo(c: vec3<f32>) -> u32 {
     return pack4x8unorm(vec4<f32>(c / (a * 4.0 / 255.0), a / 255.0));
 }
 
-// Tt(d)/ρ at thickness d [cm]: linear in ln d between entries, held outside them.
-fn translucency(d: f32) -> vec3<f32> {
-    let t = log(max(d, 1e-30) / g.translucency_params.x) / g.translucency_params.y;
+// Material m's Tt(d)/ρ at thickness d [cm]: linear in ln d between entries, held outside them.
+fn translucency(m: u32, d: f32) -> vec3<f32> {
+    let table = g.materials[m].translucency;
+    let t = log(max(d, 1e-30) / g.materials[m].translucency_params.x) / g.materials[m].translucency_params.y;
     if !(t > 0.0) {
-        return g.translucency[0].rgb;
+        return table[0].rgb;
     }
     let i = u32(floor(t));
     if i >= 15u {
-        return g.translucency[15].rgb;
+        return table[15].rgb;
     }
-    return mix(g.translucency[i].rgb, g.translucency[i + 1u].rgb, t - f32(i));
+    return mix(table[i].rgb, table[i + 1u].rgb, t - f32(i));
 }
 
 // The thickness [cm] of an SSS part behind `world` as light `i` crosses it: the distance along
@@ -167,7 +177,8 @@ fn fs(v: VOut, @builtin(front_facing) front: bool) -> FOut {
     }
     let view_dir = normalize(g.camera_pos.xyz - v.world);
     let sss = v.strength > 0.0;
-    var irradiance = g.ambient.rgb * select(vec3<f32>(1.0), g.incidence_ambient.rgb, sss);
+    let m = min(v.material, 3u);
+    var irradiance = g.ambient.rgb * select(vec3<f32>(1.0), g.materials[m].incidence_ambient.rgb, sss);
     var spec = vec3<f32>(0.0);
     for (var i = 0u; i < u32(g.params.x); i++) {
         let l4 = g.lights[i].pos_or_dir;
@@ -181,20 +192,20 @@ fn fs(v: VOut, @builtin(front_facing) front: bool) -> FOut {
         let n_dot_l = max(dot(n, l), 0.0);
         if n_dot_l <= 0.0 {
             // Light from behind: what crosses a thin part.
-            if sss && g.translucency_params.z > 0.5 {
+            if sss && g.materials[m].translucency_params.z > 0.5 {
                 let d = thickness(i, v.world);
                 if d >= 0.0 {
                     // Entering the (parallel) back face at incidence |n·l|, relative to normal.
                     let c = -dot(n, l);
-                    let eta = g.translucency_params.w;
+                    let eta = g.materials[m].translucency_params.w;
                     let entry = (1.0 - fresnel(eta, c)) / (1.0 - fresnel(eta, 1.0));
-                    irradiance += scale * c * entry * translucency(d);
+                    irradiance += scale * c * entry * translucency(m, d);
                 }
             }
             continue;
         }
         let vis = shadow(i, v.world, n_dot_l);
-        irradiance += scale * n_dot_l * vis * select(vec3<f32>(1.0), angle_table(g.incidence, n_dot_l), sss);
+        irradiance += scale * n_dot_l * vis * select(vec3<f32>(1.0), angle_table(g.materials[m].incidence, n_dot_l), sss);
         let h = normalize(l + view_dir);
         spec += scale * g.params.z * pow(max(dot(n, h), 0.0), g.params.w) * n_dot_l * vis;
     }
@@ -209,10 +220,11 @@ fn fs(v: VOut, @builtin(front_facing) front: bool) -> FOut {
         post = sqrt(v.albedo);
     }
     var o: FOut;
-    o.diffuse = vec4<f32>(irradiance * pre, 1.0);
+    // Alpha: the material index (unpack.wgsl moves it next to depth and strength).
+    o.diffuse = vec4<f32>(irradiance * pre, f32(m));
     o.specular = vec4<f32>(spec, v.strength);
     // What leaves towards the camera: h(θ) at the view angle on SSS surfaces.
-    let exit = select(vec3<f32>(1.0), angle_table(g.exit, dot(n, view_dir)), sss);
+    let exit = select(vec3<f32>(1.0), angle_table(g.materials[m].exit, dot(n, view_dir)), sss);
     o.geometry = vec4<f32>(v.view_depth, bitcast<f32>(pack_albedo(post * exit)), 0.0, 1.0);
     return o;
 }

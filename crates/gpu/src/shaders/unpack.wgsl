@@ -15,12 +15,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let p = vec2<i32>(id.xy);
     let i = id.y * size.x + id.x;
-    out_diffuse[i] = textureLoad(diffuse, p, 0);
+    let d = textureLoad(diffuse, p, 0);
+    out_diffuse[i] = vec4<f32>(d.rgb, 1.0);
     let spec = textureLoad(specular, p, 0);
     out_specular[i] = vec4<f32>(spec.rgb, 1.0);
-    // x: view depth [cm], y: SSS strength (stored in the specular target's alpha).
+    // x: view depth [cm], y: SSS strength (stored in the specular target's alpha), z: material
+    // index (the diffuse target's alpha; 0 on the cleared background).
     let geo = textureLoad(geometry, p, 0);
-    out_geometry[i] = vec4<f32>(geo.x, spec.a, 0.0, 1.0);
+    out_geometry[i] = vec4<f32>(geo.x, spec.a, d.a, 1.0);
     // scene.wgsl's pack_albedo: rgb × m with m = 4·alpha.
     let a = unpack4x8unorm(bitcast<u32>(geo.y));
     out_albedo[i] = vec4<f32>(a.rgb * (4.0 * a.a), 1.0);
