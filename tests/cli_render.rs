@@ -207,6 +207,70 @@ fn render_pair_puts_two_materials_in_one_frame() {
     assert!(right[2] > 2.0 * right[0], "right {right:?}");
 }
 
+#[test]
+fn render_bench_json_reports_every_configuration_and_the_skips() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = sss(
+        &[
+            "render",
+            "--bench",
+            "--json",
+            "--width",
+            "96",
+            "--height",
+            "54",
+            "--photons",
+            "30000",
+            "--profiles",
+            "p",
+            "--out",
+            "r",
+        ],
+        dir.path(),
+    );
+    if no_adapter(&o) {
+        return;
+    }
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // stdout is only JSON.
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(
+        (v["width"].as_u64(), v["height"].as_u64()),
+        (Some(96), Some(54))
+    );
+    let configs = v["configs"].as_array().unwrap();
+    let mut seen: Vec<(u64, u64)> = configs
+        .iter()
+        .map(|c| {
+            assert_eq!(c["resolution"], "full");
+            assert!(c["frame_ms"].as_f64().unwrap() > 0.0, "{c}");
+            assert!(c["gpu_ms"].is_null() || c["gpu_ms"].as_f64().unwrap() >= 0.0);
+            (c["taps"].as_u64().unwrap(), c["rank"].as_u64().unwrap())
+        })
+        .collect();
+    seen.sort();
+    let want: Vec<(u64, u64)> = [11, 17, 25, 33]
+        .iter()
+        .flat_map(|&t| (1..=3).map(move |r| (t, r)))
+        .collect();
+    assert_eq!(seen, want);
+    let skips = &v["skips"];
+    let share = skips["empty_pixels"]["sss_pixel_fraction"]
+        .as_f64()
+        .unwrap();
+    assert!(share > 0.0 && share < 1.0, "{share}");
+    for s in ["empty_pixels", "subpixel_kernels"] {
+        for key in ["frame_ms_on", "frame_ms_off", "frame_saved_fraction"] {
+            assert!(skips[s][key].as_f64().is_some(), "{s}.{key}: {skips}");
+        }
+    }
+    assert!(skips["subpixel_kernels"]["footprint_px"].as_f64().unwrap() < 0.5);
+    assert!(
+        !dir.path().join("r/render.png").exists(),
+        "a bench renders no image"
+    );
+}
+
 /// The linear RGB pixels of a PFM `sss render` wrote.
 fn pfm_pixels(path: &std::path::Path) -> Vec<[f32; 3]> {
     let bytes = std::fs::read(path).unwrap();

@@ -365,7 +365,9 @@ pub struct RenderArgs {
     #[arg(long)]
     compare_models: bool,
 
-    /// Time the SSS passes at 1920×1080 (17/33 taps, rank 1/3) instead of rendering
+    /// Time the SSS passes at 1920×1080 instead of rendering, on a renderer built once: 11/17/25/33
+    /// taps × rank 1 (pre-integration), 2, 3 (SVD), and what skipping pixels without SSS and
+    /// sub-pixel kernels saves (with --json: {"configs": […], "skips": {…}} only)
     #[arg(long)]
     bench: bool,
 
@@ -679,6 +681,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         fixed_depth: None,
         exposure: a.exposure,
         skip_empty: true,
+        skip_subpixel: true,
         shading,
     };
     if a.bench {
@@ -1069,7 +1072,12 @@ fn bench_dipole(
     Ok(())
 }
 
-/// Per-pass GPU times at 1920×1080 for 17/33 taps and rank 1/3 (median of 5 frames).
+/// The SSS passes timed at --width × --height (1920×1080 by default) on a renderer built once
+/// (median of 5 frames each): every configuration of 11/17/25/33 taps × rank 1
+/// (pre-integration), 2, 3 (SVD), then what each skip saves on the 17-tap rank-1 kernel. GPU
+/// times are the blur passes' timestamp queries (null where the adapter has none; on a CPU
+/// adapter such as lavapipe they do not measure the work, so compare frame-time ratios there);
+/// frame times are wall-clock from recording to completion, uploads included, readback not.
 fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> Result<()> {
     // With --json, stdout carries only the JSON: the table goes to stderr.
     macro_rules! table {
@@ -1078,82 +1086,174 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
         };
     }
     let params = RenderParams {
-        width: 1920,
-        height: 1080,
+        width: a.width,
+        height: a.height,
         ..RenderParams::default()
     };
     if !gpu.timestamps {
-        eprintln!("this adapter has no timestamp queries: reporting whole-frame wall time instead");
+        eprintln!("this adapter has no timestamp queries: GPU times are null, frame times remain");
     }
-    let mut rows = Vec::new();
+    let cpu_adapter = gpu.adapter_name.contains("Cpu");
+    if cpu_adapter {
+        eprintln!(
+            "{} runs on the CPU: its timestamps do not measure the work; compare the frame-time ratios",
+            gpu.adapter_name
+        );
+    }
+    let renderer = gpu::Renderer::new(gpu);
+    // Median over 5 frames of the blur passes' GPU time (None without timestamps) and the frame.
+    let measure = |scene: &Scene,
+                   k: &GpuKernel,
+                   params: &RenderParams|
+     -> Result<(Option<f64>, f64)> {
+        let mut sss = Vec::new();
+        let mut wall = Vec::new();
+        for _ in 0..5 {
+            let t = renderer.time(
+                gpu,
+                scene,
+                Scatter::Separable(std::slice::from_ref(k)),
+                params,
+            )?;
+            sss.push(
+                t.passes
+                    .iter()
+                    .filter(|p| p.label.ends_with("horizontal") || p.label.ends_with("vertical"))
+                    .map(|p| p.ms)
+                    .sum::<f64>(),
+            );
+            wall.push(t.wall_ms);
+        }
+        let median = |mut v: Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        };
+        Ok((gpu.timestamps.then(|| median(sss)), median(wall)))
+    };
+    let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
     table!(
-        "SSS passes at 1920×1080 on {} ({slug}, median of 5 frames)",
-        gpu.adapter_name
+        "SSS passes at {}×{} on {} ({slug} on {}, renderer built once, median of 5 frames)",
+        a.width,
+        a.height,
+        gpu.adapter_name,
+        a.scene
     );
     table!(
-        "  {:<10} {:>5} {:>5} {:>14} {:>14} {:>12} {:>15}",
+        "  {:<12} {:>5} {:>5} {:>10} {:>12} {:>10} {:>14}",
         "kernel",
         "taps",
         "rank",
-        "horizontal ms",
-        "vertical ms",
-        "SSS ms",
-        "frame wall ms"
+        "resolution",
+        "SSS GPU ms",
+        "frame ms",
+        "÷ preint 17"
     );
-    for (label, model) in [
-        ("preint", KernelModel::Preint),
-        (
-            "svd3",
-            KernelModel::Svd {
-                rank: 3,
+    let mut configs = Vec::new();
+    let mut preint17 = None;
+    for rank in 1..=3usize {
+        let model = match rank {
+            1 => KernelModel::Preint,
+            _ => KernelModel::Svd {
+                rank,
                 renormalize: true,
             },
-        ),
-    ] {
-        let rank = model.terms().unwrap_or(1);
-        for taps in [17, 33] {
+        };
+        for taps in [11, 17, 25, 33] {
             let k = GpuKernel::from_shader_kernel(&kernel_of(p, slug, model, taps)?)?;
-            let mut frames = Vec::new();
-            for _ in 0..5 {
-                let t = std::time::Instant::now();
-                let f = gpu::render(gpu, scene, Scatter::Separable(&[k.clone()]), &params)?;
-                frames.push((f.times, t.elapsed().as_secs_f64() * 1e3));
+            let (sss, frame) = measure(scene, &k, &params)?;
+            if rank == 1 && taps == 17 {
+                preint17 = Some((k, sss, frame));
             }
-            let median = |mut v: Vec<f64>| {
-                v.sort_by(f64::total_cmp);
-                v[v.len() / 2]
-            };
-            let sum = |times: &[gpu::PassTime], key: &str| {
-                times
-                    .iter()
-                    .filter(|t| t.label.ends_with(key))
-                    .map(|t| t.ms)
-                    .sum::<f64>()
-            };
-            let hor = median(frames.iter().map(|f| sum(&f.0, "horizontal")).collect());
-            let ver = median(frames.iter().map(|f| sum(&f.0, "vertical")).collect());
-            let wall = median(frames.iter().map(|f| f.1).collect());
-            let total = if gpu.timestamps { hor + ver } else { wall };
+            let ratio = frame / preint17.as_ref().map_or(frame, |p| p.2);
             table!(
-                "  {label:<10} {taps:>5} {rank:>5} {:>14} {:>14} {total:>12.3} {wall:>15.1}",
-                if gpu.timestamps {
-                    format!("{hor:.3}")
-                } else {
-                    "-".into()
-                },
-                if gpu.timestamps {
-                    format!("{ver:.3}")
+                "  {:<12} {taps:>5} {rank:>5} {:>10} {:>12} {frame:>10.1} {:>14}",
+                model.to_string(),
+                "full",
+                ms(sss),
+                if preint17.is_some() {
+                    format!("{ratio:.2}")
                 } else {
                     "-".into()
                 }
             );
-            rows.push(json!({"kernel": label, "taps": taps, "rank": rank, "horizontal_ms": hor, "vertical_ms": ver, "sss_ms": total, "frame_wall_ms": wall, "timestamps": gpu.timestamps}));
+            configs.push(json!({"kernel": model.to_string(), "taps": taps, "rank": rank, "resolution": "full", "gpu_ms": sss, "frame_ms": frame}));
         }
     }
+    let (k, on_sss, on_frame) = preint17.expect("17 taps were timed");
+    // Frame time relative to the 17-tap pre-integration: what a CPU adapter can quote.
+    for c in &mut configs {
+        c["frame_ratio_to_preint17"] = json!(c["frame_ms"].as_f64().unwrap_or(f64::NAN) / on_frame);
+    }
+    // Pixels without SSS: the same frame with every pixel running every tap.
+    let (off_sss, off_frame) = measure(
+        scene,
+        &k,
+        &RenderParams {
+            skip_empty: false,
+            ..params
+        },
+    )?;
+    let frame = gpu::Renderer::new(gpu).render(
+        gpu,
+        scene,
+        Scatter::None,
+        &RenderParams {
+            width: 192,
+            height: 108,
+            ..params
+        },
+    )?;
+    let sss_share =
+        frame.geometry.iter().filter(|g| g[1] > 0.0).count() as f64 / frame.geometry.len() as f64;
+    // Sub-pixel kernels: the scene seen from so far that the kernel reaches 0.8 of the
+    // threshold (a far-away object; it covers fewer pixels too).
+    let near_px = gpu::kernel_footprint_px(scene, 0, &k, &params);
+    let factor = (near_px / (0.8 * gpu::SUBPIXEL_PX)).max(1.0);
+    let mut far = scene.clone();
+    far.camera.position = far.camera.target + factor * (far.camera.position - far.camera.target);
+    let far_px = gpu::kernel_footprint_px(&far, 0, &k, &params);
+    let (far_on_sss, far_on_frame) = measure(&far, &k, &params)?;
+    let (far_off_sss, far_off_frame) = measure(
+        &far,
+        &k,
+        &RenderParams {
+            skip_subpixel: false,
+            ..params
+        },
+    )?;
+    let saving = |on: Option<f64>, off: Option<f64>, on_frame: f64, off_frame: f64| {
+        json!({"gpu_ms_on": on, "gpu_ms_off": off,
+            "gpu_saved_fraction": on.zip(off).map(|(a, b)| 1.0 - a / b),
+            "frame_ms_on": on_frame, "frame_ms_off": off_frame,
+            "frame_saved_fraction": 1.0 - on_frame / off_frame})
+    };
+    let mut empty = saving(on_sss, off_sss, on_frame, off_frame);
+    empty["sss_pixel_fraction"] = json!(sss_share);
+    let mut subpixel = saving(far_on_sss, far_off_sss, far_on_frame, far_off_frame);
+    subpixel["distance_factor"] = json!(factor);
+    subpixel["footprint_px"] = json!(far_px);
+    table!("skips (preint, 17 taps; SSS GPU ms on / off, frame ms on / off):");
+    table!(
+        "  pixels without SSS ({:.0} % of the image has SSS): {} / {}, {on_frame:.1} / {off_frame:.1}",
+        100.0 * sss_share,
+        ms(on_sss),
+        ms(off_sss)
+    );
+    table!(
+        "  sub-pixel kernels (the scene {factor:.1}× as far, footprint {near_px:.1} → {far_px:.2} px): {} / {}, {far_on_frame:.1} / {far_off_frame:.1}",
+        ms(far_on_sss),
+        ms(far_off_sss)
+    );
     if a.json {
         println!(
             "{}",
-            serde_json::to_string_pretty(&json!({"adapter": gpu.adapter_name, "rows": rows}))?
+            serde_json::to_string_pretty(&json!({
+                "adapter": gpu.adapter_name, "width": params.width, "height": params.height,
+                "scene": a.scene, "material": slug, "timestamps": gpu.timestamps,
+                "cpu_adapter": cpu_adapter,
+                "configs": configs,
+                "skips": {"empty_pixels": empty, "subpixel_kernels": subpixel},
+            }))?
         );
     }
     Ok(())

@@ -5,7 +5,7 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::context::Gpu;
+use crate::context::{Gpu, pixels};
 use crate::error::{GpuError, Result};
 
 /// A kernel as the shader takes it: per pass, the RGB sign and the taps (RGB weight, offset [cm]).
@@ -67,6 +67,34 @@ impl GpuKernel {
             passes,
             range_cm: range,
         })
+    }
+}
+
+impl GpuKernel {
+    /// The kernel's response to a uniform image per channel, Σ_p sign_p·(Σ_t w_t)² (its
+    /// integral: 1 for a normalized kernel).
+    pub fn total(&self) -> [f32; 3] {
+        let mut t = [0.0f32; 3];
+        for (sign, taps) in &self.passes {
+            for c in 0..3 {
+                let s: f32 = taps.iter().map(|w| w[c]).sum();
+                t[c] += sign[c] * s * s;
+            }
+        }
+        t
+    }
+
+    /// One pass of one tap at offset 0 with the kernel's total response: what the kernel
+    /// amounts to when its footprint is below a pixel (light stays where it is).
+    pub fn point(&self) -> GpuKernel {
+        let t = self.total();
+        GpuKernel {
+            passes: vec![(
+                t.map(|v| if v < 0.0 { -1.0 } else { 1.0 }),
+                vec![[t[0].abs().sqrt(), t[1].abs().sqrt(), t[2].abs().sqrt(), 0.0]],
+            )],
+            range_cm: 0.0,
+        }
     }
 }
 
@@ -266,18 +294,6 @@ impl Blur {
             }
         }
     }
-}
-
-/// Storage buffer for `n` RGBA f32 pixels.
-pub(crate) fn pixels(gpu: &Gpu, n: usize, label: &str) -> wgpu::Buffer {
-    gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: (n * 16).max(16) as u64,
-        usage: wgpu::BufferUsages::STORAGE
-            | wgpu::BufferUsages::COPY_SRC
-            | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
 }
 
 /// Applies the kernels' passes to an image (RGBA per pixel, row-major) with per-pixel

@@ -18,7 +18,8 @@ use fit::{KernelModel, Profile};
 use crate::blur::{DepthMode, GpuKernel};
 use crate::context::Gpu;
 use crate::error::{GpuError, Result};
-use crate::render::{RenderParams, Scatter, render};
+use crate::params::RenderParams;
+use crate::render::{Renderer, Scatter};
 use crate::scene::Scene;
 
 /// The kernel scale of a comparison.
@@ -169,7 +170,8 @@ fn compare_with(
         ..*base
     };
     let (w, h) = (base.width as usize, base.height as usize);
-    let lambert = render(gpu, scene, Scatter::None, &params)?;
+    let renderer = Renderer::new(gpu);
+    let lambert = renderer.render(gpu, scene, Scatter::None, &params)?;
     let sss: Vec<bool> = lambert.geometry.iter().map(|g| g[1] > 0.0).collect();
     let truth = ground_truth_image(&lambert.irradiance, &sss, w, h, truths, scale.bin);
     let crop = strongest_edge(&lambert.irradiance, &sss, w, h);
@@ -191,7 +193,7 @@ fn compare_with(
     let kernels = kernels
         .iter()
         .map(|k| {
-            let frame = render(
+            let frame = renderer.render(
                 gpu,
                 scene,
                 Scatter::Separable(&[GpuKernel::from_shader_kernel(k)?]),

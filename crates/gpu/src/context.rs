@@ -130,3 +130,15 @@ pub(crate) fn cleared_depth(
         stencil_ops: None,
     }
 }
+
+/// Storage buffer for `n` RGBA f32 pixels.
+pub(crate) fn pixels(gpu: &Gpu, n: usize, label: &str) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: (n * 16).max(16) as u64,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}

@@ -33,7 +33,7 @@ use wgpu::util::DeviceExt;
 
 use crate::context::{Gpu, cleared_depth, compute_pipeline, depth_test};
 use crate::error::{GpuError, Result};
-use crate::mesh::Vertex;
+use crate::mesh::{MeshBuffers, Vertex};
 use crate::scene::{Light, Scene};
 use crate::timing::Timer;
 
@@ -225,13 +225,6 @@ const MAP_FORMATS: [wgpu::TextureFormat; 2] = [
     wgpu::TextureFormat::Rgba32Float,
 ];
 
-/// The mesh as uploaded for drawing.
-pub(crate) struct MeshBuffers<'a> {
-    pub vertices: &'a wgpu::Buffer,
-    pub indices: &'a wgpu::Buffer,
-    pub count: u32,
-}
-
 /// Position and normal maps, one array layer per view.
 struct Maps {
     position: wgpu::Texture,
@@ -338,9 +331,7 @@ fn draw_maps(
         });
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, &bind, &[]);
-        pass.set_vertex_buffer(0, mesh.vertices.slice(..));
-        pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..mesh.count, 0, 0..1);
+        mesh.draw(&mut pass);
     }
     maps
 }

@@ -21,13 +21,18 @@
 #![warn(missing_docs)]
 
 mod blur;
+mod combine;
 pub mod compare;
 mod context;
 pub mod dipole;
 mod error;
+mod gbuffer;
 mod mesh;
+mod params;
 mod render;
 mod scene;
+mod shading;
+mod shadow;
 mod timing;
 
 pub use blur::{BlurParams, DepthMode, GpuKernel, blur_image};
@@ -36,11 +41,13 @@ pub use context::Gpu;
 pub use dipole::DipoleSetup;
 pub use error::{GpuError, Result};
 pub use mesh::{Mesh, Vertex};
-pub use render::{
-    Frame, INCIDENCE_STEPS, MAX_MATERIALS, RenderParams, Scatter, Shading, TRANSLUCENCY_STEPS,
-    Translucency, incidence_hemispherical, incidence_ratio, render,
-};
+pub use params::{MAX_MATERIALS, RenderParams};
+pub use render::{Frame, FrameTime, Renderer, SUBPIXEL_PX, Scatter, kernel_footprint_px, render};
 pub use scene::{AlbedoMode, Camera, Light, Scene};
+pub use shading::{
+    INCIDENCE_STEPS, Shading, TRANSLUCENCY_STEPS, Translucency, incidence_hemispherical,
+    incidence_ratio,
+};
 pub use timing::PassTime;
 
 #[cfg(test)]
@@ -52,8 +59,8 @@ mod tests {
     const SHADERS: [Shader; 7] = [
         (
             "scene.wgsl",
-            crate::render::SCENE_WGSL,
-            Some(("Globals", crate::render::GLOBALS_SIZE)),
+            crate::gbuffer::SCENE_WGSL,
+            Some(("Globals", crate::gbuffer::GLOBALS_SIZE)),
         ),
         ("shadow.wgsl", include_str!("shaders/shadow.wgsl"), None),
         ("unpack.wgsl", include_str!("shaders/unpack.wgsl"), None),

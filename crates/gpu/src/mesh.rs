@@ -39,6 +39,47 @@ impl Vertex {
     }
 }
 
+/// A mesh uploaded for drawing.
+pub(crate) struct MeshBuffers {
+    pub vertices: wgpu::Buffer,
+    pub indices: wgpu::Buffer,
+    pub count: u32,
+}
+
+impl MeshBuffers {
+    pub(crate) fn upload(gpu: &crate::Gpu, mesh: &Mesh) -> MeshBuffers {
+        use wgpu::util::DeviceExt;
+        let buffer = |label, contents, usage| {
+            gpu.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage,
+                })
+        };
+        MeshBuffers {
+            vertices: buffer(
+                "vertices",
+                bytemuck::cast_slice(&mesh.vertices),
+                wgpu::BufferUsages::VERTEX,
+            ),
+            indices: buffer(
+                "indices",
+                bytemuck::cast_slice(&mesh.indices),
+                wgpu::BufferUsages::INDEX,
+            ),
+            count: mesh.indices.len() as u32,
+        }
+    }
+
+    /// Draws every triangle (the pass's pipeline and bind groups set).
+    pub(crate) fn draw(&self, pass: &mut wgpu::RenderPass) {
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..self.count, 0, 0..1);
+    }
+}
+
 /// An indexed triangle list.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {

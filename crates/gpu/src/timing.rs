@@ -42,6 +42,17 @@ impl Timer {
         }
     }
 
+    /// The timestamp writes of a render pass labelled `label`.
+    pub(crate) fn render_writes(&mut self, label: &str) -> wgpu::RenderPassTimestampWrites<'_> {
+        let k = (self.labels.len() as u32).min(MAX_TIMED - 1);
+        self.labels.push(label.to_string());
+        wgpu::RenderPassTimestampWrites {
+            query_set: &self.set,
+            beginning_of_pass_write_index: Some(2 * k),
+            end_of_pass_write_index: Some(2 * k + 1),
+        }
+    }
+
     /// Reserves one timed span over several consecutive passes; see [`Timer::span_writes`].
     pub(crate) fn span(&mut self, label: &str) -> u32 {
         let k = (self.labels.len() as u32).min(MAX_TIMED - 1);

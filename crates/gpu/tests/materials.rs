@@ -1,11 +1,12 @@
 //! Several SSS materials in one frame: each material's kernel scatters only its own pixels and
 //! takes no light from another material's (the rule documented on `gpu::Scatter::Separable`),
-//! each material's shading tables apply to its pixels only, and pixels without SSS do no blur
-//! work without changing the image. Under CI=true a missing adapter fails.
+//! and each material's shading tables apply to its pixels only. The work skipped where a frame
+//! does not need it: pixels without SSS, and kernels smaller than a pixel, without changing the
+//! image beyond what the skip states. Under CI=true a missing adapter fails.
 
 use gpu::{
-    AlbedoMode, BlurParams, DepthMode, GpuKernel, MAX_MATERIALS, RenderParams, Scatter, Scene,
-    Shading, blur_image, render,
+    AlbedoMode, BlurParams, DepthMode, GpuKernel, MAX_MATERIALS, RenderParams, Renderer,
+    SUBPIXEL_PX, Scatter, Scene, Shading, blur_image, kernel_footprint_px, render,
 };
 
 mod common;
@@ -13,10 +14,18 @@ use common::gpu;
 
 /// A normalized Gaussian of σ = 1 cm in `taps` taps over ±3σ (the same for R, G and B).
 fn gaussian(taps: usize) -> GpuKernel {
+    gaussian_sigma(taps, 1.0)
+}
+
+/// A normalized Gaussian of standard deviation `sigma` [cm] in `taps` taps over ±3σ.
+fn gaussian_sigma(taps: usize, sigma: f32) -> GpuKernel {
     let offsets: Vec<f32> = (0..taps)
-        .map(|k| -3.0 + 6.0 * k as f32 / (taps - 1) as f32)
+        .map(|k| sigma * (-3.0 + 6.0 * k as f32 / (taps - 1) as f32))
         .collect();
-    let w: Vec<f32> = offsets.iter().map(|x| (-0.5 * x * x).exp()).collect();
+    let w: Vec<f32> = offsets
+        .iter()
+        .map(|x| (-0.5 * (x / sigma).powi(2)).exp())
+        .collect();
     let sum: f32 = w.iter().sum();
     GpuKernel {
         passes: vec![(
@@ -27,7 +36,7 @@ fn gaussian(taps: usize) -> GpuKernel {
                 .map(|(&x, &w)| [w / sum, w / sum, w / sum, x])
                 .collect(),
         )],
-        range_cm: 3.0,
+        range_cm: 3.0 * sigma,
     }
 }
 
@@ -187,4 +196,106 @@ fn each_material_of_a_pair_gets_its_own_kernel_and_shading() {
     // Too few kernels for the scene's materials: refused, naming the field.
     let err = render(&gpu, &scene, Scatter::Separable(&kernels[..1]), &params).unwrap_err();
     assert!(err.to_string().contains("kernels"), "{err}");
+}
+
+#[test]
+fn a_point_kernel_keeps_the_total_response_of_any_kernel() {
+    // Two passes with signs (an SVD-like rank 2) and a plain Gaussian.
+    let mut k = gaussian(9);
+    k.passes
+        .push(([-1.0, 1.0, -1.0], vec![[0.2, 0.1, 0.3, 0.5]; 3]));
+    for k in [gaussian(9), k] {
+        let (t, p) = (k.total(), k.point());
+        assert_eq!(p.passes.len(), 1);
+        assert_eq!(p.passes[0].1.len(), 1);
+        for c in 0..3 {
+            assert!(
+                (p.total()[c] - t[c]).abs() < 1e-6,
+                "{:?} vs {t:?}",
+                p.total()
+            );
+        }
+    }
+    // A normalized kernel's response is 1.
+    assert!((gaussian(17).total()[0] - 1.0).abs() < 1e-6);
+}
+
+#[test]
+fn skipping_empty_pixels_and_subpixel_kernels_leaves_the_image_as_stated() {
+    let Some(gpu) = gpu() else { return };
+    let renderer = Renderer::new(&gpu);
+    let scene = Scene::sphere();
+    // σ = 0.05 cm: 1.4 px at the sphere's distance here.
+    let k = [gaussian_sigma(17, 0.05)];
+    let params = RenderParams {
+        width: 192,
+        height: 108,
+        ..RenderParams::default()
+    };
+    // Pixels without SSS doing no work: the same image to rounding.
+    let on = renderer
+        .render(&gpu, &scene, Scatter::Separable(&k), &params)
+        .unwrap();
+    let off = renderer
+        .render(
+            &gpu,
+            &scene,
+            Scatter::Separable(&k),
+            &RenderParams {
+                skip_empty: false,
+                ..params
+            },
+        )
+        .unwrap();
+    for (a, b) in on.linear.iter().zip(&off.linear) {
+        for c in 0..3 {
+            assert!(
+                (a[c] - b[c]).abs() <= 1e-5 * b[c].max(1.0),
+                "{a:?} vs {b:?}"
+            );
+        }
+    }
+    // The sphere 3× as far: the kernel reaches below half a pixel.
+    let mut far = scene.clone();
+    far.camera.position = far.camera.target + 3.0 * (far.camera.position - far.camera.target);
+    let footprint = kernel_footprint_px(&far, 0, &k[0], &params);
+    assert!(footprint < SUBPIXEL_PX, "{footprint} px");
+    assert!(kernel_footprint_px(&scene, 0, &k[0], &params) > 1.0);
+    let skipped = renderer
+        .render(&gpu, &far, Scatter::Separable(&k), &params)
+        .unwrap();
+    let blurred = renderer
+        .render(
+            &gpu,
+            &far,
+            Scatter::Separable(&k),
+            &RenderParams {
+                skip_subpixel: false,
+                ..params
+            },
+        )
+        .unwrap();
+    let (mut sum_skipped, mut sum_blurred, mut count) = (0.0f64, 0.0f64, 0);
+    for i in 0..skipped.geometry.len() {
+        if skipped.geometry[i][1] <= 0.0 {
+            continue;
+        }
+        count += 1;
+        // Skipped: the unblurred light (the kernel's total response is 1).
+        let (s, e) = (skipped.scattered[i], skipped.irradiance[i]);
+        for c in 0..3 {
+            assert!(
+                (s[c] - e[c]).abs() <= 1e-5 * e[c].max(1e-3),
+                "{s:?} vs {e:?}"
+            );
+        }
+        sum_skipped += s[0] as f64;
+        sum_blurred += blurred.scattered[i][0] as f64;
+    }
+    assert!(count > 20, "{count} SSS pixels");
+    // Blurring by less than half a pixel moves light but keeps it: the totals agree.
+    assert!(
+        (sum_skipped / sum_blurred - 1.0).abs() < 0.02,
+        "{sum_skipped} vs {sum_blurred}"
+    );
 }

@@ -1,0 +1,354 @@
+//! The scene pass (G-buffer): every surface lit by the scene's lights with shadows, the SSS
+//! materials' incidence, exit and thin-part tables ([`crate::Shading`]) applied, into three render
+//! targets (32 bytes per pixel, WebGPU's portable limit), then unpacked into the storage buffers
+//! the blur and the recombination read: diffuse light (irradiance × pre-scatter albedo), specular,
+//! geometry (x: view depth [cm], y: SSS strength, z: material index) and the post-scatter albedo
+//! (× exit factor).
+
+use glam::Mat4;
+use wgpu::util::DeviceExt;
+
+use crate::context::{Gpu, cleared_depth, compute_pipeline, depth_test, pixels};
+use crate::mesh::{MeshBuffers, Vertex};
+use crate::params::{MAX_MATERIALS, RenderParams};
+use crate::scene::{AlbedoMode, Light, Scene};
+use crate::shading::{INCIDENCE_STEPS, Shading, TRANSLUCENCY_STEPS, incidence_hemispherical};
+use crate::timing::Timer;
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct LightU {
+    view_proj: [[f32; 4]; 4],
+    inv_view_proj: [[f32; 4]; 4],
+    pos_or_dir: [f32; 4],
+    color: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Globals {
+    view_proj: [[f32; 4]; 4],
+    view: [[f32; 4]; 4],
+    camera_pos: [f32; 4],
+    params: [f32; 4],
+    ambient: [f32; 4],
+    lights: [LightU; 4],
+    /// Per SSS material.
+    materials: [MaterialU; MAX_MATERIALS],
+}
+
+/// One material's [`Shading`] as scene.wgsl's `Material` holds it.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct MaterialU {
+    /// ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80° (rgb).
+    incidence: [[f32; 4]; INCIDENCE_STEPS],
+    /// The ambient light's factor (rgb).
+    incidence_ambient: [f32; 4],
+    /// Tt(d)/ρ at the geometric thicknesses of [`crate::Translucency`] (rgb).
+    translucency: [[f32; 4]; TRANSLUCENCY_STEPS],
+    /// x: first thickness [cm], y: ln ratio, z: 1 on / 0 off, w: η.
+    translucency_params: [f32; 4],
+    /// h(θ) at θ = 0°, 10°, …, 80° (rgb).
+    exit: [[f32; 4]; INCIDENCE_STEPS],
+}
+
+impl MaterialU {
+    /// The material's tables; `plain`: all off (the dipole brings its own physics).
+    fn new(s: &Shading, plain: bool) -> MaterialU {
+        let s = if plain { &Shading::default() } else { s };
+        let rgb = |r: [f32; 3]| [r[0], r[1], r[2], 0.0];
+        MaterialU {
+            incidence: s.incidence.map(rgb),
+            incidence_ambient: rgb(incidence_hemispherical(&s.incidence)),
+            translucency: match &s.translucency {
+                Some(t) => t.table.map(rgb),
+                None => [[0.0; 4]; TRANSLUCENCY_STEPS],
+            },
+            translucency_params: match &s.translucency {
+                Some(t) => [t.first_cm, t.ratio.ln(), 1.0, t.eta],
+                None => [1.0, 1.0, 0.0, 1.0],
+            },
+            exit: s.exit.map(rgb),
+        }
+    }
+}
+
+/// The scene shader with the shared Fresnel function prepended.
+pub(crate) const SCENE_WGSL: &str = concat!(
+    include_str!("shaders/fresnel.wgsl"),
+    include_str!("shaders/scene.wgsl")
+);
+
+/// The size of scene.wgsl's `Globals`: 2 mat4 + 3 vec4 + 4 lights × 160 + per material 10 vec4
+/// of incidence, 17 vec4 of translucency and 9 vec4 of exit (checked against naga's layout in a
+/// test).
+pub(crate) const GLOBALS_SIZE: usize =
+    2 * 64 + 3 * 16 + 4 * 160 + MAX_MATERIALS * (10 * 16 + 17 * 16 + 9 * 16);
+const _: () = assert!(std::mem::size_of::<Globals>() == GLOBALS_SIZE);
+
+/// Scene targets: diffuse; specular + strength; view depth + packed post-scatter albedo.
+const FORMATS: [wgpu::TextureFormat; 3] = [
+    wgpu::TextureFormat::Rgba32Float,
+    wgpu::TextureFormat::Rgba16Float,
+    wgpu::TextureFormat::Rg32Float,
+];
+/// Near and far planes of the camera [cm]; the background's depth is FAR.
+pub(crate) const NEAR: f32 = 1.0;
+pub(crate) const FAR: f32 = 5000.0;
+
+/// The camera's view-projection for a `width`×`height` image.
+pub(crate) fn camera_view_proj(scene: &Scene, (w, h): (u32, u32)) -> Mat4 {
+    scene.camera.projection(w as f32 / h as f32, NEAR, FAR) * scene.camera.view()
+}
+
+/// The scene pass's output, one RGBA f32 per pixel each.
+pub(crate) struct GBuffer {
+    /// Irradiance × pre-scatter albedo: the blur's input.
+    pub diffuse: wgpu::Buffer,
+    /// Specular light.
+    pub specular: wgpu::Buffer,
+    /// x: view depth [cm] (background: FAR), y: SSS strength, z: material index.
+    pub geometry: wgpu::Buffer,
+    /// Post-scatter albedo × exit factor.
+    pub albedo: wgpu::Buffer,
+}
+
+/// The compiled scene and unpack pipelines and the shadow-map sampler.
+pub(crate) struct GBufferPass {
+    scene: wgpu::RenderPipeline,
+    unpack: wgpu::ComputePipeline,
+    sampler: wgpu::Sampler,
+}
+
+impl GBufferPass {
+    pub(crate) fn new(gpu: &Gpu) -> GBufferPass {
+        let dev = &gpu.device;
+        let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("scene"),
+            source: wgpu::ShaderSource::Wgsl(SCENE_WGSL.into()),
+        });
+        let targets: Vec<Option<wgpu::ColorTargetState>> =
+            FORMATS.iter().map(|&f| Some(f.into())).collect();
+        GBufferPass {
+            scene: dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("scene"),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(Vertex::layout())],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: Some(depth_test()),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs"),
+                    compilation_options: Default::default(),
+                    targets: &targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            }),
+            unpack: compute_pipeline(dev, wgpu::include_wgsl!("shaders/unpack.wgsl"), "unpack"),
+            sampler: dev.create_sampler(&wgpu::SamplerDescriptor {
+                compare: Some(wgpu::CompareFunction::LessEqual),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            }),
+        }
+    }
+
+    /// Records the scene pass and the unpacking; `plain`: no albedo split and no SSS shading
+    /// tables (the directional dipole brings its own colour and angular dependence).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn encode(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &Scene,
+        mesh: &MeshBuffers,
+        shadow_maps: &wgpu::Texture,
+        params: &RenderParams,
+        plain: bool,
+        timer: &mut Option<&mut Timer>,
+    ) -> GBuffer {
+        let dev = &gpu.device;
+        let (w, h) = (params.width, params.height);
+        let cam = &scene.camera;
+        let mut lights = [LightU {
+            view_proj: Mat4::IDENTITY.to_cols_array_2d(),
+            inv_view_proj: Mat4::IDENTITY.to_cols_array_2d(),
+            pos_or_dir: [0.0; 4],
+            color: [0.0; 4],
+        }; 4];
+        for (i, light) in scene.lights.iter().enumerate() {
+            let vp = scene.light_view_proj(light);
+            let (pos_or_dir, color, shadow) = match *light {
+                Light::Directional {
+                    towards,
+                    irradiance,
+                    shadow,
+                } => (towards.normalize().extend(0.0), irradiance, shadow),
+                Light::Point {
+                    position,
+                    intensity,
+                    shadow,
+                } => (position.extend(1.0), intensity, shadow),
+            };
+            lights[i] = LightU {
+                view_proj: vp.to_cols_array_2d(),
+                inv_view_proj: vp.inverse().to_cols_array_2d(),
+                pos_or_dir: pos_or_dir.into(),
+                color: color.extend(if shadow { i as f32 } else { -1.0 }).into(),
+            };
+        }
+        let globals = Globals {
+            view_proj: camera_view_proj(scene, (w, h)).to_cols_array_2d(),
+            view: cam.view().to_cols_array_2d(),
+            camera_pos: cam.position.extend(1.0).into(),
+            params: [
+                scene.lights.len() as f32,
+                match params.albedo {
+                    _ if plain => 0.0,
+                    AlbedoMode::Pre => 0.0,
+                    AlbedoMode::Post => 1.0,
+                    AlbedoMode::PrePost => 2.0,
+                },
+                scene.specular,
+                scene.shininess,
+            ],
+            ambient: scene.ambient.extend(0.0).into(),
+            lights,
+            materials: params.shading.map(|s| MaterialU::new(&s, plain)),
+        };
+        let gbuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("globals"),
+            contents: bytemuck::bytes_of(&globals),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let shadow_view = shadow_maps.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &self.scene.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: gbuf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&shadow_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::Sampler(&self.sampler),
+                },
+            ],
+        });
+        let size = wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        };
+        let target = |label: &str, format| {
+            dev.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+        };
+        let views: Vec<wgpu::TextureView> = ["diffuse", "specular", "geometry"]
+            .iter()
+            .zip(FORMATS)
+            .map(|(l, f)| target(l, f).create_view(&Default::default()))
+            .collect();
+        let depth = target("depth", wgpu::TextureFormat::Depth32Float);
+        let depth_view = depth.create_view(&Default::default());
+        {
+            // Background: no light, no strength, far depth, material 0; its albedo bits are 0
+            // (black), and it has no diffuse light to scale anyway.
+            let clears = [[0.0; 4], [0.0; 4], [FAR as f64, 0.0, 0.0, 0.0]];
+            let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = views
+                .iter()
+                .zip(clears)
+                .map(|(v, c)| {
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: v,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color {
+                                r: c[0],
+                                g: c[1],
+                                b: c[2],
+                                a: c[3],
+                            }),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })
+                })
+                .collect();
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("scene"),
+                color_attachments: &attachments,
+                depth_stencil_attachment: Some(cleared_depth(&depth_view)),
+                timestamp_writes: timer.as_mut().map(|t| t.render_writes("scene")),
+                ..Default::default()
+            });
+            pass.set_pipeline(&self.scene);
+            pass.set_bind_group(0, &bind, &[]);
+            mesh.draw(&mut pass);
+        }
+        let n = (w * h) as usize;
+        let out = GBuffer {
+            diffuse: pixels(gpu, n, "diffuse"),
+            specular: pixels(gpu, n, "specular"),
+            geometry: pixels(gpu, n, "geometry"),
+            albedo: pixels(gpu, n, "albedo"),
+        };
+        let mut entries: Vec<wgpu::BindGroupEntry> = views
+            .iter()
+            .enumerate()
+            .map(|(i, v)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: wgpu::BindingResource::TextureView(v),
+            })
+            .collect();
+        for (i, b) in [&out.diffuse, &out.specular, &out.geometry, &out.albedo]
+            .into_iter()
+            .enumerate()
+        {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 3 + i as u32,
+                resource: b.as_entire_binding(),
+            });
+        }
+        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &self.unpack.get_bind_group_layout(0),
+            entries: &entries,
+        });
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("unpack"),
+            timestamp_writes: timer.as_mut().map(|t| t.writes("unpack")),
+        });
+        pass.set_pipeline(&self.unpack);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+        drop(pass);
+        out
+    }
+}
