@@ -209,6 +209,9 @@ pub enum DepthTest {
     Reject,
     /// No depth test (light bleeds across silhouettes)
     None,
+    /// Weight each sample by e^{−Δz²/(2τ)} (SSSS supplement §E), τ = --tolerance² or the
+    /// kernel's largest variance; light lost across depth gaps is not redistributed
+    Gaussian,
 }
 
 #[derive(Args)]
@@ -252,9 +255,11 @@ pub struct RenderArgs {
     #[arg(long)]
     tolerance: Option<f32>,
 
-    /// Per-pixel jitter of the tap offsets, 0–1 (trades banding for noise)
-    #[arg(long, default_value_t = 0.0)]
-    jitter: f32,
+    /// Fraction of taps jittered per pixel, 0–1 (SSSS supplement Fig. S.6–S.7: each picked tap
+    /// samples a random position within its cell; trades banding for noise) [default: the
+    /// kernel file's jitter, else 0]
+    #[arg(long)]
+    jitter: Option<f32>,
 
     /// Kernel width multiplier (1 = the material's physical scale)
     #[arg(long, default_value_t = 1.0)]
@@ -514,8 +519,10 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     if a.taps == 0 || a.taps > 1025 {
         bail!("invalid --taps {}: must be in 1..=1025", a.taps);
     }
-    if !(0.0..=1.0).contains(&a.jitter) {
-        bail!("invalid --jitter {}: must be in [0, 1]", a.jitter);
+    if let Some(j) = a.jitter
+        && !(0.0..=1.0).contains(&j)
+    {
+        bail!("invalid --jitter {j}: must be in [0, 1]");
     }
     let positive = |v: f32, zero_ok: bool| v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0));
     if !(positive(a.sss_width, true) && positive(a.exposure, false)) {
@@ -675,9 +682,13 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
             DepthTest::Lerp => DepthMode::Lerp,
             DepthTest::Reject => DepthMode::Reject,
             DepthTest::None => DepthMode::None,
+            DepthTest::Gaussian => DepthMode::Gaussian,
         },
         tolerance_cm: a.tolerance,
-        jitter: a.jitter,
+        jitter: a
+            .jitter
+            .or(kernel_file.as_ref().map(|k| k.jitter as f32))
+            .unwrap_or(0.0),
         fixed_depth: None,
         exposure: a.exposure,
         skip_empty: true,

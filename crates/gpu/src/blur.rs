@@ -84,6 +84,61 @@ impl GpuKernel {
         t
     }
 
+    /// Each tap's cell [cm]: from the midpoint to the next smaller offset to the midpoint to the
+    /// next larger one (the outermost cells as wide on their open side as on the other), per pass.
+    /// A jittered tap samples uniformly within its cell (supplement Fig. S.6–S.7).
+    pub fn cells(&self) -> Vec<Vec<[f32; 2]>> {
+        self.passes
+            .iter()
+            .map(|(_, taps)| {
+                let mut sorted: Vec<f32> = taps.iter().map(|t| t[3]).collect();
+                sorted.sort_by(f32::total_cmp);
+                taps.iter()
+                    .map(|t| {
+                        let o = t[3];
+                        let below = sorted.iter().rev().find(|&&x| x < o).copied();
+                        let above = sorted.iter().find(|&&x| x > o).copied();
+                        let (lo, hi) = match (below, above) {
+                            (Some(b), Some(a)) => (0.5 * (b + o), 0.5 * (o + a)),
+                            (Some(b), None) => (0.5 * (b + o), o + 0.5 * (o - b)),
+                            (None, Some(a)) => (o - 0.5 * (a - o), 0.5 * (o + a)),
+                            (None, None) => (o, o),
+                        };
+                        [lo, hi]
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// The farthest a tap reaches [cm]: the range, or with jitter the outermost cell bound.
+    pub fn reach_cm(&self, jitter: f32) -> f32 {
+        if jitter > 0.0 {
+            self.cells()
+                .iter()
+                .flatten()
+                .fold(self.range_cm, |r, c| r.max(c[0].abs()).max(c[1].abs()))
+        } else {
+            self.range_cm
+        }
+    }
+
+    /// The largest spatial variance [cm²] of the first pass's taps over the channels,
+    /// Σw·x²/Σw: the τmax of the supplement's depth factor (§E).
+    pub fn variance_cm2(&self) -> f32 {
+        let Some((_, taps)) = self.passes.first() else {
+            return 0.0;
+        };
+        (0..3)
+            .map(|c| {
+                let (m0, m2) = taps.iter().fold((0.0f32, 0.0f32), |(a, b), t| {
+                    (a + t[c], b + t[c] * t[3] * t[3])
+                });
+                if m0 > 0.0 { m2 / m0 } else { 0.0 }
+            })
+            .fold(0.0, f32::max)
+    }
+
     /// One pass of one tap at offset 0 with the kernel's total response: what the kernel
     /// amounts to when its footprint is below a pixel (light stays where it is).
     pub fn point(&self) -> GpuKernel {
@@ -108,6 +163,11 @@ pub enum DepthMode {
     /// Reject samples with |Δz| > tolerance and give their weight to the rest, per channel
     /// (what production engines do).
     Reject,
+    /// Multiply each sample's weight by e^{−Δz²/(2τ)} (the SSSS supplement §E: a Gaussian
+    /// profile evaluated at the 3D distance factors into the screen-space one times this), with
+    /// τ = tolerance² and by default the kernel's largest variance τmax (× width²); the weight
+    /// lost is not given to other samples (light does not cross depth gaps).
+    Gaussian,
 }
 
 /// Blur settings.
@@ -119,10 +179,13 @@ pub struct BlurParams {
     pub sss_width: f32,
     /// How samples across depth discontinuities are treated.
     pub depth_mode: DepthMode,
-    /// Depth difference [cm] at which a sample is fully replaced or rejected; None: each kernel's
-    /// range × `sss_width`.
+    /// Depth difference [cm] at which a sample is fully replaced or rejected (Gaussian: √τ);
+    /// None: each kernel's range × `sss_width` (Gaussian: √τmax × `sss_width`).
     pub tolerance_cm: Option<f32>,
-    /// Per-pixel random scale of the offsets in [1 − j/2, 1 + j/2] (supplement Fig. S.6–S.7).
+    /// The fraction of taps jittered per pixel (the SSSS supplement, Fig. S.6–S.7): each pixel
+    /// picks that share of its taps at random, and each picked tap samples a uniform random
+    /// position within its cell ([`GpuKernel::cells`]) instead of its offset, turning the banding
+    /// of few taps into noise; 0: off.
     pub jitter: f32,
     /// Use this view depth [cm] for every pixel's kernel scale (comparisons with a fixed-scale
     /// CPU reference); None: each pixel's own depth.
@@ -198,14 +261,15 @@ impl Blur {
             DepthMode::None => 0,
             DepthMode::Lerp => 1,
             DepthMode::Reject => 2,
+            DepthMode::Gaussian => 3,
         };
         let passes = kernels.iter().enumerate().flat_map(|(m, k)| {
             k.passes
                 .iter()
                 .enumerate()
-                .map(move |(p, pass)| (m, k.range_cm, p, pass))
+                .map(move |(p, pass)| (m, k, p, pass))
         });
-        for (material, range_cm, p, (sign, taps)) in passes {
+        for (material, k, p, (sign, taps)) in passes {
             let taps_buf = gpu
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -218,8 +282,21 @@ impl Blur {
             });
             let tolerance = params
                 .tolerance_cm
-                .unwrap_or(range_cm * params.sss_width)
+                .unwrap_or(
+                    params.sss_width
+                        * match params.depth_mode {
+                            DepthMode::Gaussian => k.variance_cm2().sqrt(),
+                            _ => k.range_cm,
+                        },
+                )
                 .max(1e-12);
+            let cells = gpu
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("tap cells"),
+                    contents: bytemuck::cast_slice(&k.cells()[p]),
+                    usage: wgpu::BufferUsages::STORAGE,
+                });
             for horizontal in [true, false] {
                 let u = Uniform {
                     width,
@@ -270,6 +347,10 @@ impl Blur {
                         wgpu::BindGroupEntry {
                             binding: 4,
                             resource: to.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 5,
+                            resource: cells.as_entire_binding(),
                         },
                     ],
                 });

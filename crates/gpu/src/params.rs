@@ -17,9 +17,9 @@ pub struct RenderParams {
     pub sss_width: f32,
     /// How the blur treats samples across depth discontinuities.
     pub depth_mode: DepthMode,
-    /// Depth tolerance [cm]; None: the kernel's range × `sss_width`.
+    /// Depth tolerance [cm] (see [`crate::BlurParams::tolerance_cm`]); None: from each kernel.
     pub tolerance_cm: Option<f32>,
-    /// Per-pixel random scale of the kernel's offsets in [1 − j/2, 1 + j/2] (see
+    /// The fraction of taps jittered per pixel within their cells (see
     /// [`crate::BlurParams::jitter`]); 0: off.
     pub jitter: f32,
     /// Fixed view depth [cm] for the kernel scale (see [`crate::BlurParams::fixed_depth`]).

@@ -38,7 +38,8 @@ pub enum Scatter<'a> {
 pub const SUBPIXEL_PX: f32 = 0.5;
 
 /// The largest distance [px] kernel `k` of `material` reaches on screen: its range × width ×
-/// the material's largest SSS strength (× the largest jitter), at the material's nearest vertex
+/// the material's largest SSS strength (with jitter, the outermost tap cell's bound instead of the
+/// range), at the material's nearest vertex
 /// (or the fixed depth). Vertices at or behind the near plane count as at it.
 pub fn kernel_footprint_px(
     scene: &Scene,
@@ -57,10 +58,9 @@ pub fn kernel_footprint_px(
             (d.min(z.max(crate::gbuffer::NEAR)), s.max(v.strength))
         });
     let depth = params.fixed_depth.unwrap_or(depth);
-    k.range_cm
+    k.reach_cm(params.jitter)
         * params.sss_width
         * strength
-        * (1.0 + 0.5 * params.jitter)
         * scene.camera.px_per_cm_at_unit_depth(params.height)
         / depth
 }

@@ -22,10 +22,13 @@ struct Params {
     tap_sum: vec4<f32>,
     px_per_cm_at_unit_depth: f32,
     sss_width: f32,
-    // Depth difference [cm] at which a sample is fully replaced (mode 1) or rejected (mode 2).
+    // Depth difference [cm] at which a sample is fully replaced (mode 1) or rejected (mode 2); the
+    // standard deviation √τ of the depth factor (mode 3).
     tolerance: f32,
-    // 0: no depth test, 1: lerp towards the centre sample (eq. 4.12), 2: reject and renormalize.
+    // 0: no depth test, 1: lerp towards the centre sample (eq. 4.12), 2: reject and renormalize,
+    // 3: weight × e^{−Δz²/(2τ)} (SSSS supplement §E), not renormalized.
     mode: u32,
+    // The fraction of taps jittered per pixel within their cells (supplement Fig. S.6–S.7).
     jitter: f32,
     // 0: write the pass result; 1: add sign·result to what dst holds.
     accumulate: u32,
@@ -47,6 +50,8 @@ struct Params {
 // x: view depth [cm], y: SSS strength, z: material index.
 @group(0) @binding(3) var<storage, read> geom: array<vec4<f32>>;
 @group(0) @binding(4) var<storage, read_write> dst: array<vec4<f32>>;
+// Each tap's cell [cm] (lo, hi): where a jittered tap samples.
+@group(0) @binding(5) var<storage, read> cells: array<vec2<f32>>;
 
 fn index(x: i32, y: i32) -> u32 {
     let cx = clamp(x, 0, i32(p.width) - 1);
@@ -59,8 +64,9 @@ fn accepts(j: u32) -> f32 {
     return select(1.0, 0.0, geom[j].y > 0.0 && u32(geom[j].z) != p.material);
 }
 
-fn hash(x: u32, y: u32) -> f32 {
-    var h = x * 73856093u ^ y * 19349663u;
+// Uniform in [0, 1] from a pixel, a tap and a stream.
+fn hash(x: u32, y: u32, t: u32) -> f32 {
+    var h = x * 73856093u ^ y * 19349663u ^ t * 83492791u;
     h = (h ^ (h >> 16u)) * 0x45d9f3bu;
     h = (h ^ (h >> 16u)) * 0x45d9f3bu;
     h = h ^ (h >> 16u);
@@ -87,16 +93,20 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let depth = select(geom[i].x, p.fixed_depth, p.fixed_depth > 0.0);
-    var scale = p.sss_width * strength * p.px_per_cm_at_unit_depth / max(depth, 1e-6);
-    if p.jitter > 0.0 {
-        scale *= 1.0 + p.jitter * (hash(id.x, id.y) - 0.5);
-    }
+    let scale = p.sss_width * strength * p.px_per_cm_at_unit_depth / max(depth, 1e-6);
     var sum = vec3<f32>(0.0);
     var kept = vec3<f32>(0.0);
     var all = vec3<f32>(0.0);
     for (var t = 0u; t < p.taps; t++) {
         let tap = taps[t];
-        let pos = tap.w * scale;
+        var offset = tap.w;
+        // The horizontal and vertical passes draw independent streams.
+        let stream = 2u * t + p.horizontal;
+        if p.jitter > 0.0 && hash(id.x, id.y, 2u * stream) < p.jitter {
+            let c = cells[t];
+            offset = mix(c.x, c.y, hash(id.x, id.y, 2u * stream + 1u));
+        }
+        let pos = offset * scale;
         let base = floor(pos);
         let f = pos - base;
         var a: u32;
@@ -125,15 +135,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             z = select(geom[b].x, geom[a].x, ka > 0.0);
             w *= share;
         }
-        if p.mode != 0u {
-            let dz = abs(z - geom[i].x);
-            if p.mode == 1u {
-                s = mix(s, centre.rgb, clamp(dz / p.tolerance, 0.0, 1.0));
-            } else if dz > p.tolerance {
-                w = vec3<f32>(0.0);
-            }
+        let dz = abs(z - geom[i].x);
+        if p.mode == 1u {
+            s = mix(s, centre.rgb, clamp(dz / p.tolerance, 0.0, 1.0));
+        } else if p.mode == 2u && dz > p.tolerance {
+            w = vec3<f32>(0.0);
         }
         kept += w;
+        if p.mode == 3u {
+            // Light lost across the depth gap: not in `kept`, so not renormalized away.
+            w *= exp(-dz * dz / (2.0 * p.tolerance * p.tolerance));
+        }
         sum += w * s;
     }
     // Rejected samples' weight goes to those kept, per channel; none kept: the centre. (Without
