@@ -239,19 +239,22 @@ fn render_bench_json_reports_every_configuration_and_the_skips() {
         (Some(96), Some(54))
     );
     let configs = v["configs"].as_array().unwrap();
-    let mut seen: Vec<(u64, u64)> = configs
+    let mut seen: Vec<(u64, u64, String)> = configs
         .iter()
         .map(|c| {
-            assert_eq!(c["resolution"], "full");
             assert!(c["frame_ms"].as_f64().unwrap() > 0.0, "{c}");
             assert!(c["gpu_ms"].is_null() || c["gpu_ms"].as_f64().unwrap() >= 0.0);
-            (c["taps"].as_u64().unwrap(), c["rank"].as_u64().unwrap())
+            (
+                c["taps"].as_u64().unwrap(),
+                c["rank"].as_u64().unwrap(),
+                c["resolution"].as_str().unwrap().to_string(),
+            )
         })
         .collect();
     seen.sort();
-    let want: Vec<(u64, u64)> = [11, 17, 25, 33]
+    let want: Vec<(u64, u64, String)> = [11, 17, 25, 33]
         .iter()
-        .flat_map(|&t| (1..=3).map(move |r| (t, r)))
+        .flat_map(|&t| (1..=3).flat_map(move |r| ["full", "half"].map(|s| (t, r, s.to_string()))))
         .collect();
     assert_eq!(seen, want);
     let skips = &v["skips"];
@@ -269,6 +272,66 @@ fn render_bench_json_reports_every_configuration_and_the_skips() {
         !dir.path().join("r/render.png").exists(),
         "a bench renders no image"
     );
+}
+
+#[test]
+fn render_error_target_picks_the_smallest_rank_that_meets_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |target: &str| {
+        sss(
+            &[
+                "render",
+                "--error-target",
+                target,
+                "--width",
+                "64",
+                "--height",
+                "36",
+                "--photons",
+                "30000",
+                "--profiles",
+                "p",
+                "--out",
+                "r",
+                "--json",
+            ],
+            dir.path(),
+        )
+    };
+    let loose = run("1");
+    if no_adapter(&loose) {
+        return;
+    }
+    assert!(
+        loose.status.success(),
+        "{}",
+        String::from_utf8_lossy(&loose.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&loose.stdout).unwrap();
+    assert_eq!(v["kernels"][0]["model"], "preint", "{v}");
+    // The image RMS printed per rank: the tightest target met by none falls back to rank 6.
+    let strict = run("1e-12");
+    assert!(strict.status.success());
+    let e = String::from_utf8_lossy(&strict.stderr);
+    assert!(e.contains("no rank up to 6 meets"), "{e}");
+    let v: serde_json::Value = serde_json::from_slice(&strict.stdout).unwrap();
+    assert_eq!(v["kernels"][0]["passes"], 6, "{v}");
+    // A target between rank 1's error and the best error: the first rank at or below it.
+    let errors: Vec<f64> = e
+        .lines()
+        .filter_map(|l| l.split("image RMS ").nth(1))
+        .map(|x| x.split_whitespace().next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(errors.len(), 6, "{e}");
+    let best = errors.iter().cloned().fold(f64::MAX, f64::min);
+    if best < errors[0] {
+        let target = 0.5 * (best + errors[0]);
+        let want = errors.iter().position(|&x| x <= target).unwrap() + 1;
+        let mid = run(&format!("{target}"));
+        assert!(mid.status.success());
+        let v: serde_json::Value = serde_json::from_slice(&mid.stdout).unwrap();
+        assert_eq!(v["kernels"][0]["passes"], want as u64, "{v}");
+    }
 }
 
 /// The linear RGB pixels of a PFM `sss render` wrote.

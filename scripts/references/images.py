@@ -59,6 +59,8 @@ MODELS = [  # label, `sss fit` arguments (None: no scattering), extra `sss rende
     # The depth tests compared (the default above is the thesis's lerp, eq. 4.12).
     ("preint-reject", ["--model", "preint"], ["--depth-test", "reject"]),
     ("preint-nodepth", ["--model", "preint"], ["--depth-test", "none"]),
+    # The SSSS supplement's depth factor e^{−Δz²/2τmax} (§E), not renormalized.
+    ("preint-gaussian", ["--model", "preint"], ["--depth-test", "gaussian"]),
     ("svd1", ["--model", "svd", "--rank", "1", "--renormalize"], []),
     ("svd3", ["--model", "svd", "--rank", "3", "--renormalize"], []),
     ("deon3", ["--model", "deon", "--rank", "3"], []),
@@ -101,7 +103,8 @@ FIN_MODELS = [
 
 # Small features and depth discontinuities: the depth tests, the incidence-aware shading.
 BUST_MODELS = [m for m in MODELS if m[0] in (
-    "lambert", "preint", "preint-reject", "preint-nodepth", "svd1", "svd3", "preint-incidence",
+    "lambert", "preint", "preint-reject", "preint-nodepth", "preint-gaussian", "svd1", "svd3",
+    "preint-incidence",
     "preint-incidence-exit")]
 
 # camera (eye, target, vertical fov [deg]); SSS media (sphere: centre, radius; box: corners [cm],
@@ -544,7 +547,8 @@ def main():
         for a_, b_ in [("directional-dipole-mc", "preint-incidence"), ("directional-dipole-mc", "preint"),
                        ("preint-translucency", "preint"), ("preint-incidence-translucency", "preint"),
                        ("directional-dipole-mc", "preint-incidence-translucency"),
-                       ("preint-reject", "preint"), ("preint-nodepth", "preint")]:
+                       ("preint-reject", "preint"), ("preint-nodepth", "preint"),
+                       ("preint-gaussian", "preint"), ("preint-gaussian", "preint-reject")]:
             if pair(a_, b_):
                 ranked[f"{a_} closer than {b_}"] = closer(a_, b_)
     # How much of plain pre-integration's error the angular dependence of total reflectance

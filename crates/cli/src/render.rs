@@ -202,6 +202,14 @@ pub enum Albedo {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Resolution {
+    /// The image's resolution
+    Full,
+    /// Half in each direction
+    Half,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum DepthTest {
     /// Lerp towards the centre sample as the depth difference grows (thesis eq. 4.12)
     Lerp,
@@ -210,7 +218,7 @@ pub enum DepthTest {
     /// No depth test (light bleeds across silhouettes)
     None,
     /// Weight each sample by e^{−Δz²/(2τ)} (SSSS supplement §E), τ = --tolerance² or the
-    /// kernel's largest variance; light lost across depth gaps is not redistributed
+    /// kernel's largest variance, renormalized per channel (a soft reject)
     Gaussian,
 }
 
@@ -234,6 +242,13 @@ pub struct RenderArgs {
     /// Taps per 1D pass for kernels fitted here
     #[arg(long, default_value_t = 17)]
     taps: usize,
+
+    /// Image-error target: per material, the smallest rank (1: pre-integration, 2–6: SVD rescaled
+    /// to the kernel's energy) whose image RMS on `fit`'s test signals against the 2D ground
+    /// truth (images in [0, 1], mean over R, G, B) is at most this; higher ranks are not run
+    /// [default: pre-integration]
+    #[arg(long, value_name = "RMS", conflicts_with = "kernel")]
+    error_target: Option<f64>,
 
     /// Image width [px]
     #[arg(long, default_value_t = 1920)]
@@ -260,6 +275,11 @@ pub struct RenderArgs {
     /// kernel file's jitter, else 0]
     #[arg(long)]
     jitter: Option<f32>,
+
+    /// Resolution of the separable passes: full, or half (2×2 blocks averaged, blurred, then
+    /// brought back by a depth- and material-aware bilinear upsampling; a quarter of the work)
+    #[arg(long, value_enum, default_value_t = Resolution::Full)]
+    resolution: Resolution,
 
     /// Kernel width multiplier (1 = the material's physical scale)
     #[arg(long, default_value_t = 1.0)]
@@ -484,6 +504,35 @@ fn kernel_of(p: &Profile, slug: &str, model: KernelModel, taps: usize) -> Result
     Ok(build_kernel(p, &plain(model), slug, spec)?.0)
 }
 
+/// The kernel of the smallest rank (1: pre-integration, 2–6: SVD, renormalized) whose image RMS
+/// meets `target` (see `--error-target`), else rank 6 with a warning; prints each rank tried.
+fn kernel_for_target(p: &Profile, slug: &str, taps: usize, target: f64) -> Result<ShaderKernel> {
+    let judge = fit::select::Judge::new(p);
+    let mut best = None;
+    for rank in 1..=6usize {
+        let model = match rank {
+            1 => KernelModel::Preint,
+            _ => KernelModel::Svd {
+                rank,
+                renormalize: true,
+            },
+        };
+        let scored = judge.fit_and_score(model, slug, taps)?;
+        let e = scored.error();
+        let met = e <= target;
+        eprintln!(
+            "{slug}: rank {rank} ({model}, {taps} taps) image RMS {e:.5}{}",
+            if met { " ≤ target: chosen" } else { "" }
+        );
+        best = Some(scored.kernel);
+        if met {
+            return Ok(best.expect("set above"));
+        }
+    }
+    eprintln!("warning: {slug}: no rank up to 6 meets --error-target {target}: using rank 6");
+    Ok(best.expect("six ranks tried"))
+}
+
 fn png_rgba(width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>> {
     let mut out = Vec::new();
     {
@@ -518,6 +567,11 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     }
     if a.taps == 0 || a.taps > 1025 {
         bail!("invalid --taps {}: must be in 1..=1025", a.taps);
+    }
+    if let Some(t) = a.error_target
+        && !(t.is_finite() && t > 0.0)
+    {
+        bail!("invalid --error-target {t}: must be a positive image RMS");
     }
     if let Some(j) = a.jitter
         && !(0.0..=1.0).contains(&j)
@@ -693,6 +747,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         exposure: a.exposure,
         skip_empty: true,
         skip_subpixel: true,
+        half_res: a.resolution == Resolution::Half,
         shading,
     };
     if a.bench {
@@ -712,12 +767,11 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         None => all_named
             .iter()
             .map(|n| {
-                kernel_of(
-                    &a.source.profile(n, &mut files)?,
-                    &n.slug,
-                    KernelModel::Preint,
-                    a.taps,
-                )
+                let p = a.source.profile(n, &mut files)?;
+                match a.error_target {
+                    Some(t) => kernel_for_target(&p, &n.slug, a.taps, t),
+                    None => kernel_of(&p, &n.slug, KernelModel::Preint, a.taps),
+                }
             })
             .collect::<Result<_>>()?,
     };
@@ -764,6 +818,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         "adapter": gpu.adapter_name, "scene": a.scene, "method": if dipole.is_some() { "directional-dipole" } else { "separable" },
         "materials": all_named.iter().map(|n| &n.slug).collect::<Vec<_>>(),
         "kernel": kernels.first().map(|k| k.model.to_string()), "width": a.width, "height": a.height,
+        "kernels": kernels.iter().map(|k| json!({"model": k.model.to_string(), "passes": k.pass.len(), "taps": k.taps})).collect::<Vec<_>>(),
         "dipole": dipole.as_ref().map(|d| json!({"samples": d.samples, "frames": d.frames, "radius_cm": d.radius_cm, "light_map": d.map_size, "scale": d.scale})),
         "translucency": params.shading[..all_named.len()].iter().map(|s| s.translucency.as_ref().map(|t| json!({"first_cm": t.first_cm, "ratio": t.ratio, "tt_over_rho": t.table}))).collect::<Vec<_>>(),
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
@@ -1085,7 +1140,8 @@ fn bench_dipole(
 
 /// The SSS passes timed at --width × --height (1920×1080 by default) on a renderer built once
 /// (median of 5 frames each): every configuration of 11/17/25/33 taps × rank 1
-/// (pre-integration), 2, 3 (SVD), then what each skip saves on the 17-tap rank-1 kernel. GPU
+/// (pre-integration), 2, 3 (SVD) × full and half resolution (the latter's down- and upsampling
+/// counted in its SSS time), then what each skip saves on the 17-tap rank-1 kernel. GPU
 /// times are the blur passes' timestamp queries (null where the adapter has none; on a CPU
 /// adapter such as lavapipe they do not measure the work, so compare frame-time ratios there);
 /// frame times are wall-clock from recording to completion, uploads included, readback not.
@@ -1113,34 +1169,36 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
     }
     let renderer = gpu::Renderer::new(gpu);
     // Median over 5 frames of the blur passes' GPU time (None without timestamps) and the frame.
-    let measure = |scene: &Scene,
-                   k: &GpuKernel,
-                   params: &RenderParams|
-     -> Result<(Option<f64>, f64)> {
-        let mut sss = Vec::new();
-        let mut wall = Vec::new();
-        for _ in 0..5 {
-            let t = renderer.time(
-                gpu,
-                scene,
-                Scatter::Separable(std::slice::from_ref(k)),
-                params,
-            )?;
-            sss.push(
-                t.passes
-                    .iter()
-                    .filter(|p| p.label.ends_with("horizontal") || p.label.ends_with("vertical"))
-                    .map(|p| p.ms)
-                    .sum::<f64>(),
-            );
-            wall.push(t.wall_ms);
-        }
-        let median = |mut v: Vec<f64>| {
-            v.sort_by(f64::total_cmp);
-            v[v.len() / 2]
+    let measure =
+        |scene: &Scene, k: &GpuKernel, params: &RenderParams| -> Result<(Option<f64>, f64)> {
+            let mut sss = Vec::new();
+            let mut wall = Vec::new();
+            for _ in 0..5 {
+                let t = renderer.time(
+                    gpu,
+                    scene,
+                    Scatter::Separable(std::slice::from_ref(k)),
+                    params,
+                )?;
+                sss.push(
+                    t.passes
+                        .iter()
+                        .filter(|p| {
+                            ["horizontal", "vertical", "half-res down", "half-res up"]
+                                .iter()
+                                .any(|k| p.label.ends_with(k))
+                        })
+                        .map(|p| p.ms)
+                        .sum::<f64>(),
+                );
+                wall.push(t.wall_ms);
+            }
+            let median = |mut v: Vec<f64>| {
+                v.sort_by(f64::total_cmp);
+                v[v.len() / 2]
+            };
+            Ok((gpu.timestamps.then(|| median(sss)), median(wall)))
         };
-        Ok((gpu.timestamps.then(|| median(sss)), median(wall)))
-    };
     let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
     table!(
         "SSS passes at {}×{} on {} ({slug} on {}, renderer built once, median of 5 frames)",
@@ -1171,23 +1229,32 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
         };
         for taps in [11, 17, 25, 33] {
             let k = GpuKernel::from_shader_kernel(&kernel_of(p, slug, model, taps)?)?;
-            let (sss, frame) = measure(scene, &k, &params)?;
-            if rank == 1 && taps == 17 {
-                preint17 = Some((k, sss, frame));
-            }
-            let ratio = frame / preint17.as_ref().map_or(frame, |p| p.2);
-            table!(
-                "  {:<12} {taps:>5} {rank:>5} {:>10} {:>12} {frame:>10.1} {:>14}",
-                model.to_string(),
-                "full",
-                ms(sss),
-                if preint17.is_some() {
-                    format!("{ratio:.2}")
-                } else {
-                    "-".into()
+            for half in [false, true] {
+                let (sss, frame) = measure(
+                    scene,
+                    &k,
+                    &RenderParams {
+                        half_res: half,
+                        ..params
+                    },
+                )?;
+                if rank == 1 && taps == 17 && !half {
+                    preint17 = Some((k.clone(), sss, frame));
                 }
-            );
-            configs.push(json!({"kernel": model.to_string(), "taps": taps, "rank": rank, "resolution": "full", "gpu_ms": sss, "frame_ms": frame}));
+                let ratio = frame / preint17.as_ref().map_or(frame, |p| p.2);
+                let resolution = if half { "half" } else { "full" };
+                table!(
+                    "  {:<12} {taps:>5} {rank:>5} {resolution:>10} {:>12} {frame:>10.1} {:>14}",
+                    model.to_string(),
+                    ms(sss),
+                    if preint17.is_some() {
+                        format!("{ratio:.2}")
+                    } else {
+                        "-".into()
+                    }
+                );
+                configs.push(json!({"kernel": model.to_string(), "taps": taps, "rank": rank, "resolution": resolution, "gpu_ms": sss, "frame_ms": frame}));
+            }
         }
     }
     let (k, on_sss, on_frame) = preint17.expect("17 taps were timed");

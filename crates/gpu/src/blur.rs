@@ -165,8 +165,12 @@ pub enum DepthMode {
     Reject,
     /// Multiply each sample's weight by e^{−Δz²/(2τ)} (the SSSS supplement §E: a Gaussian
     /// profile evaluated at the 3D distance factors into the screen-space one times this), with
-    /// τ = tolerance² and by default the kernel's largest variance τmax (× width²); the weight
-    /// lost is not given to other samples (light does not cross depth gaps).
+    /// τ = tolerance² and by default the kernel's largest variance τmax (× width²), and give the
+    /// weight lost to the samples kept, per channel, as [`DepthMode::Reject`] does. The
+    /// supplement does not renormalize; but its factor alone drops a share cos θ of the light on
+    /// a surface tilted by θ from the view (the area element 1/cos θ between screen and surface
+    /// is missing): measured on the reference sphere, energy 0.68/0.77/0.80 of Mitsuba's against
+    /// 0.90/0.86/0.84 for lerp. Renormalized, a uniformly lit tilted plane keeps its exitance.
     Gaussian,
 }
 

@@ -27,6 +27,7 @@ mod context;
 pub mod dipole;
 mod error;
 mod gbuffer;
+mod half;
 mod mesh;
 mod params;
 mod render;
@@ -56,7 +57,7 @@ mod tests {
     /// Rust twin uploaded into it (None: no uniform twin).
     type Shader = (&'static str, &'static str, Option<(&'static str, usize)>);
 
-    const SHADERS: [Shader; 7] = [
+    const SHADERS: [Shader; 8] = [
         (
             "scene.wgsl",
             crate::gbuffer::SCENE_WGSL,
@@ -68,6 +69,11 @@ mod tests {
             "blur.wgsl",
             include_str!("shaders/blur.wgsl"),
             Some(("Params", crate::blur::BLUR_UNIFORM_SIZE)),
+        ),
+        (
+            "half.wgsl",
+            include_str!("shaders/half.wgsl"),
+            Some(("Params", crate::half::HALF_UNIFORM_SIZE)),
         ),
         (
             "combine.wgsl",

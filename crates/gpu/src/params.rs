@@ -33,6 +33,9 @@ pub struct RenderParams {
     /// away, or a tiny kernel) is not blurred: its kernel is replaced by one tap holding the
     /// kernel's total response ([`crate::GpuKernel::point`]). Off only to measure what that saves.
     pub skip_subpixel: bool,
+    /// Run the separable passes at half resolution (2×2 blocks averaged, then a depth- and
+    /// material-aware bilinear upsampling; `half.rs`), a quarter of the blur's work.
+    pub half_res: bool,
     /// Per SSS material (the vertices' `material` index): how its surfaces are shaded.
     pub shading: [Shading; MAX_MATERIALS],
 }
@@ -54,6 +57,7 @@ impl Default for RenderParams {
             exposure: 1.0,
             skip_empty: true,
             skip_subpixel: true,
+            half_res: false,
             shading: [Shading::default(); MAX_MATERIALS],
         }
     }

@@ -8,6 +8,7 @@ use crate::context::{Gpu, pixels};
 use crate::dipole::DipoleSetup;
 use crate::error::{GpuError, Result};
 use crate::gbuffer::{GBufferPass, camera_view_proj};
+use crate::half::{HalfRes, half_size};
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
 use crate::scene::Scene;
@@ -103,6 +104,7 @@ pub struct Renderer {
     shadow: ShadowPass,
     gbuffer: GBufferPass,
     blur: Blur,
+    half: HalfRes,
     combine: Combine,
 }
 
@@ -121,6 +123,7 @@ impl Renderer {
             shadow: ShadowPass::new(gpu),
             gbuffer: GBufferPass::new(gpu),
             blur: Blur::new(gpu),
+            half: HalfRes::new(gpu),
             combine: Combine::new(gpu),
         }
     }
@@ -280,11 +283,13 @@ impl Renderer {
         let scattered = pixels(gpu, n, "scattered");
         match scatter {
             Scatter::Separable(kernels) => {
+                // Half resolution: the blur's pixels are 2×2 of the image's.
+                let px = if params.half_res { 0.5 } else { 1.0 };
                 let kernels: Vec<GpuKernel> = kernels
                     .iter()
                     .enumerate()
                     .map(|(m, k)| {
-                        let footprint = kernel_footprint_px(scene, m as u32, k, params);
+                        let footprint = px * kernel_footprint_px(scene, m as u32, k, params);
                         if params.skip_subpixel && footprint < SUBPIXEL_PX {
                             k.point()
                         } else {
@@ -293,7 +298,7 @@ impl Renderer {
                     })
                     .collect();
                 let blur_params = BlurParams {
-                    px_per_cm_at_unit_depth: scene.camera.px_per_cm_at_unit_depth(h),
+                    px_per_cm_at_unit_depth: px * scene.camera.px_per_cm_at_unit_depth(h),
                     sss_width: params.sss_width,
                     depth_mode: params.depth_mode,
                     tolerance_cm: params.tolerance_cm,
@@ -301,19 +306,63 @@ impl Renderer {
                     fixed_depth: params.fixed_depth,
                     skip_empty: params.skip_empty,
                 };
-                let tmp = pixels(gpu, n, "tmp");
-                self.blur.encode(
-                    gpu,
-                    &mut enc,
-                    &kernels,
-                    &blur_params,
-                    (w, h),
-                    &gbuffer.diffuse,
-                    &gbuffer.geometry,
-                    &tmp,
-                    &scattered,
-                    &mut timer.as_mut(),
-                );
+                if params.half_res {
+                    let size = half_size((w, h));
+                    let m = (size.0 * size.1) as usize;
+                    let [hd, hg, hs, tmp] =
+                        ["half diffuse", "half geometry", "half scattered", "tmp"]
+                            .map(|l| pixels(gpu, m, l));
+                    // Upsampling weights fall by e over the largest kernel's range.
+                    let tolerance = params.tolerance_cm.unwrap_or(
+                        params.sss_width * kernels.iter().map(|k| k.range_cm).fold(0.0, f32::max),
+                    );
+                    let full = (&gbuffer.diffuse, &gbuffer.geometry);
+                    let u = self.half.down(
+                        gpu,
+                        &mut enc,
+                        (w, h),
+                        tolerance,
+                        full,
+                        (&hd, &hg),
+                        &mut timer.as_mut(),
+                    );
+                    self.blur.encode(
+                        gpu,
+                        &mut enc,
+                        &kernels,
+                        &blur_params,
+                        size,
+                        &hd,
+                        &hg,
+                        &tmp,
+                        &hs,
+                        &mut timer.as_mut(),
+                    );
+                    self.half.up(
+                        gpu,
+                        &mut enc,
+                        (w, h),
+                        &u,
+                        full,
+                        (&hs, &hg),
+                        &scattered,
+                        &mut timer.as_mut(),
+                    );
+                } else {
+                    let tmp = pixels(gpu, n, "tmp");
+                    self.blur.encode(
+                        gpu,
+                        &mut enc,
+                        &kernels,
+                        &blur_params,
+                        (w, h),
+                        &gbuffer.diffuse,
+                        &gbuffer.geometry,
+                        &tmp,
+                        &scattered,
+                        &mut timer.as_mut(),
+                    );
+                }
             }
             Scatter::DirectionalDipole(setup) => crate::dipole::encode(
                 gpu,

@@ -272,10 +272,11 @@ fn doubling_the_depth_halves_the_blur_radius() {
     assert!((near / far - 2.0).abs() < 0.05, "{near} / {far}");
 }
 
-/// The supplement's depth factor (§E): each sample's weight × e^{−Δz²/(2τ)}, the light lost not
-/// redistributed. A uniform image over two depth planes 0.5 cm apart with √τ = 0.5 cm: a pixel
-/// keeps its own side's samples whole and e^{−1/2} of the other side's, exactly as summed here
-/// (taps on whole pixels, so no interpolation).
+/// The supplement's depth factor (§E), renormalized: each sample's weight × e^{−Δz²/(2τ)}, the
+/// weight lost given to the samples kept. Light 1 on the left of a depth step of 0.5 cm, 0 on the
+/// right, √τ = 0.5 cm: every pixel is the sum here (taps on whole pixels, so no interpolation).
+/// And the physics the renormalization restores: a uniformly lit tilted plane (depth rising
+/// linearly across the image) keeps its exitance, where the factor alone would darken it.
 #[test]
 fn the_gaussian_depth_factor_weights_samples_across_a_depth_step() {
     let Some(gpu) = gpu() else { return };
@@ -296,9 +297,6 @@ fn the_gaussian_depth_factor_weights_samples_across_a_depth_step() {
         range_cm: 4.0,
     };
     let (w, h) = (32usize, 8usize);
-    let geometry: Vec<[f32; 4]> = (0..w * h)
-        .map(|i| [if i % w < w / 2 { 30.0 } else { 30.5 }, 1.0, 0.0, 1.0])
-        .collect();
     let pr = BlurParams {
         // 1 cm = 1 px at the fixed depth.
         px_per_cm_at_unit_depth: 30.0,
@@ -309,30 +307,45 @@ fn the_gaussian_depth_factor_weights_samples_across_a_depth_step() {
         fixed_depth: Some(30.0),
         skip_empty: true,
     };
-    let out = blur_image(
-        &gpu,
-        &vec![[1.0; 4]; w * h],
-        &geometry,
-        (w as u32, h as u32),
-        std::slice::from_ref(&kernel),
-        &pr,
-    )
-    .unwrap();
+    let run = |image: &[[f32; 4]], depth: &dyn Fn(usize) -> f32| {
+        let geometry: Vec<[f32; 4]> = (0..w * h).map(|i| [depth(i % w), 1.0, 0.0, 1.0]).collect();
+        blur_image(
+            &gpu,
+            image,
+            &geometry,
+            (w as u32, h as u32),
+            std::slice::from_ref(&kernel),
+            &pr,
+        )
+        .unwrap()
+    };
+    let left = |x: usize| x < w / 2;
+    let image: Vec<[f32; 4]> = (0..w * h)
+        .map(|i| if left(i % w) { [1.0; 4] } else { [0.0; 4] })
+        .collect();
+    let out = run(&image, &|x| if left(x) { 30.0 } else { 30.5 });
     let across = (-0.5f32).exp();
     for x in 0..w {
-        let side = |x: usize| x < w / 2;
-        let want: f32 = (0..5)
-            .map(|t| {
-                let xs = (x as i32 + 2 * (t as i32 - 2)).clamp(0, w as i32 - 1) as usize;
-                w_taps[t] * if side(xs) == side(x) { 1.0 } else { across }
-            })
-            .sum();
+        let (mut lit, mut kept) = (0.0f32, 0.0f32);
+        for (t, wt) in w_taps.iter().enumerate() {
+            let xs = (x as i32 + 2 * (t as i32 - 2)).clamp(0, w as i32 - 1) as usize;
+            let f = wt * if left(xs) == left(x) { 1.0 } else { across };
+            kept += f;
+            if left(xs) {
+                lit += f;
+            }
+        }
+        let want = lit / kept;
         let got = out[4 * w + x][0];
         assert!((got - want).abs() < 1e-5, "x = {x}: {got} vs {want}");
     }
-    // Far from the step nothing is lost; at it, light is.
-    assert!((out[4 * w][0] - 1.0).abs() < 1e-6);
-    assert!(out[4 * w + w / 2][0] < 0.9);
+    // Light crosses the step, damped: the first dark pixel gets some, less than without a step.
+    assert!(out[4 * w + w / 2][0] > 0.01 && out[4 * w + w / 2][0] < 0.25);
+    // A tilted plane, 0.3 cm deeper per pixel, uniformly lit: exitance kept.
+    let tilted = run(&vec![[1.0; 4]; w * h], &|x| 30.0 + 0.3 * x as f32);
+    for v in &tilted {
+        assert!((v[0] - 1.0).abs() < 1e-5, "{v:?}");
+    }
 }
 
 /// Banding (supplement Fig. S.6–S.7): a pre-integrated kernel of 13 taps blurs an edge in visible

@@ -26,7 +26,7 @@ struct Params {
     // standard deviation √τ of the depth factor (mode 3).
     tolerance: f32,
     // 0: no depth test, 1: lerp towards the centre sample (eq. 4.12), 2: reject and renormalize,
-    // 3: weight × e^{−Δz²/(2τ)} (SSSS supplement §E), not renormalized.
+    // 3: weight × e^{−Δz²/(2τ)} (SSSS supplement §E), renormalized like mode 2.
     mode: u32,
     // The fraction of taps jittered per pixel within their cells (supplement Fig. S.6–S.7).
     jitter: f32,
@@ -140,12 +140,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             s = mix(s, centre.rgb, clamp(dz / p.tolerance, 0.0, 1.0));
         } else if p.mode == 2u && dz > p.tolerance {
             w = vec3<f32>(0.0);
-        }
-        kept += w;
-        if p.mode == 3u {
-            // Light lost across the depth gap: not in `kept`, so not renormalized away.
+        } else if p.mode == 3u {
             w *= exp(-dz * dz / (2.0 * p.tolerance * p.tolerance));
         }
+        kept += w;
         sum += w * s;
     }
     // Rejected samples' weight goes to those kept, per channel; none kept: the centre. (Without

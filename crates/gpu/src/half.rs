@@ -1,0 +1,165 @@
+//! Half-resolution SSS (what Unreal ships by default): the irradiance is averaged into 2×2 blocks,
+//! the separable passes run on a quarter of the pixels, and the result is brought back by a
+//! depth- and material-aware bilinear upsampling (half.wgsl); the final image is still composed
+//! at full resolution, so albedo and specular keep their detail.
+
+use wgpu::util::DeviceExt;
+
+use crate::context::Gpu;
+use crate::timing::Timer;
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Uniform {
+    width: u32,
+    height: u32,
+    half_width: u32,
+    half_height: u32,
+    tolerance: f32,
+    _pad: [u32; 3],
+}
+
+/// The size of half.wgsl's `Params` (checked against naga's layout in a test).
+pub(crate) const HALF_UNIFORM_SIZE: usize = 32;
+const _: () = assert!(std::mem::size_of::<Uniform>() == HALF_UNIFORM_SIZE);
+
+/// The compiled down- and upsampling pipelines.
+pub(crate) struct HalfRes {
+    down: wgpu::ComputePipeline,
+    up: wgpu::ComputePipeline,
+}
+
+/// The half-resolution size of a `width`×`height` image.
+pub(crate) fn half_size((w, h): (u32, u32)) -> (u32, u32) {
+    (w.div_ceil(2), h.div_ceil(2))
+}
+
+impl HalfRes {
+    pub(crate) fn new(gpu: &Gpu) -> HalfRes {
+        let dev = &gpu.device;
+        let module = dev.create_shader_module(wgpu::include_wgsl!("shaders/half.wgsl"));
+        let pipeline = |entry: &str| {
+            dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: None,
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        HalfRes {
+            down: pipeline("down"),
+            up: pipeline("up"),
+        }
+    }
+
+    /// Records one pass of `pipeline` over `(x, y)` pixels with `buffers` at their bindings.
+    #[allow(clippy::too_many_arguments)]
+    fn pass(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        pipeline: &wgpu::ComputePipeline,
+        label: &str,
+        (x, y): (u32, u32),
+        buffers: &[(u32, &wgpu::Buffer)],
+        timer: &mut Option<&mut Timer>,
+    ) {
+        let entries: Vec<wgpu::BindGroupEntry> = buffers
+            .iter()
+            .map(|(b, buf)| wgpu::BindGroupEntry {
+                binding: *b,
+                resource: buf.as_entire_binding(),
+            })
+            .collect();
+        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        });
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(label),
+            timestamp_writes: timer.as_mut().map(|t| t.writes(label)),
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(x.div_ceil(8), y.div_ceil(8), 1);
+    }
+
+    /// Records the downsampling of `diffuse` and `geometry` (full resolution `size`) into
+    /// `half_diffuse` and `half_geometry`, the blur's input at [`half_size`].
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn down(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        size: (u32, u32),
+        tolerance_cm: f32,
+        full: (&wgpu::Buffer, &wgpu::Buffer),
+        half: (&wgpu::Buffer, &wgpu::Buffer),
+        timer: &mut Option<&mut Timer>,
+    ) -> wgpu::Buffer {
+        let u = self.uniform(gpu, size, tolerance_cm);
+        self.pass(
+            gpu,
+            enc,
+            &self.down,
+            "half-res down",
+            half_size(size),
+            &[(0, &u), (1, full.0), (2, full.1), (3, half.0), (4, half.1)],
+            timer,
+        );
+        u
+    }
+
+    /// Records the upsampling of the blurred `half_scattered` into `scattered` (full resolution),
+    /// with the uniform [`HalfRes::down`] returned.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn up(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        size: (u32, u32),
+        uniform: &wgpu::Buffer,
+        full: (&wgpu::Buffer, &wgpu::Buffer),
+        half: (&wgpu::Buffer, &wgpu::Buffer),
+        scattered: &wgpu::Buffer,
+        timer: &mut Option<&mut Timer>,
+    ) {
+        self.pass(
+            gpu,
+            enc,
+            &self.up,
+            "half-res up",
+            size,
+            &[
+                (0, uniform),
+                (1, full.0),
+                (2, full.1),
+                (5, half.0),
+                (6, scattered),
+                (7, half.1),
+            ],
+            timer,
+        );
+    }
+
+    fn uniform(&self, gpu: &Gpu, size: (u32, u32), tolerance_cm: f32) -> wgpu::Buffer {
+        let (hw, hh) = half_size(size);
+        let u = Uniform {
+            width: size.0,
+            height: size.1,
+            half_width: hw,
+            half_height: hh,
+            tolerance: tolerance_cm.max(1e-6),
+            _pad: [0; 3],
+        };
+        gpu.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("half-res params"),
+                contents: bytemuck::bytes_of(&u),
+                usage: wgpu::BufferUsages::UNIFORM,
+            })
+    }
+}
