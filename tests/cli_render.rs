@@ -239,7 +239,7 @@ fn render_bench_json_reports_every_configuration_and_the_skips() {
         (Some(96), Some(54))
     );
     let configs = v["configs"].as_array().unwrap();
-    let mut seen: Vec<(u64, u64, String)> = configs
+    let mut seen: Vec<(u64, u64, String, String)> = configs
         .iter()
         .map(|c| {
             assert!(c["frame_ms"].as_f64().unwrap() > 0.0, "{c}");
@@ -248,14 +248,22 @@ fn render_bench_json_reports_every_configuration_and_the_skips() {
                 c["taps"].as_u64().unwrap(),
                 c["rank"].as_u64().unwrap(),
                 c["resolution"].as_str().unwrap().to_string(),
+                c["path"].as_str().unwrap().to_string(),
             )
         })
         .collect();
     seen.sort();
-    let want: Vec<(u64, u64, String)> = [11, 17, 25, 33]
-        .iter()
-        .flat_map(|&t| (1..=3).flat_map(move |r| ["full", "half"].map(|s| (t, r, s.to_string()))))
-        .collect();
+    let mut want: Vec<(u64, u64, String, String)> = Vec::new();
+    for t in [11, 17, 25, 33] {
+        for r in 1..=3 {
+            for s in ["full", "half"] {
+                for p in ["exact", "fast"] {
+                    want.push((t, r, s.into(), p.into()));
+                }
+            }
+        }
+    }
+    want.sort();
     assert_eq!(seen, want);
     let skips = &v["skips"];
     let share = skips["empty_pixels"]["sss_pixel_fraction"]

@@ -202,6 +202,14 @@ pub enum Albedo {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BlurPath {
+    /// Storage buffers, two f32 reads per tap
+    Exact,
+    /// One bilinearly filtered rgba16float fetch per tap
+    Fast,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Resolution {
     /// The image's resolution
     Full,
@@ -280,6 +288,12 @@ pub struct RenderArgs {
     /// brought back by a depth- and material-aware bilinear upsampling; a quarter of the work)
     #[arg(long, value_enum, default_value_t = Resolution::Full)]
     resolution: Resolution,
+
+    /// How the separable passes read their samples: exact (two f32 reads per tap, several
+    /// materials) or fast (one filtered fetch per tap from an rgba16float texture of light and
+    /// depth, as SSSS; one material; 0.1 % from exact on the sphere)
+    #[arg(long, value_enum, default_value_t = BlurPath::Exact)]
+    blur: BlurPath,
 
     /// Kernel width multiplier (1 = the material's physical scale)
     #[arg(long, default_value_t = 1.0)]
@@ -628,6 +642,12 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
             a.scene
         );
     }
+    if materials > 1 && a.blur == BlurPath::Fast {
+        bail!(
+            "--blur fast takes one SSS material (--scene {} has {materials}): its samples do not know their material",
+            a.scene
+        );
+    }
     if materials > 1 && a.method == Method::DirectionalDipole {
         bail!("--method directional-dipole renders one SSS material per frame");
     }
@@ -748,6 +768,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         skip_empty: true,
         skip_subpixel: true,
         half_res: a.resolution == Resolution::Half,
+        fast: a.blur == BlurPath::Fast,
         shading,
     };
     if a.bench {
@@ -1141,7 +1162,7 @@ fn bench_dipole(
 /// The SSS passes timed at --width × --height (1920×1080 by default) on a renderer built once
 /// (median of 5 frames each): every configuration of 11/17/25/33 taps × rank 1
 /// (pre-integration), 2, 3 (SVD) × full and half resolution (the latter's down- and upsampling
-/// counted in its SSS time), then what each skip saves on the 17-tap rank-1 kernel. GPU
+/// counted in its SSS time) × the exact and the fast blur path, then what each skip saves on the 17-tap rank-1 kernel. GPU
 /// times are the blur passes' timestamp queries (null where the adapter has none; on a CPU
 /// adapter such as lavapipe they do not measure the work, so compare frame-time ratios there);
 /// frame times are wall-clock from recording to completion, uploads included, readback not.
@@ -1184,9 +1205,15 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
                     t.passes
                         .iter()
                         .filter(|p| {
-                            ["horizontal", "vertical", "half-res down", "half-res up"]
-                                .iter()
-                                .any(|k| p.label.ends_with(k))
+                            [
+                                "horizontal",
+                                "vertical",
+                                "half-res down",
+                                "half-res up",
+                                "blur pack",
+                            ]
+                            .iter()
+                            .any(|k| p.label.ends_with(k))
                         })
                         .map(|p| p.ms)
                         .sum::<f64>(),
@@ -1208,11 +1235,12 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
         a.scene
     );
     table!(
-        "  {:<12} {:>5} {:>5} {:>10} {:>12} {:>10} {:>14}",
+        "  {:<12} {:>5} {:>5} {:>10} {:>6} {:>12} {:>10} {:>14}",
         "kernel",
         "taps",
         "rank",
         "resolution",
+        "path",
         "SSS GPU ms",
         "frame ms",
         "÷ preint 17"
@@ -1229,22 +1257,24 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
         };
         for taps in [11, 17, 25, 33] {
             let k = GpuKernel::from_shader_kernel(&kernel_of(p, slug, model, taps)?)?;
-            for half in [false, true] {
+            for (half, fast) in [(false, false), (true, false), (false, true), (true, true)] {
                 let (sss, frame) = measure(
                     scene,
                     &k,
                     &RenderParams {
                         half_res: half,
+                        fast,
                         ..params
                     },
                 )?;
-                if rank == 1 && taps == 17 && !half {
+                if rank == 1 && taps == 17 && !half && !fast {
                     preint17 = Some((k.clone(), sss, frame));
                 }
                 let ratio = frame / preint17.as_ref().map_or(frame, |p| p.2);
                 let resolution = if half { "half" } else { "full" };
+                let path = if fast { "fast" } else { "exact" };
                 table!(
-                    "  {:<12} {taps:>5} {rank:>5} {resolution:>10} {:>12} {frame:>10.1} {:>14}",
+                    "  {:<12} {taps:>5} {rank:>5} {resolution:>10} {path:>6} {:>12} {frame:>10.1} {:>14}",
                     model.to_string(),
                     ms(sss),
                     if preint17.is_some() {
@@ -1253,7 +1283,7 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
                         "-".into()
                     }
                 );
-                configs.push(json!({"kernel": model.to_string(), "taps": taps, "rank": rank, "resolution": resolution, "gpu_ms": sss, "frame_ms": frame}));
+                configs.push(json!({"kernel": model.to_string(), "taps": taps, "rank": rank, "resolution": resolution, "path": path, "gpu_ms": sss, "frame_ms": frame}));
             }
         }
     }

@@ -18,8 +18,14 @@ pub struct GpuKernel {
     pub range_cm: f32,
 }
 
+/// The most separable terms a kernel may have (rank 6 SVD and d'Eon's 6 Gaussians fit twice).
+pub const MAX_PASSES: usize = 12;
+/// The most taps per 1D pass.
+pub const MAX_TAPS: usize = 1025;
+
 impl GpuKernel {
-    /// Converts a `sss fit` kernel file; refuses empty or non-finite taps and non-cm units.
+    /// Converts a `sss fit` kernel file; refuses non-cm units, empty or non-finite taps, more
+    /// than [`MAX_PASSES`] terms and more than [`MAX_TAPS`] taps per pass.
     pub fn from_shader_kernel(k: &fit::taps::ShaderKernel) -> Result<GpuKernel> {
         if k.unit != "cm" {
             return Err(GpuError::invalid("kernel unit", &k.unit, "expected \"cm\""));
@@ -29,6 +35,20 @@ impl GpuKernel {
                 "kernel pass",
                 k.pass.len(),
                 "needs at least one pass with taps",
+            ));
+        }
+        if k.pass.len() > MAX_PASSES {
+            return Err(GpuError::invalid(
+                "kernel passes",
+                k.pass.len(),
+                format!("at most {MAX_PASSES} separable terms per kernel"),
+            ));
+        }
+        if let Some(p) = k.pass.iter().find(|p| p.tap.len() > MAX_TAPS) {
+            return Err(GpuError::invalid(
+                "kernel taps per pass",
+                p.tap.len(),
+                format!("at most {MAX_TAPS}"),
             ));
         }
         let mut range = 0.0f32;
@@ -199,6 +219,10 @@ pub struct BlurParams {
     /// vertical pass to sample). Off: every pixel runs every tap, only to measure the saving; the
     /// output on the pass's own pixels is the same.
     pub skip_empty: bool,
+    /// The fast path: one bilinearly filtered fetch per tap from an rgba16float texture holding
+    /// the light and the view depth (as SSSS), instead of two storage-buffer reads of each; half
+    /// precision (the depth's step is 0.016 cm at 24 cm, 0.5 cm at 1000 cm). One SSS material.
+    pub fast: bool,
 }
 
 #[repr(C)]
@@ -227,25 +251,64 @@ struct Uniform {
 pub(crate) const BLUR_UNIFORM_SIZE: usize = 96;
 const _: () = assert!(std::mem::size_of::<Uniform>() == BLUR_UNIFORM_SIZE);
 
-/// The compiled blur pipeline.
+/// The exact path's shader: the shared pass with storage-buffer sampling.
+pub(crate) const BLUR_WGSL: &str = concat!(
+    include_str!("shaders/blur.wgsl"),
+    include_str!("shaders/blur_exact.wgsl")
+);
+
+/// The fast path's shader: the shared pass with one filtered texture fetch per tap.
+pub(crate) const BLUR_FAST_WGSL: &str = concat!(
+    include_str!("shaders/blur.wgsl"),
+    include_str!("shaders/blur_fast.wgsl")
+);
+
+/// The fast path's texture format: light and view depth at half precision, filterable.
+const FAST_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// The compiled blur pipelines: the exact path, the fast path and its packing pass.
 pub(crate) struct Blur {
     pipeline: wgpu::ComputePipeline,
+    fast: wgpu::ComputePipeline,
+    pack: wgpu::ComputePipeline,
+    sampler: wgpu::Sampler,
 }
 
 impl Blur {
     pub(crate) fn new(gpu: &Gpu) -> Blur {
+        let dev = &gpu.device;
+        let pipeline = |source: &str, entry: &str, label: &str| {
+            let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+            dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(label),
+                layout: None,
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
         Blur {
-            pipeline: crate::context::compute_pipeline(
-                &gpu.device,
-                wgpu::include_wgsl!("shaders/blur.wgsl"),
-                "blur",
-            ),
+            pipeline: pipeline(BLUR_WGSL, "main", "blur"),
+            fast: pipeline(BLUR_FAST_WGSL, "main", "blur fast"),
+            pack: pipeline(BLUR_FAST_WGSL, "pack", "blur fast pack"),
+            sampler: dev.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("blur fast"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            }),
         }
     }
 
     /// Records every pass of every material's kernel (`kernels[m]` on the pixels of material m):
-    /// src → tmp (horizontal) → dst (vertical, accumulated). `dst` is cleared first. With
-    /// `timer`, each 1D pass gets begin/end timestamps.
+    /// src → tmp (horizontal) → dst (vertical, accumulated); the fast path packs src and the
+    /// depth into a texture and keeps the horizontal result in another (`tmp` unused). `dst` is
+    /// cleared first. With `timer`, each 1D pass gets begin/end timestamps. The fast path takes
+    /// one kernel (one material).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn encode(
         &self,
@@ -259,8 +322,38 @@ impl Blur {
         tmp: &wgpu::Buffer,
         dst: &wgpu::Buffer,
         timer: &mut Option<&mut crate::timing::Timer>,
-    ) {
+    ) -> Result<()> {
+        if params.fast && kernels.len() != 1 {
+            return Err(GpuError::invalid(
+                "materials",
+                kernels.len(),
+                "the fast blur path takes one SSS material (its samples do not know their material)",
+            ));
+        }
         enc.clear_buffer(dst, 0, None);
+        // The fast path's textures: the packed source and the horizontal result.
+        let textures = params.fast.then(|| {
+            let texture = |label| {
+                gpu.device
+                    .create_texture(&wgpu::TextureDescriptor {
+                        label: Some(label),
+                        size: wgpu::Extent3d {
+                            width,
+                            height,
+                            depth_or_array_layers: 1,
+                        },
+                        mip_level_count: 1,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format: FAST_FORMAT,
+                        usage: wgpu::TextureUsages::TEXTURE_BINDING
+                            | wgpu::TextureUsages::STORAGE_BINDING,
+                        view_formats: &[],
+                    })
+                    .create_view(&Default::default())
+            };
+            [texture("blur source"), texture("blur horizontal")]
+        });
         let mode = match params.depth_mode {
             DepthMode::None => 0,
             DepthMode::Lerp => 1,
@@ -327,36 +420,62 @@ impl Blur {
                         contents: bytemuck::bytes_of(&u),
                         usage: wgpu::BufferUsages::UNIFORM,
                     });
-                let (from, to) = if horizontal { (src, tmp) } else { (tmp, dst) };
+                fn buffer(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+                    wgpu::BindGroupEntry {
+                        binding,
+                        resource: b.as_entire_binding(),
+                    }
+                }
+                fn view(binding: u32, v: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
+                    wgpu::BindGroupEntry {
+                        binding,
+                        resource: wgpu::BindingResource::TextureView(v),
+                    }
+                }
+                let mut entries = vec![
+                    buffer(0, &ubuf),
+                    buffer(1, &taps_buf),
+                    buffer(3, geometry),
+                    buffer(5, &cells),
+                ];
+                let pipeline = match &textures {
+                    None => {
+                        let (from, to) = if horizontal { (src, tmp) } else { (tmp, dst) };
+                        entries.extend([buffer(2, from), buffer(4, to)]);
+                        &self.pipeline
+                    }
+                    Some([packed, across]) => {
+                        if horizontal && p == 0 && material == 0 {
+                            self.encode_pack(
+                                gpu,
+                                enc,
+                                (&ubuf, src, geometry),
+                                packed,
+                                (width, height),
+                            );
+                        }
+                        // Sampled source and storage target swap between the two passes.
+                        let (from, to) = if horizontal {
+                            (packed, across)
+                        } else {
+                            (across, packed)
+                        };
+                        entries.extend([
+                            view(2, from),
+                            buffer(4, dst),
+                            wgpu::BindGroupEntry {
+                                binding: 6,
+                                resource: wgpu::BindingResource::Sampler(&self.sampler),
+                            },
+                            view(7, to),
+                        ]);
+                        &self.fast
+                    }
+                };
                 let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: None,
-                    layout: &self.pipeline.get_bind_group_layout(0),
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: ubuf.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: taps_buf.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 2,
-                            resource: from.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 3,
-                            resource: geometry.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 4,
-                            resource: to.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 5,
-                            resource: cells.as_entire_binding(),
-                        },
-                    ],
+                    layout: &pipeline.get_bind_group_layout(0),
+                    entries: &entries,
                 });
                 let label = format!(
                     "{}pass {} {}",
@@ -373,11 +492,53 @@ impl Blur {
                     label: Some(&label),
                     timestamp_writes: writes,
                 });
-                pass.set_pipeline(&self.pipeline);
+                pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, &bind, &[]);
                 pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
             }
         }
+        Ok(())
+    }
+
+    /// Records the fast path's packing of the light (`src`) and view depth into `packed`;
+    /// `uniform` gives the image size.
+    fn encode_pack(
+        &self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        (uniform, src, geometry): (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
+        packed: &wgpu::TextureView,
+        (width, height): (u32, u32),
+    ) {
+        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &self.pack.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: geometry.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: wgpu::BindingResource::TextureView(packed),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 8,
+                    resource: src.as_entire_binding(),
+                },
+            ],
+        });
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("blur pack"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pack);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
     }
 }
 
@@ -439,8 +600,45 @@ pub fn blur_image(
         &tmp,
         &dst,
         &mut None,
-    );
+    )?;
     gpu.queue.submit([enc.finish()]);
     let bytes = gpu.read_buffer(&dst, (n * 16) as u64)?;
     Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&bytes).to_vec())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Kernel files the renderer cannot take are refused, naming the field.
+    #[test]
+    fn kernel_files_that_do_not_fit_are_refused() {
+        let a: Vec<f64> = (-20..=20)
+            .map(|i| (-(0.01 * i as f64).powi(2) / 0.01).exp())
+            .collect();
+        let g = fit::Separable::rank1(0.01, a);
+        let one = fit::taps::ShaderKernel::from_separable(
+            fit::KernelModel::Preint,
+            "test",
+            [&g, &g, &g],
+            9,
+            0.99,
+            0.0,
+        );
+        assert!(GpuKernel::from_shader_kernel(&one).is_ok());
+        let mut wrong_unit = one.clone();
+        wrong_unit.unit = "mm".into();
+        let mut too_many = one.clone();
+        too_many.pass = vec![one.pass[0].clone(); MAX_PASSES + 1];
+        let mut too_wide = one.clone();
+        too_wide.pass[0].tap = vec![one.pass[0].tap[0].clone(); MAX_TAPS + 1];
+        for (k, field) in [
+            (wrong_unit, "kernel unit"),
+            (too_many, "kernel passes"),
+            (too_wide, "kernel taps per pass"),
+        ] {
+            let e = GpuKernel::from_shader_kernel(&k).unwrap_err().to_string();
+            assert!(e.contains(field), "{e}");
+        }
+    }
 }

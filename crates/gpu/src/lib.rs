@@ -57,7 +57,7 @@ mod tests {
     /// Rust twin uploaded into it (None: no uniform twin).
     type Shader = (&'static str, &'static str, Option<(&'static str, usize)>);
 
-    const SHADERS: [Shader; 8] = [
+    const SHADERS: [Shader; 9] = [
         (
             "scene.wgsl",
             crate::gbuffer::SCENE_WGSL,
@@ -66,8 +66,13 @@ mod tests {
         ("shadow.wgsl", include_str!("shaders/shadow.wgsl"), None),
         ("unpack.wgsl", include_str!("shaders/unpack.wgsl"), None),
         (
-            "blur.wgsl",
-            include_str!("shaders/blur.wgsl"),
+            "blur.wgsl + blur_exact.wgsl",
+            crate::blur::BLUR_WGSL,
+            Some(("Params", crate::blur::BLUR_UNIFORM_SIZE)),
+        ),
+        (
+            "blur.wgsl + blur_fast.wgsl",
+            crate::blur::BLUR_FAST_WGSL,
             Some(("Params", crate::blur::BLUR_UNIFORM_SIZE)),
         ),
         (

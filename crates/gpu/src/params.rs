@@ -33,6 +33,9 @@ pub struct RenderParams {
     /// away, or a tiny kernel) is not blurred: its kernel is replaced by one tap holding the
     /// kernel's total response ([`crate::GpuKernel::point`]). Off only to measure what that saves.
     pub skip_subpixel: bool,
+    /// The blur's fast path (see [`crate::BlurParams::fast`]): one filtered texture fetch per
+    /// tap at half precision; one SSS material per frame.
+    pub fast: bool,
     /// Run the separable passes at half resolution (2×2 blocks averaged, then a depth- and
     /// material-aware bilinear upsampling; `half.rs`), a quarter of the blur's work.
     pub half_res: bool,
@@ -58,6 +61,7 @@ impl Default for RenderParams {
             skip_empty: true,
             skip_subpixel: true,
             half_res: false,
+            fast: false,
             shading: [Shading::default(); MAX_MATERIALS],
         }
     }

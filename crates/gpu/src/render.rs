@@ -305,6 +305,7 @@ impl Renderer {
                     jitter: params.jitter,
                     fixed_depth: params.fixed_depth,
                     skip_empty: params.skip_empty,
+                    fast: params.fast,
                 };
                 if params.half_res {
                     let size = half_size((w, h));
@@ -337,7 +338,7 @@ impl Renderer {
                         &tmp,
                         &hs,
                         &mut timer.as_mut(),
-                    );
+                    )?;
                     self.half.up(
                         gpu,
                         &mut enc,
@@ -361,7 +362,7 @@ impl Renderer {
                         &tmp,
                         &scattered,
                         &mut timer.as_mut(),
-                    );
+                    )?;
                 }
             }
             Scatter::DirectionalDipole(setup) => crate::dipole::encode(

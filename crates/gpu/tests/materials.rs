@@ -58,6 +58,7 @@ fn blur_params(skip_empty: bool) -> BlurParams {
         jitter: 0.0,
         fixed_depth: Some(30.0),
         skip_empty,
+        fast: false,
     }
 }
 
@@ -354,4 +355,77 @@ fn half_resolution_keeps_the_light_and_stays_close_to_full_resolution() {
         assert!((sh / sf - 1.0).abs() < 0.01, "{}", sh / sf);
         assert!(rms < 0.08, "{rms}");
     }
+}
+
+#[test]
+fn the_fast_path_renders_what_the_exact_path_does_and_takes_one_material() {
+    let Some(gpu) = gpu() else { return };
+    let renderer = Renderer::new(&gpu);
+    let scene = Scene::sphere();
+    let k = [gaussian_sigma(17, 0.3)];
+    let params = RenderParams {
+        width: 256,
+        height: 144,
+        ..RenderParams::default()
+    };
+    let exact = renderer
+        .render(&gpu, &scene, Scatter::Separable(&k), &params)
+        .unwrap();
+    for half_res in [false, true] {
+        let fast = renderer
+            .render(
+                &gpu,
+                &scene,
+                Scatter::Separable(&k),
+                &RenderParams {
+                    fast: true,
+                    half_res,
+                    ..params
+                },
+            )
+            .unwrap();
+        let reference = if half_res {
+            renderer
+                .render(
+                    &gpu,
+                    &scene,
+                    Scatter::Separable(&k),
+                    &RenderParams { half_res, ..params },
+                )
+                .unwrap()
+        } else {
+            exact.clone()
+        };
+        let (mut se, mut sum, mut n) = (0.0f64, 0.0f64, 0usize);
+        for i in 0..exact.geometry.len() {
+            if exact.geometry[i][1] > 0.0 {
+                let (a, b) = (
+                    fast.scattered[i][1] as f64,
+                    reference.scattered[i][1] as f64,
+                );
+                se += (a - b).powi(2);
+                sum += b;
+                n += 1;
+            }
+        }
+        let rms = (se / n as f64).sqrt() / (sum / n as f64);
+        eprintln!(
+            "fast against exact (half resolution: {half_res}): RMS {:.3} % of the mean",
+            100.0 * rms
+        );
+        assert!(rms < 0.01, "{rms}");
+    }
+    // Two materials: refused, naming the field.
+    let err = renderer
+        .render(
+            &gpu,
+            &Scene::pair(),
+            Scatter::Separable(&[gaussian(9), gaussian(9)]),
+            &RenderParams {
+                fast: true,
+                ..params
+            },
+        )
+        .unwrap_err();
+    assert!(err.to_string().contains("materials"), "{err}");
 }

@@ -1,4 +1,7 @@
-// One 1D pass of a separable SSS kernel (Jimenez et al. 2015; Freude 2014 §4.2–4.4).
+// One 1D pass of a separable SSS kernel (Jimenez et al. 2015; Freude 2014 §4.2–4.4): what both
+// paths share. blur_exact.wgsl (storage buffers, two reads per tap, several materials) or
+// blur_fast.wgsl (one filtered texture fetch per tap, one material) is appended and defines
+// `centre_colour`, `filtered` and `store`.
 //
 // Tap offsets are in cm on the surface; a pixel at view depth z [cm] covers
 // z / px_per_cm_at_unit_depth cm, so offset_px = offset·sss_width·strength·px_per_cm_at_unit_depth/z
@@ -46,22 +49,36 @@ struct Params {
 @group(0) @binding(0) var<uniform> p: Params;
 // xyz: RGB weight, w: offset [cm].
 @group(0) @binding(1) var<storage, read> taps: array<vec4<f32>>;
-@group(0) @binding(2) var<storage, read> src: array<vec4<f32>>;
 // x: view depth [cm], y: SSS strength, z: material index.
 @group(0) @binding(3) var<storage, read> geom: array<vec4<f32>>;
+// The vertical pass's output (accumulated over the kernel's terms); the exact path's horizontal
+// pass writes here too.
 @group(0) @binding(4) var<storage, read_write> dst: array<vec4<f32>>;
 // Each tap's cell [cm] (lo, hi): where a jittered tap samples.
 @group(0) @binding(5) var<storage, read> cells: array<vec2<f32>>;
+
+// A sample of the source at `pos` pixels along the pass axis from pixel (x, y): its colour, its
+// view depth [cm] and the share of its weight it keeps (< 1 where part of it belongs to another
+// material).
+struct Sample {
+    rgb: vec3<f32>,
+    z: f32,
+    share: f32,
+};
+
+// Adds sign·value into dst (vertical pass) or writes value (horizontal pass).
+fn accumulate(i: u32, value: vec3<f32>) {
+    if p.accumulate == 1u {
+        dst[i] = vec4<f32>(dst[i].rgb + p.sign.rgb * value, 1.0);
+    } else {
+        dst[i] = vec4<f32>(value, 1.0);
+    }
+}
 
 fn index(x: i32, y: i32) -> u32 {
     let cx = clamp(x, 0, i32(p.width) - 1);
     let cy = clamp(y, 0, i32(p.height) - 1);
     return u32(cy) * p.width + u32(cx);
-}
-
-// 1 where pixel j may give light to this pass's material: its own pixels and those without SSS.
-fn accepts(j: u32) -> f32 {
-    return select(1.0, 0.0, geom[j].y > 0.0 && u32(geom[j].z) != p.material);
 }
 
 // Uniform in [0, 1] from a pixel, a tap and a stream.
@@ -81,14 +98,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let x = i32(id.x);
     let y = i32(id.y);
     let i = id.y * p.width + id.x;
-    let centre = src[i];
+    let centre = centre_colour(i, x, y);
     let strength = geom[i].y;
     let own = strength > 0.0 && u32(geom[i].z) == p.material;
     if p.skip_empty == 1u && !own {
         // Another material's pixel: left alone. A pixel without SSS: a zero-width kernel, which
         // the vertical pass may sample.
         if p.accumulate == 0u && !(strength > 0.0) {
-            dst[i] = vec4<f32>(p.tap_sum.rgb * centre.rgb, 1.0);
+            store(i, x, y, p.tap_sum.rgb * centre);
         }
         return;
     }
@@ -107,37 +124,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             offset = mix(c.x, c.y, hash(id.x, id.y, 2u * stream + 1u));
         }
         let pos = offset * scale;
-        let base = floor(pos);
-        let f = pos - base;
-        var a: u32;
-        var b: u32;
-        if p.horizontal == 1u {
-            a = index(x + i32(base), y);
-            b = index(x + i32(base) + 1, y);
-        } else {
-            a = index(x, y + i32(base));
-            b = index(x, y + i32(base) + 1);
-        }
+        let sample = filtered(x, y, pos);
         var w = tap.xyz;
         all += w;
-        var s = mix(src[a].rgb, src[b].rgb, f);
-        var z = mix(geom[a].x, geom[b].x, f);
-        let ka = accepts(a);
-        let kb = accepts(b);
-        if ka * kb == 0.0 {
-            // One of the two pixels (or both) belongs to another material: the sample is the
-            // other one, with its share of the weight.
-            let share = (1.0 - f) * ka + f * kb;
-            if share <= 0.0 {
-                continue;
-            }
-            s = select(src[b].rgb, src[a].rgb, ka > 0.0);
-            z = select(geom[b].x, geom[a].x, ka > 0.0);
-            w *= share;
+        if sample.share <= 0.0 {
+            continue;
         }
-        let dz = abs(z - geom[i].x);
+        var s = sample.rgb;
+        w *= sample.share;
+        let dz = abs(sample.z - geom[i].x);
         if p.mode == 1u {
-            s = mix(s, centre.rgb, clamp(dz / p.tolerance, 0.0, 1.0));
+            s = mix(s, centre, clamp(dz / p.tolerance, 0.0, 1.0));
         } else if p.mode == 2u && dz > p.tolerance {
             w = vec3<f32>(0.0);
         } else if p.mode == 3u {
@@ -148,7 +145,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     // Rejected samples' weight goes to those kept, per channel; none kept: the centre. (Without
     // rejections kept = all, summed in the same order, and this changes nothing.)
-    sum = select(all * centre.rgb, sum * all / max(kept, vec3<f32>(1e-30)), kept > vec3<f32>(0.0));
+    sum = select(all * centre, sum * all / max(kept, vec3<f32>(1e-30)), kept > vec3<f32>(0.0));
     if !own {
         // skip_empty off: the work is done (to be timed), but only the pass's own pixels are
         // written by its vertical pass, and other materials' pixels by neither.
@@ -156,9 +153,5 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             return;
         }
     }
-    if p.accumulate == 1u {
-        dst[i] = vec4<f32>(dst[i].rgb + p.sign.rgb * sum, 1.0);
-    } else {
-        dst[i] = vec4<f32>(sum, 1.0);
-    }
+    store(i, x, y, sum);
 }
