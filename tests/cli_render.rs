@@ -463,8 +463,15 @@ fn render_translucency_lights_the_fins_from_behind_with_the_materials_table() {
         return;
     }
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let off = run(&[], "off");
+    let off = run(&["--translucency", "off"], "off");
     assert!(off.status.success());
+    // On is the default for the separable method.
+    let default = run(&["--translucency-photons", "20000"], "default");
+    assert!(default.status.success());
+    assert_eq!(
+        pfm_pixels(&dir.path().join("default/render.pfm")),
+        pfm_pixels(&dir.path().join("on/render.pfm"))
+    );
     let (on_px, off_px) = (
         pfm_pixels(&dir.path().join("on/render.pfm")),
         pfm_pixels(&dir.path().join("off/render.pfm")),

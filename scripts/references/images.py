@@ -430,6 +430,10 @@ def main():
             elif not fit_args:
                 run([sss, "render", *common, *albedo, *extra, "--out", rdir])
             else:
+                # `sss render` lets light through thin parts by default; the models compare
+                # with it only where they say so.
+                if "--translucency" not in extra:
+                    extra = [*extra, "--translucency", "off"]
                 kernel = os.path.join(tmp, f"{label}.toml")
                 run([sss, "fit", profile, *fit_args, "--taps", "33", "--material", a.material, "--out", kernel])
                 run([sss, "render", *common, *albedo, *extra, "--kernel", kernel, "--out", rdir])

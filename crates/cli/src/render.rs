@@ -362,9 +362,10 @@ pub struct RenderArgs {
     /// Light through thin parts: on SSS surfaces facing away from a light, add the light the
     /// material transmits through the part's thickness (read from the light's shadow map), from
     /// `mc` slab simulations of --material at 16 thicknesses (exact when --object-albedo is the
-    /// material's total diffuse reflectance)
-    #[arg(long, value_enum, default_value = "off")]
-    translucency: OnOff,
+    /// material's total diffuse reflectance) [default: on for the separable method; the
+    /// directional dipole carries this light itself]
+    #[arg(long, value_enum)]
+    translucency: Option<OnOff>,
 
     /// Photons per channel and thickness for the table of --translucency on
     #[arg(long, value_parser = crate::parse_count, default_value = "20000")]
@@ -728,7 +729,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
             a.incidence_aware == OnOff::On && !a.no_sss,
             a.exit_aware == OnOff::On && !a.no_sss,
         )?;
-        let translucency = match a.translucency {
+        let translucency = match a.translucency.unwrap_or(OnOff::On) {
             OnOff::On if !a.no_sss && dipole.is_none() => Some(translucency_table(
                 n,
                 &a.source.profile(n, &mut files)?,
@@ -1029,7 +1030,7 @@ fn dipole_setup(
             "--incidence-aware and --exit-aware are for the separable method: the directional dipole depends on both angles itself"
         );
     }
-    if a.translucency == OnOff::On {
+    if a.translucency == Some(OnOff::On) {
         bail!(
             "--translucency is for the separable method: the directional dipole carries light through thin parts itself"
         );
