@@ -5,7 +5,7 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::context::{Gpu, pixels};
+use crate::context::{Gpu, pixels, texture};
 use crate::error::{GpuError, Result};
 
 /// A kernel as the shader takes it: per pass, the RGB sign and the taps (RGB weight, offset [cm]).
@@ -334,23 +334,14 @@ impl Blur {
         // The fast path's textures: the packed source and the horizontal result.
         let textures = params.fast.then(|| {
             let texture = |label| {
-                gpu.device
-                    .create_texture(&wgpu::TextureDescriptor {
-                        label: Some(label),
-                        size: wgpu::Extent3d {
-                            width,
-                            height,
-                            depth_or_array_layers: 1,
-                        },
-                        mip_level_count: 1,
-                        sample_count: 1,
-                        dimension: wgpu::TextureDimension::D2,
-                        format: FAST_FORMAT,
-                        usage: wgpu::TextureUsages::TEXTURE_BINDING
-                            | wgpu::TextureUsages::STORAGE_BINDING,
-                        view_formats: &[],
-                    })
-                    .create_view(&Default::default())
+                texture(
+                    &gpu.device,
+                    label,
+                    (width, height, 1),
+                    FAST_FORMAT,
+                    wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+                )
+                .create_view(&Default::default())
             };
             [texture("blur source"), texture("blur horizontal")]
         });

@@ -107,7 +107,7 @@ pub(crate) fn compute_pipeline(
 }
 
 /// Depth32 with writes and a less-than test: what every pass that draws meshes uses.
-pub(crate) fn depth_test() -> wgpu::DepthStencilState {
+fn depth_test() -> wgpu::DepthStencilState {
     wgpu::DepthStencilState {
         format: wgpu::TextureFormat::Depth32Float,
         depth_write_enabled: Some(true),
@@ -140,5 +140,62 @@ pub(crate) fn pixels(gpu: &Gpu, n: usize, label: &str) -> wgpu::Buffer {
             | wgpu::BufferUsages::COPY_SRC
             | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
+    })
+}
+
+/// A render pipeline that draws meshes ([`crate::Vertex`]) with the depth test: `vs`, and `fs`
+/// into colour targets of `formats` (none: depth only, no fragment stage).
+pub(crate) fn mesh_pipeline(
+    dev: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    label: &str,
+    formats: &[wgpu::TextureFormat],
+) -> wgpu::RenderPipeline {
+    let targets: Vec<Option<wgpu::ColorTargetState>> =
+        formats.iter().map(|&f| Some(f.into())).collect();
+    dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: None,
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[Some(crate::mesh::Vertex::layout())],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: Some(depth_test()),
+        multisample: Default::default(),
+        fragment: (!formats.is_empty()).then(|| wgpu::FragmentState {
+            module,
+            entry_point: Some("fs"),
+            compilation_options: Default::default(),
+            targets: &targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// A 2D texture (array of `layers`) of one mip level.
+pub(crate) fn texture(
+    dev: &wgpu::Device,
+    label: &str,
+    (width, height, layers): (u32, u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    dev.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
     })
 }

@@ -31,9 +31,9 @@ use fit::analytic::{DipoleConstants, DirectionalDipole, Medium};
 use glam::Mat4;
 use wgpu::util::DeviceExt;
 
-use crate::context::{Gpu, cleared_depth, compute_pipeline, depth_test};
+use crate::context::{Gpu, cleared_depth, compute_pipeline, mesh_pipeline, texture};
 use crate::error::{GpuError, Result};
-use crate::mesh::{MeshBuffers, Vertex};
+use crate::mesh::MeshBuffers;
 use crate::scene::{Light, Scene};
 use crate::timing::Timer;
 
@@ -240,21 +240,14 @@ fn draw_maps(
 ) -> Maps {
     let dev = &gpu.device;
     let layers = views.len().max(1) as u32;
-    let texture = |label: &str, format: wgpu::TextureFormat| {
-        dev.create_texture(&wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: layers,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
+    let texture = |label: &str, format| {
+        texture(
+            dev,
+            label,
+            (w, h, layers),
             format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        })
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        )
     };
     let maps = Maps {
         position: texture("dipole positions", MAP_FORMATS[0]),
@@ -262,29 +255,7 @@ fn draw_maps(
     };
     let depth = texture("dipole depth", wgpu::TextureFormat::Depth32Float);
     let module = dev.create_shader_module(wgpu::include_wgsl!("shaders/dipole_maps.wgsl"));
-    let targets: Vec<Option<wgpu::ColorTargetState>> =
-        MAP_FORMATS.iter().map(|&f| Some(f.into())).collect();
-    let pipeline = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("dipole maps"),
-        layout: None,
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs"),
-            compilation_options: Default::default(),
-            buffers: &[Some(Vertex::layout())],
-        },
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: Some(depth_test()),
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs"),
-            compilation_options: Default::default(),
-            targets: &targets,
-        }),
-        multiview_mask: None,
-        cache: None,
-    });
+    let pipeline = mesh_pipeline(dev, &module, "dipole maps", &MAP_FORMATS);
     for (layer, vp) in views.iter().enumerate() {
         let ubuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("dipole map view"),

@@ -8,8 +8,8 @@
 use glam::Mat4;
 use wgpu::util::DeviceExt;
 
-use crate::context::{Gpu, cleared_depth, compute_pipeline, depth_test, pixels};
-use crate::mesh::{MeshBuffers, Vertex};
+use crate::context::{Gpu, cleared_depth, compute_pipeline, mesh_pipeline, pixels, texture};
+use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
 use crate::scene::{AlbedoMode, Light, Scene};
 use crate::shading::{INCIDENCE_STEPS, Shading, TRANSLUCENCY_STEPS, incidence_hemispherical};
@@ -128,30 +128,8 @@ impl GBufferPass {
             label: Some("scene"),
             source: wgpu::ShaderSource::Wgsl(SCENE_WGSL.into()),
         });
-        let targets: Vec<Option<wgpu::ColorTargetState>> =
-            FORMATS.iter().map(|&f| Some(f.into())).collect();
         GBufferPass {
-            scene: dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("scene"),
-                layout: None,
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(Vertex::layout())],
-                },
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: Some(depth_test()),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs"),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            }),
+            scene: mesh_pipeline(dev, &module, "scene", &FORMATS),
             unpack: compute_pipeline(dev, wgpu::include_wgsl!("shaders/unpack.wgsl"), "unpack"),
             sampler: dev.create_sampler(&wgpu::SamplerDescriptor {
                 compare: Some(wgpu::CompareFunction::LessEqual),
@@ -252,23 +230,14 @@ impl GBufferPass {
                 },
             ],
         });
-        let size = wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        };
         let target = |label: &str, format| {
-            dev.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
+            texture(
+                dev,
+                label,
+                (w, h, 1),
                 format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            })
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            )
         };
         let views: Vec<wgpu::TextureView> = ["diffuse", "specular", "geometry"]
             .iter()

@@ -5,8 +5,8 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::context::{Gpu, cleared_depth, depth_test};
-use crate::mesh::{MeshBuffers, Vertex};
+use crate::context::{Gpu, cleared_depth, mesh_pipeline, texture};
+use crate::mesh::MeshBuffers;
 use crate::scene::{Light, Scene};
 use crate::timing::Timer;
 
@@ -23,22 +23,7 @@ impl ShadowPass {
         let dev = &gpu.device;
         let module = dev.create_shader_module(wgpu::include_wgsl!("shaders/shadow.wgsl"));
         ShadowPass {
-            pipeline: dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("shadow"),
-                layout: None,
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(Vertex::layout())],
-                },
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: Some(depth_test()),
-                multisample: Default::default(),
-                fragment: None,
-                multiview_mask: None,
-                cache: None,
-            }),
+            pipeline: mesh_pipeline(dev, &module, "shadow", &[]),
         }
     }
 
@@ -55,20 +40,13 @@ impl ShadowPass {
     ) -> wgpu::Texture {
         let dev = &gpu.device;
         let layers = scene.lights.len().max(1) as u32;
-        let maps = dev.create_texture(&wgpu::TextureDescriptor {
-            label: Some("shadow maps"),
-            size: wgpu::Extent3d {
-                width: SHADOW_SIZE,
-                height: SHADOW_SIZE,
-                depth_or_array_layers: layers,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Depth32Float,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
+        let maps = texture(
+            dev,
+            "shadow maps",
+            (SHADOW_SIZE, SHADOW_SIZE, layers),
+            wgpu::TextureFormat::Depth32Float,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
         for (i, light) in scene.lights.iter().enumerate() {
             let shadow = match *light {
                 Light::Directional { shadow, .. } | Light::Point { shadow, .. } => shadow,
