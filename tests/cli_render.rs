@@ -270,12 +270,14 @@ fn render_bench_json_reports_every_configuration_and_the_skips() {
         .as_f64()
         .unwrap();
     assert!(share > 0.0 && share < 1.0, "{share}");
-    for s in ["empty_pixels", "subpixel_kernels"] {
+    for s in ["empty_pixels", "subpixel_kernels", "rank_target"] {
         for key in ["frame_ms_on", "frame_ms_off", "frame_saved_fraction"] {
             assert!(skips[s][key].as_f64().is_some(), "{s}.{key}: {skips}");
         }
     }
     assert!(skips["subpixel_kernels"]["footprint_px"].as_f64().unwrap() < 0.5);
+    let chosen = skips["rank_target"]["rank_chosen"].as_u64().unwrap();
+    assert!((1..=3).contains(&chosen), "{chosen}");
     assert!(
         !dir.path().join("r/render.png").exists(),
         "a bench renders no image"
