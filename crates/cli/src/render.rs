@@ -33,11 +33,11 @@ type AngleTable = [[f32; 3]; gpu::INCIDENCE_STEPS];
 /// exit-angle bins, `photons` per channel and angle): the incidence table ρ(θ)/ρ(0) (all ones
 /// unless `incidence`; runs every angle) and the exit table h(θ) (all ones unless `exit`; from
 /// the normal-incidence run, h at 0° is the first bin's, at 10°…80° the mean of the two bins
-/// around it).
+/// around it). Seed and run settings (grid rule, ambient η) are those of the profiles (`source`).
 fn angle_tables(
     named: &library::Named,
     photons: u64,
-    seed: u64,
+    source: &ProfileSource,
     incidence: bool,
     exit: bool,
 ) -> Result<(AngleTable, AngleTable)> {
@@ -48,10 +48,15 @@ fn angle_tables(
     if !(incidence || exit) {
         return Ok(tables);
     }
-    let mut config = library::config(None)?;
+    let mut config = library::config(source.config.as_deref())?;
     config.grid.na = gpu::INCIDENCE_STEPS;
-    let spec =
-        crate::simulate::batch_spec(std::slice::from_ref(named), &config, photons, seed, true)?;
+    let spec = crate::simulate::batch_spec(
+        std::slice::from_ref(named),
+        &config,
+        photons,
+        source.seed(),
+        true,
+    )?;
     let angles: Vec<f64> = if incidence {
         (0..gpu::INCIDENCE_STEPS).map(|k| 10.0 * k as f64).collect()
     } else {
@@ -115,12 +120,12 @@ fn angle_tables(
 /// The translucency table of a material: Tt(d)/ρ per channel at 16 geometric thicknesses from a
 /// quarter of the shortest transport mean free path to ln(1000)/σtr of the slowest-decaying
 /// channel, by `mc` slab runs (`photons` per channel and thickness); ρ is the total diffuse
-/// reflectance of the material's profile.
+/// reflectance of the material's profile, whose seed and run settings the slab runs share.
 fn translucency_table(
     named: &library::Named,
     profile: &Profile,
     photons: u64,
-    seed: u64,
+    source: &ProfileSource,
 ) -> Result<gpu::Translucency> {
     let media: Vec<fit::analytic::Medium> = (0..3)
         .map(|c| fit::analytic::Medium::channel(&named.material, c))
@@ -136,9 +141,14 @@ fn translucency_table(
         .fold(f64::MAX, f64::min);
     let last = (1000f64.ln() / slowest.max(1e-12)).clamp(20.0 * first, 1e3 * first);
     let d = gpu::Translucency::thicknesses(first, last);
-    let config = library::config(None)?;
-    let spec =
-        crate::simulate::batch_spec(std::slice::from_ref(named), &config, photons, seed, true)?;
+    let config = library::config(source.config.as_deref())?;
+    let spec = crate::simulate::batch_spec(
+        std::slice::from_ref(named),
+        &config,
+        photons,
+        source.seed(),
+        true,
+    )?;
     let bar = crate::progress::photons(
         photons * spec.groups().len() as u64 * d.len() as u64,
         "translucency table",
@@ -731,7 +741,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         let (incidence, exit) = angle_tables(
             n,
             a.incidence_photons,
-            a.source.seed(),
+            &a.source,
             a.incidence_aware == OnOff::On && !a.no_sss,
             a.exit_aware == OnOff::On && !a.no_sss,
         )?;
@@ -740,7 +750,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
                 n,
                 &a.source.profile(n, &mut files)?,
                 a.translucency_photons,
-                a.source.seed(),
+                &a.source,
             )?),
             _ => None,
         };
