@@ -116,8 +116,8 @@ impl GpuKernel {
                 taps.iter()
                     .map(|t| {
                         let o = t[3];
-                        let below = sorted.iter().rev().find(|&&x| x < o).copied();
-                        let above = sorted.iter().find(|&&x| x > o).copied();
+                        let below = sorted[..sorted.partition_point(|&x| x < o)].last().copied();
+                        let above = sorted.get(sorted.partition_point(|&x| x <= o)).copied();
                         let (lo, hi) = match (below, above) {
                             (Some(b), Some(a)) => (0.5 * (b + o), 0.5 * (o + a)),
                             (Some(b), None) => (0.5 * (b + o), o + 0.5 * (o - b)),
@@ -351,6 +351,7 @@ impl Blur {
             DepthMode::Reject => 2,
             DepthMode::Gaussian => 3,
         };
+        let cells_of: Vec<Vec<Vec<[f32; 2]>>> = kernels.iter().map(GpuKernel::cells).collect();
         let passes = kernels.iter().enumerate().flat_map(|(m, k)| {
             k.passes
                 .iter()
@@ -382,7 +383,7 @@ impl Blur {
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some("tap cells"),
-                    contents: bytemuck::cast_slice(&k.cells()[p]),
+                    contents: bytemuck::cast_slice(&cells_of[material][p]),
                     usage: wgpu::BufferUsages::STORAGE,
                 });
             for horizontal in [true, false] {
@@ -443,6 +444,7 @@ impl Blur {
                                 (&ubuf, src, geometry),
                                 packed,
                                 (width, height),
+                                timer,
                             );
                         }
                         // Sampled source and storage target swap between the two passes.
@@ -500,6 +502,7 @@ impl Blur {
         (uniform, src, geometry): (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
         packed: &wgpu::TextureView,
         (width, height): (u32, u32),
+        timer: &mut Option<&mut crate::timing::Timer>,
     ) {
         let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
@@ -525,7 +528,7 @@ impl Blur {
         });
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("blur pack"),
-            timestamp_writes: None,
+            timestamp_writes: timer.as_mut().map(|t| t.writes("blur pack")),
         });
         pass.set_pipeline(&self.pack);
         pass.set_bind_group(0, &bind, &[]);
@@ -535,7 +538,8 @@ impl Blur {
 
 /// Applies the kernels' passes to an image (RGBA per pixel, row-major) with per-pixel
 /// `geometry` (x: view depth [cm], y: SSS strength, z: material index): the blur stage alone, for
-/// tests and CPU comparisons. Pixels without SSS strength come back 0 with `skip_empty`.
+/// tests and CPU comparisons. Pixels without SSS strength come back 0 (the image keeps their
+/// own light).
 pub fn blur_image(
     gpu: &Gpu,
     image: &[[f32; 4]],

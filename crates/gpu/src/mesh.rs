@@ -20,7 +20,8 @@ pub struct Vertex {
     /// SSS strength (scales the kernel's width; 0 = none).
     pub strength: f32,
     /// Index of the SSS material (its kernel and shading tables), below
-    /// [`crate::MAX_MATERIALS`]; ignored where `strength` is 0.
+    /// [`crate::MAX_MATERIALS`]; a triangle takes its first vertex's, so vertices without SSS
+    /// (strength 0) need a material with a kernel too (0, the default).
     pub material: u32,
 }
 

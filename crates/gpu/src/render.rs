@@ -212,7 +212,7 @@ impl Renderer {
             .mesh
             .vertices
             .iter()
-            .find(|v| v.strength > 0.0 && v.material as usize >= MAX_MATERIALS)
+            .find(|v| v.material as usize >= MAX_MATERIALS)
         {
             return Err(GpuError::invalid(
                 "vertex material",
@@ -282,10 +282,10 @@ impl Renderer {
         );
         let scattered = pixels(gpu, n, "scattered");
         match scatter {
-            Scatter::Separable(kernels) => {
+            Scatter::Separable(given) => {
                 // Half resolution: the blur's pixels are 2×2 of the image's.
                 let px = if params.half_res { 0.5 } else { 1.0 };
-                let kernels: Vec<GpuKernel> = kernels
+                let kernels: Vec<GpuKernel> = given
                     .iter()
                     .enumerate()
                     .map(|(m, k)| {
@@ -315,7 +315,7 @@ impl Renderer {
                             .map(|l| pixels(gpu, m, l));
                     // Upsampling weights fall by e over the largest kernel's range.
                     let tolerance = params.tolerance_cm.unwrap_or(
-                        params.sss_width * kernels.iter().map(|k| k.range_cm).fold(0.0, f32::max),
+                        params.sss_width * given.iter().map(|k| k.range_cm).fold(0.0, f32::max),
                     );
                     let full = (&gbuffer.diffuse, &gbuffer.geometry);
                     let u = self.half.down(

@@ -168,12 +168,15 @@ impl Scene {
     }
 
     /// The SSS materials the scene uses: one more than the largest `material` index among its
-    /// vertices with SSS strength (0: no SSS surfaces).
+    /// vertices (0: no SSS surfaces). Vertices without SSS count too: a triangle takes its
+    /// material from its first vertex, whose strength may be 0 where an SSS part meets another.
     pub fn material_count(&self) -> usize {
+        if !self.mesh.vertices.iter().any(|v| v.strength > 0.0) {
+            return 0;
+        }
         self.mesh
             .vertices
             .iter()
-            .filter(|v| v.strength > 0.0)
             .map(|v| v.material as usize + 1)
             .max()
             .unwrap_or(0)

@@ -18,7 +18,8 @@ pub(crate) struct Timer {
     labels: Vec<String>,
 }
 
-const MAX_TIMED: u32 = 64;
+/// Enough for 4 materials × 12 terms × 2 passes and the other passes of a frame.
+const MAX_TIMED: u32 = 128;
 
 impl Timer {
     pub(crate) fn new(gpu: &Gpu) -> Option<Timer> {

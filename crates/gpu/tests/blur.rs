@@ -412,3 +412,58 @@ fn jittering_thirteen_taps_removes_their_banding() {
         "{banded} {third} {all}"
     );
 }
+
+/// The material rule with signed kernels: an SVD rank-3 kernel (terms with negative lobes) on a
+/// lit material beside a dark one. No light crosses, and the renormalization at the border,
+/// taken over |w| for signed terms, keeps the lit side bounded (within 25 % of its light).
+#[test]
+fn signed_svd_terms_stay_bounded_at_a_material_border() {
+    let Some(gpu) = gpu() else { return };
+    let p = profile();
+    let ks: Vec<_> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
+    let seps: Vec<_> = ks.iter().map(|k| svd(k, 3).0).collect();
+    let kernel = GpuKernel::from_shader_kernel(&ShaderKernel::from_separable(
+        fit::KernelModel::Svd {
+            rank: 3,
+            renormalize: true,
+        },
+        "test",
+        [&seps[0], &seps[1], &seps[2]],
+        17,
+        0.95,
+        0.0,
+    ))
+    .unwrap();
+    assert!(
+        kernel
+            .passes
+            .iter()
+            .any(|(_, taps)| taps.iter().any(|t| t[0] < 0.0)),
+        "the test needs negative lobes"
+    );
+    let (w, h) = (96usize, 32usize);
+    let geometry: Vec<[f32; 4]> = (0..w * h)
+        .map(|i| [30.0, 1.0, if i % w < w / 2 { 0.0 } else { 1.0 }, 1.0])
+        .collect();
+    let image: Vec<[f32; 4]> = (0..w * h)
+        .map(|i| if i % w < w / 2 { [1.0; 4] } else { [0.0; 4] })
+        .collect();
+    let out = blur_image(
+        &gpu,
+        &image,
+        &geometry,
+        (w as u32, h as u32),
+        &[kernel.clone(), kernel],
+        &params(30.0, p.dr, DepthMode::None),
+    )
+    .unwrap();
+    for (i, v) in out.iter().enumerate() {
+        for c in 0..3 {
+            if i % w < w / 2 {
+                assert!((v[c] - 1.0).abs() < 0.25, "pixel {i}: {v:?}");
+            } else {
+                assert_eq!(v[c], 0.0, "pixel {i} got light");
+            }
+        }
+    }
+}

@@ -1,7 +1,7 @@
 // One 1D pass of a separable SSS kernel (Jimenez et al. 2015; Freude 2014 §4.2–4.4): what both
 // paths share. blur_exact.wgsl (storage buffers, two reads per tap, several materials) or
 // blur_fast.wgsl (one filtered texture fetch per tap, one material) is appended and defines
-// `centre_colour`, `filtered` and `store`.
+// `centre_colour`, `centre_depth`, `filtered` and `store`.
 //
 // Tap offsets are in cm on the surface; a pixel at view depth z [cm] covers
 // z / px_per_cm_at_unit_depth cm, so offset_px = offset·sss_width·strength·px_per_cm_at_unit_depth/z
@@ -111,8 +111,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let depth = select(geom[i].x, p.fixed_depth, p.fixed_depth > 0.0);
     let scale = p.sss_width * strength * p.px_per_cm_at_unit_depth / max(depth, 1e-6);
+    let z0 = centre_depth(i, x, y);
     var sum = vec3<f32>(0.0);
+    // Σ|w| of the samples kept and of all taps: the renormalization's ratio, bounded also for
+    // the signed terms of SVD kernels (their plain sums can be near 0).
     var kept = vec3<f32>(0.0);
+    var all_abs = vec3<f32>(0.0);
     var all = vec3<f32>(0.0);
     for (var t = 0u; t < p.taps; t++) {
         let tap = taps[t];
@@ -127,12 +131,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let sample = filtered(x, y, pos);
         var w = tap.xyz;
         all += w;
+        all_abs += abs(w);
         if sample.share <= 0.0 {
             continue;
         }
         var s = sample.rgb;
         w *= sample.share;
-        let dz = abs(sample.z - geom[i].x);
+        let dz = abs(sample.z - z0);
         if p.mode == 1u {
             s = mix(s, centre, clamp(dz / p.tolerance, 0.0, 1.0));
         } else if p.mode == 2u && dz > p.tolerance {
@@ -140,12 +145,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         } else if p.mode == 3u {
             w *= exp(-dz * dz / (2.0 * p.tolerance * p.tolerance));
         }
-        kept += w;
+        kept += abs(w);
         sum += w * s;
     }
     // Rejected samples' weight goes to those kept, per channel; none kept: the centre. (Without
-    // rejections kept = all, summed in the same order, and this changes nothing.)
-    sum = select(all * centre, sum * all / max(kept, vec3<f32>(1e-30)), kept > vec3<f32>(0.0));
+    // rejections kept = all_abs, summed in the same order, and this changes nothing.)
+    sum = select(all * centre, sum * all_abs / max(kept, vec3<f32>(1e-30)), kept > vec3<f32>(0.0));
     if !own {
         // skip_empty off: the work is done (to be timed), but only the pass's own pixels are
         // written by its vertical pass, and other materials' pixels by neither.

@@ -8,6 +8,10 @@ fn centre_colour(i: u32, x: i32, y: i32) -> vec3<f32> {
     return src[i].rgb;
 }
 
+fn centre_depth(i: u32, x: i32, y: i32) -> f32 {
+    return geom[i].x;
+}
+
 // 1 where pixel j may give light to this pass's material: its own pixels and those without SSS.
 fn accepts(j: u32) -> f32 {
     return select(1.0, 0.0, geom[j].y > 0.0 && u32(geom[j].z) != p.material);

@@ -12,6 +12,11 @@ fn centre_colour(i: u32, x: i32, y: i32) -> vec3<f32> {
     return textureLoad(src_tex, vec2<i32>(x, y), 0).rgb;
 }
 
+// At the samples' half precision, so that the centre tap sees no depth difference.
+fn centre_depth(i: u32, x: i32, y: i32) -> f32 {
+    return textureLoad(src_tex, vec2<i32>(x, y), 0).a;
+}
+
 fn filtered(x: i32, y: i32, pos: f32) -> Sample {
     let size = vec2<f32>(f32(p.width), f32(p.height));
     let dir = select(vec2<f32>(0.0, 1.0), vec2<f32>(1.0, 0.0), p.horizontal == 1u);
