@@ -29,6 +29,27 @@ pub enum OnOff {
 /// A table at θ = 0°, 10°, …, 80° per channel.
 type AngleTable = [[f32; 3]; gpu::INCIDENCE_STEPS];
 
+/// A profile-only batch of `named` for the tables of the shading: the profiles' run settings
+/// (`--config`) and seed, `photons` per channel, `na` exit-angle bins (None: the config's).
+fn table_spec(
+    named: &library::Named,
+    photons: u64,
+    source: &ProfileSource,
+    na: Option<usize>,
+) -> Result<mc::BatchSpec> {
+    let mut config = library::config(source.config.as_deref())?;
+    if let Some(na) = na {
+        config.grid.na = na;
+    }
+    crate::simulate::batch_spec(
+        std::slice::from_ref(named),
+        &config,
+        photons,
+        source.seed(),
+        true,
+    )
+}
+
 /// The material's angle tables by `mc` (profile-only batch runs on the material's grid with 10°
 /// exit-angle bins, `photons` per channel and angle): the incidence table ρ(θ)/ρ(0) (all ones
 /// unless `incidence`; runs every angle) and the exit table h(θ) (all ones unless `exit`; from
@@ -48,15 +69,7 @@ fn angle_tables(
     if !(incidence || exit) {
         return Ok(tables);
     }
-    let mut config = library::config(source.config.as_deref())?;
-    config.grid.na = gpu::INCIDENCE_STEPS;
-    let spec = crate::simulate::batch_spec(
-        std::slice::from_ref(named),
-        &config,
-        photons,
-        source.seed(),
-        true,
-    )?;
+    let spec = table_spec(named, photons, source, Some(gpu::INCIDENCE_STEPS))?;
     let angles: Vec<f64> = if incidence {
         (0..gpu::INCIDENCE_STEPS).map(|k| 10.0 * k as f64).collect()
     } else {
@@ -141,14 +154,7 @@ fn translucency_table(
         .fold(f64::MAX, f64::min);
     let last = (1000f64.ln() / slowest.max(1e-12)).clamp(20.0 * first, 1e3 * first);
     let d = gpu::Translucency::thicknesses(first, last);
-    let config = library::config(source.config.as_deref())?;
-    let spec = crate::simulate::batch_spec(
-        std::slice::from_ref(named),
-        &config,
-        photons,
-        source.seed(),
-        true,
-    )?;
+    let spec = table_spec(named, photons, source, None)?;
     let bar = crate::progress::photons(
         photons * spec.groups().len() as u64 * d.len() as u64,
         "translucency table",
