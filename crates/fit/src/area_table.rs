@@ -146,6 +146,9 @@ pub struct AreaTable {
     pub r_max: f64,
     /// R′ per channel, row-major: index j·n_r + i for area A_j and distance r_i.
     pub values: [Vec<f64>; 3],
+    /// Per channel, the profile's energy within r_max, 2π∫₀^{r_max} r·Rd(r) dr [1] (its total
+    /// diffuse reflectance there): what a gather divides by to make the weights sum to one.
+    pub energy: [f64; 3],
 }
 
 impl AreaTable {
@@ -181,10 +184,12 @@ impl AreaTable {
             n_a,
             r_max,
             values: Default::default(),
+            energy: [0.0; 3],
         };
         for c in 0..3 {
             // A disc reaches out to r + r_A ≤ 2·r_max.
             let radial = RadialTable::new(rd[c], 2.0 * r_max);
+            t.energy[c] = std::f64::consts::TAU * radial.cumulative(r_max);
             t.values[c] = (0..n_a * n_r)
                 .into_par_iter()
                 .map(|k| {

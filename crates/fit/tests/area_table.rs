@@ -141,6 +141,31 @@ fn a_disc_holding_the_profile_averages_to_its_total() {
     }
 }
 
+/// `AreaTable::energy`, what a GPU gather divides by to make the kernel's weights sum to one, is
+/// the profile's total diffuse reflectance within r_max (the analytic integral `Radial::total`).
+#[test]
+fn the_table_knows_its_energy_within_r_max() {
+    let m = Medium {
+        sigma_a: 0.5,
+        sigma_s: 20.0,
+        g: 0.0,
+        eta: 1.3,
+    };
+    let r_max = cutoff_radius(&m, 1e-7);
+    for model in Model::ALL {
+        let p = model.radial(&m).unwrap();
+        let rd = |x: f64| p.rd(x.max(1e-12));
+        let table = AreaTable::build([&rd, &rd, &rd], r_max, 128, 128);
+        let want = p.total(r_max);
+        let got = table.energy[1];
+        assert!(
+            (got / want - 1.0).abs() < 1e-3,
+            "{}: {got} vs {want}",
+            model.name()
+        );
+    }
+}
+
 /// The paper's Fig. 2 effect, measured: gathering a peaked profile with point samples at pixel
 /// centres, with pixels of a few mean free paths, misweighs the energy (by a different factor per
 /// channel), while area pre-integration keeps it.

@@ -15,11 +15,15 @@
 //! position/normal maps from the camera and from each light, then progressive Monte Carlo frames
 //! that integrate the directional dipole over the lit surface points around each pixel.
 //!
+//! For large scattering distances, [`Scatter::AreaGather`] ([`area_gather`]) gathers an area
+//! pre-integrated kernel over Maisch & Ropinski's layered sampling pattern instead.
+//!
 //! Conventions: images are row-major, top row first, RGBA f32 per pixel. A pixel at view depth z
 //! spans z/f cm with f = height/(2·tan(fov_y/2)) (`px_per_cm_at_unit_depth`).
 
 #![warn(missing_docs)]
 
+pub mod area_gather;
 mod blur;
 mod combine;
 pub mod compare;
@@ -36,6 +40,7 @@ mod shading;
 mod shadow;
 mod timing;
 
+pub use area_gather::{AreaGatherSetup, AreaKernel, GatherPattern};
 pub use blur::{BlurParams, DepthMode, GpuKernel, blur_image};
 pub use compare::{Comparison, compare_kernels, compare_models};
 pub use context::Gpu;
@@ -57,7 +62,7 @@ mod tests {
     /// Rust twin uploaded into it (None: no uniform twin).
     type Shader = (&'static str, &'static str, Option<(&'static str, usize)>);
 
-    const SHADERS: [Shader; 9] = [
+    const SHADERS: [Shader; 11] = [
         (
             "scene.wgsl",
             crate::gbuffer::SCENE_WGSL,
@@ -84,6 +89,16 @@ mod tests {
             "combine.wgsl",
             include_str!("shaders/combine.wgsl"),
             Some(("Params", 16)),
+        ),
+        (
+            "surface.wgsl",
+            include_str!("shaders/surface.wgsl"),
+            Some(("View", crate::area_gather::VIEW_UNIFORM_SIZE)),
+        ),
+        (
+            "area_gather.wgsl",
+            include_str!("shaders/area_gather.wgsl"),
+            Some(("Params", crate::area_gather::GATHER_UNIFORM_SIZE)),
         ),
         (
             "dipole_maps.wgsl",

@@ -2,6 +2,7 @@
 //! scene pass into the G-buffer (`gbuffer.rs`), the SSS passes (`blur.rs` or [`crate::dipole`])
 //! and the recombination (`combine.rs`), and reads the images back.
 
+use crate::area_gather::{AreaGather, AreaGatherSetup};
 use crate::blur::{Blur, BlurParams, GpuKernel};
 use crate::combine::Combine;
 use crate::context::{Gpu, pixels};
@@ -31,6 +32,9 @@ pub enum Scatter<'a> {
     /// the albedo split and incidence table of [`RenderParams`] do not apply (the colour and the
     /// dependence on incidence come from the model).
     DirectionalDipole(&'a DipoleSetup),
+    /// Maisch & Ropinski's gather of an area pre-integrated kernel over their layered sampling
+    /// pattern ([`crate::area_gather`]), for large scattering distances; one SSS material.
+    AreaGather(&'a AreaGatherSetup),
 }
 
 /// The largest kernel footprint [px] (its farthest tap from the pixel) that
@@ -84,6 +88,9 @@ pub struct Frame {
     pub scattered: Vec<[f32; 4]>,
     /// x: view depth [cm] (background: far plane), y: SSS strength.
     pub geometry: Vec<[f32; 4]>,
+    /// With [`Scatter::AreaGather`]: xyz the world position [cm], w the area [cm²] of the pixel's
+    /// footprint that entered the gather (0 off the material or at grazing view); else empty.
+    pub surface: Vec<[f32; 4]>,
     /// Per-pass GPU times; empty where the adapter has no timestamp queries.
     pub times: Vec<PassTime>,
 }
@@ -105,6 +112,7 @@ pub struct Renderer {
     gbuffer: GBufferPass,
     blur: Blur,
     half: HalfRes,
+    area: AreaGather,
     combine: Combine,
 }
 
@@ -113,6 +121,7 @@ struct Recorded {
     gbuffer: crate::gbuffer::GBuffer,
     scattered: wgpu::Buffer,
     combined: crate::combine::Combined,
+    surface: Option<wgpu::Buffer>,
     timer: Option<Timer>,
 }
 
@@ -124,6 +133,7 @@ impl Renderer {
             gbuffer: GBufferPass::new(gpu),
             blur: Blur::new(gpu),
             half: HalfRes::new(gpu),
+            area: AreaGather::new(gpu),
             combine: Combine::new(gpu),
         }
     }
@@ -153,11 +163,28 @@ impl Renderer {
             irradiance: read(&r.gbuffer.diffuse)?,
             scattered: read(&r.scattered)?,
             geometry: read(&r.gbuffer.geometry)?,
+            surface: match &r.surface {
+                Some(b) => read(b)?,
+                None => Vec::new(),
+            },
             times: match &r.timer {
                 Some(t) => t.read(gpu)?,
                 None => Vec::new(),
             },
         })
+    }
+
+    /// The GPU's area-kernel lookup at each (distance [cm], area [cm²]) of `points`, with width
+    /// factor `scale`: what [`Scatter::AreaGather`] reads, for checking against
+    /// [`crate::AreaKernel::lookup`].
+    pub fn area_lookup(
+        &self,
+        gpu: &Gpu,
+        kernel: &crate::AreaKernel,
+        scale: f32,
+        points: &[[f32; 2]],
+    ) -> Result<Vec<[f32; 3]>> {
+        self.area.lookup(gpu, kernel, scale, points)
     }
 
     /// Renders a frame as [`Renderer::render`] does but reads back only its pass times: what a
@@ -231,11 +258,11 @@ impl Renderer {
                     format!("one per SSS material: the scene uses {used}, at most {MAX_MATERIALS}"),
                 ));
             }
-            Scatter::DirectionalDipole(_) if used > 1 => {
+            Scatter::DirectionalDipole(_) | Scatter::AreaGather(_) if used > 1 => {
                 return Err(GpuError::invalid(
                     "materials",
                     used,
-                    "the directional dipole renders one SSS material per frame",
+                    "the directional dipole and the area gather render one SSS material per frame",
                 ));
             }
             _ => {}
@@ -281,6 +308,7 @@ impl Renderer {
             &mut timer.as_mut(),
         );
         let scattered = pixels(gpu, n, "scattered");
+        let mut surface = None;
         match scatter {
             Scatter::Separable(given) => {
                 // Half resolution: the blur's pixels are 2×2 of the image's.
@@ -376,6 +404,22 @@ impl Renderer {
                 &scattered,
                 &mut timer.as_mut(),
             )?,
+            Scatter::AreaGather(setup) => {
+                let g = self.area.encode(
+                    gpu,
+                    &mut enc,
+                    &mesh,
+                    camera_view_proj(scene, (w, h)),
+                    scene.camera.position,
+                    setup,
+                    params.sss_width,
+                    (w, h),
+                    &gbuffer,
+                    &scattered,
+                    &mut timer.as_mut(),
+                )?;
+                surface = Some(g.surface);
+            }
             Scatter::None => {
                 enc.copy_buffer_to_buffer(&gbuffer.diffuse, 0, &scattered, 0, (n * 16) as u64)
             }
@@ -393,6 +437,7 @@ impl Renderer {
             gbuffer,
             scattered,
             combined,
+            surface,
             timer,
         })
     }

@@ -1,0 +1,41 @@
+// The surface pass of the area gather (Maisch & Ropinski 2020 §3.3, §6.2): per pixel the world
+// position [cm] of the visible surface and the area [cm²] that the pixel covers on it, from the
+// screen-space derivatives of the position (exact on a flat triangle: the pixel's footprint is the
+// parallelogram |∂x/∂u × ∂x/∂v|). Where the surface is seen at a grazing angle, cos < GRAZING, the
+// area is set to 0: the footprint grows without bound there, and such parts belong to the splatted
+// (geometric) part of the integral (their eq. 8 uses the same bound).
+
+const GRAZING: f32 = 0.2;
+
+struct View {
+    view_proj: mat4x4<f32>,
+    camera_pos: vec4<f32>,
+};
+
+@group(0) @binding(0) var<uniform> v: View;
+
+struct VIn {
+    @location(0) pos: vec3<f32>,
+};
+
+struct VOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+};
+
+@vertex
+fn vs(i: VIn) -> VOut {
+    var o: VOut;
+    // The scene pass's expression, so that both rasterize the same pixels.
+    o.clip = v.view_proj * vec4<f32>(i.pos, 1.0);
+    o.world = i.pos;
+    return o;
+}
+
+@fragment
+fn fs(i: VOut) -> @location(0) vec4<f32> {
+    let c = cross(dpdxFine(i.world), dpdyFine(i.world));
+    let area = length(c);
+    let cos_view = abs(dot(c, normalize(v.camera_pos.xyz - i.world))) / max(area, 1e-30);
+    return vec4<f32>(i.world, select(0.0, area, cos_view >= GRAZING));
+}
