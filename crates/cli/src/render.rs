@@ -196,6 +196,10 @@ pub enum Method {
     /// found through light-space position maps, progressive over --frames (draft §4.2–4.3);
     /// colours come from the material's coefficients, ambient light is not scattered
     DirectionalDipole,
+    /// Maisch & Ropinski 2020 for long mean free paths (milk, marble, jade): the material's Monte
+    /// Carlo profile averaged over discs, R′(r, A) (512×512), gathered per pixel over their
+    /// layered sampling pattern from a pyramid of the irradiance (--gather-inner, --gather-layers)
+    AreaGather,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -379,7 +383,7 @@ pub struct RenderArgs {
     /// material transmits through the part's thickness (read from the light's shadow map), from
     /// `mc` slab simulations of --material at 16 thicknesses (exact when --object-albedo is the
     /// material's total diffuse reflectance) [default: on for the separable method; the
-    /// directional dipole carries this light itself]
+    /// directional dipole and the area gather's splats carry this light themselves]
     #[arg(long, value_enum)]
     translucency: Option<OnOff>,
 
@@ -412,6 +416,26 @@ pub struct RenderArgs {
     /// directional-dipole: side of each light's position/normal map [texels]
     #[arg(long, default_value_t = 1024)]
     light_map: u32,
+
+    /// area-gather: half-width n [px] of the inner block of (2n+1)² taps at full resolution
+    #[arg(long, default_value_t = 2)]
+    gather_inner: u32,
+
+    /// area-gather: layers of 16 taps around the inner block, each 5/3 times wider than the
+    /// previous (10 reach ≈ 413 px); 0 with a large --gather-inner is the brute-force 2D gather
+    #[arg(long, default_value_t = 10)]
+    gather_layers: u32,
+
+    /// area-gather: weight the taps of layer i by √i, as the paper's §6.1 does for curved
+    /// geometry (it adds up to 40 % of light on a flat, evenly lit surface)
+    #[arg(long)]
+    gather_brighten: bool,
+
+    /// area-gather: read each splat (the light entering where the camera does not see, one per
+    /// triangle) at the point their eq. 9 moves towards the pixel instead of at the triangle's
+    /// centre (it counts the kernel's peak once per nearby triangle: 1.5× under a thin slab)
+    #[arg(long)]
+    splat_clamp: bool,
 
     /// Plain Lambertian shading: no scattering at all (a baseline)
     #[arg(long, conflicts_with_all = ["kernel", "compare_models", "bench"])]
@@ -671,8 +695,8 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
             a.scene
         );
     }
-    if materials > 1 && a.method == Method::DirectionalDipole {
-        bail!("--method directional-dipole renders one SSS material per frame");
+    if materials > 1 && a.method != Method::Separable {
+        bail!("--method directional-dipole and area-gather render one SSS material per frame");
     }
     if ![0, 1, materials].contains(&a.object_albedo.len()) {
         bail!(
@@ -737,8 +761,12 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     };
     let mut files = Outputs::default();
     let dipole = match a.method {
-        Method::Separable => None,
         Method::DirectionalDipole => Some(dipole_setup(named, &a, &mut files)?),
+        _ => None,
+    };
+    let area = match a.method {
+        Method::AreaGather => Some(area_setup(named, &a, &mut files)?),
+        _ => None,
     };
     let gpu = Gpu::new()?;
     eprintln!("GPU: {}", gpu.adapter_name);
@@ -752,12 +780,14 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
             a.exit_aware == OnOff::On && !a.no_sss,
         )?;
         let translucency = match a.translucency.unwrap_or(OnOff::On) {
-            OnOff::On if !a.no_sss && dipole.is_none() => Some(translucency_table(
-                n,
-                &a.source.profile(n, &mut files)?,
-                a.translucency_photons,
-                &a.source,
-            )?),
+            OnOff::On if !a.no_sss && dipole.is_none() && area.is_none() => {
+                Some(translucency_table(
+                    n,
+                    &a.source.profile(n, &mut files)?,
+                    a.translucency_photons,
+                    &a.source,
+                )?)
+            }
             _ => None,
         };
         *s = Shading {
@@ -799,14 +829,14 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
             Some(setup) => bench_dipole(&gpu, &scene, setup, &named.slug, &a)?,
             None => {
                 let p = a.source.profile(named, &mut files)?;
-                bench(&gpu, &scene, &p, &named.slug, &a)?
+                bench(&gpu, &scene, &p, &named.slug, area.as_ref(), &a)?
             }
         }
         return files.commit();
     }
     // One kernel per material: --kernel, or pre-integration fitted to each material's profile.
     let kernels: Vec<ShaderKernel> = match kernel_file {
-        _ if a.no_sss || dipole.is_some() => Vec::new(),
+        _ if a.no_sss || dipole.is_some() || area.is_some() => Vec::new(),
         Some(k) => vec![k],
         None => all_named
             .iter()
@@ -824,10 +854,11 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         .map(GpuKernel::from_shader_kernel)
         .collect::<std::result::Result<Vec<_>, _>>()?;
     let start = std::time::Instant::now();
-    let scatter = match &dipole {
-        Some(setup) => Scatter::DirectionalDipole(setup),
-        None if gpu_kernels.is_empty() => Scatter::None,
-        None => Scatter::Separable(&gpu_kernels),
+    let scatter = match (&dipole, &area) {
+        (Some(setup), _) => Scatter::DirectionalDipole(setup),
+        (_, Some(setup)) => Scatter::AreaGather(setup),
+        _ if gpu_kernels.is_empty() => Scatter::None,
+        _ => Scatter::Separable(&gpu_kernels),
     };
     let frame = gpu::render(&gpu, &scene, scatter, &params)?;
     let seconds = start.elapsed().as_secs_f64();
@@ -841,6 +872,15 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         pfm(frame.width, frame.height, &frame.linear),
     );
     let what = match (&dipole, kernels.first()) {
+        _ if area.is_some() => {
+            let p = area.as_ref().map(|s| s.pattern).unwrap_or_default();
+            format!(
+                "area gather ({} taps reaching {:.0} px{})",
+                p.taps().len(),
+                p.reach_px(),
+                if p.brighten { ", √i brightening" } else { "" }
+            )
+        }
         (Some(d), _) => format!(
             "directional dipole ({} samples × {} frames per pixel and light, r* = {:.3} cm)",
             d.samples, d.frames, d.radius_cm
@@ -859,10 +899,11 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         (None, None) => "no SSS".to_string(),
     };
     let mut summary = json!({
-        "adapter": gpu.adapter_name, "scene": a.scene, "method": if dipole.is_some() { "directional-dipole" } else { "separable" },
+        "adapter": gpu.adapter_name, "scene": a.scene, "method": a.method.to_possible_value().map(|v| v.get_name().to_string()),
         "materials": all_named.iter().map(|n| &n.slug).collect::<Vec<_>>(),
         "kernel": kernels.first().map(|k| k.model.to_string()), "width": a.width, "height": a.height,
         "kernels": kernels.iter().map(|k| json!({"model": k.model.to_string(), "passes": k.pass.len(), "taps": k.taps})).collect::<Vec<_>>(),
+        "area_gather": area.as_ref().map(|s| json!({"inner": s.pattern.inner, "layers": s.pattern.layers, "taps": s.pattern.taps().len(), "reach_px": s.pattern.reach_px(), "brighten": s.pattern.brighten, "r_max_cm": s.kernel.r_max_cm(), "table": AREA_TABLE_SIZE})),
         "dipole": dipole.as_ref().map(|d| json!({"samples": d.samples, "frames": d.frames, "radius_cm": d.radius_cm, "light_map": d.map_size, "scale": d.scale})),
         "translucency": params.shading[..all_named.len()].iter().map(|s| s.translucency.as_ref().map(|t| json!({"first_cm": t.first_cm, "ratio": t.ratio, "tt_over_rho": t.table}))).collect::<Vec<_>>(),
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
@@ -1037,6 +1078,58 @@ fn compare(
     Ok(v)
 }
 
+/// Texels of the area gather's R′(r, A) table along each axis (the paper's 512).
+const AREA_TABLE_SIZE: usize = 512;
+
+/// The area gather's kernel, from the material's Monte Carlo profile averaged over discs out to
+/// r_max, where the source term α′σt′e^{−σt′r} falls to 10⁻⁷ cm⁻¹ (Maisch & Ropinski 2020 §7.1),
+/// and the pattern from the flags.
+fn area_setup(
+    named: &library::Named,
+    a: &RenderArgs,
+    files: &mut Outputs,
+) -> Result<gpu::AreaGatherSetup> {
+    if a.kernel.is_some() || a.compare_models || a.no_sss {
+        bail!("--method area-gather does not use --kernel, --compare-models or --no-sss");
+    }
+    if a.translucency == Some(OnOff::On) {
+        bail!(
+            "--translucency is for the separable method: the area gather's splats carry light through thin parts"
+        );
+    }
+    let pattern = gpu::GatherPattern {
+        inner: a.gather_inner,
+        ring: 5,
+        layers: a.gather_layers,
+        brighten: a.gather_brighten,
+    };
+    let r_max = (0..3)
+        .map(|c| {
+            let m = fit::analytic::Medium::channel(&named.material, c);
+            fit::area_table::cutoff_radius(&m, 1e-7)
+        })
+        .fold(0.0, f64::max);
+    if !(r_max > 0.0) {
+        bail!(
+            "--method area-gather: the source term of {} never reaches 1e-7/cm (no scattering to gather)",
+            named.slug
+        );
+    }
+    let p = a.source.profile(named, files)?;
+    let p = &p;
+    let rd = |c: usize| move |r: f64| p.at(c, r);
+    let (r0, r1, r2) = (rd(0), rd(1), rd(2));
+    let table =
+        fit::area_table::AreaTable::build([&r0, &r1, &r2], r_max, AREA_TABLE_SIZE, AREA_TABLE_SIZE);
+    let kernel = gpu::AreaKernel::new(&table)
+        .with_context(|| format!("the area table of {}", named.slug))?;
+    Ok(gpu::AreaGatherSetup {
+        kernel,
+        pattern,
+        splat_clamp: a.splat_clamp,
+    })
+}
+
 /// The directional-dipole settings from the material and the flags; warns where the model is
 /// outside its domain.
 fn dipole_setup(
@@ -1190,7 +1283,14 @@ fn bench_dipole(
 /// GPU times are the blur passes' timestamp queries (null where the adapter has none; on a CPU
 /// adapter such as lavapipe they do not measure the work, so compare frame-time ratios there);
 /// frame times are wall-clock from recording to completion, uploads included, readback not.
-fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> Result<()> {
+fn bench(
+    gpu: &Gpu,
+    scene: &Scene,
+    p: &Profile,
+    slug: &str,
+    area: Option<&gpu::AreaGatherSetup>,
+    a: &RenderArgs,
+) -> Result<()> {
     // With --json, stdout carries only the JSON: the table goes to stderr.
     macro_rules! table {
         ($($t:tt)*) => {
@@ -1213,18 +1313,13 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
         );
     }
     let renderer = gpu::Renderer::new(gpu);
-    // Median over 5 frames of the blur passes' GPU time (None without timestamps) and the frame.
-    let measure =
-        |scene: &Scene, k: &GpuKernel, params: &RenderParams| -> Result<(Option<f64>, f64)> {
+    // Median over 5 frames of the SSS passes' GPU time (None without timestamps) and the frame.
+    let measure_with =
+        |scene: &Scene, scatter: Scatter, params: &RenderParams| -> Result<(Option<f64>, f64)> {
             let mut sss = Vec::new();
             let mut wall = Vec::new();
             for _ in 0..5 {
-                let t = renderer.time(
-                    gpu,
-                    scene,
-                    Scatter::Separable(std::slice::from_ref(k)),
-                    params,
-                )?;
+                let t = renderer.time(gpu, scene, scatter, params)?;
                 sss.push(
                     t.passes
                         .iter()
@@ -1235,6 +1330,10 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
                                 "half-res down",
                                 "half-res up",
                                 "blur pack",
+                                "surface",
+                                "area level 0",
+                                "area pyramid",
+                                "area gather",
                             ]
                             .iter()
                             .any(|k| p.label.ends_with(k))
@@ -1250,6 +1349,9 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
             };
             Ok((gpu.timestamps.then(|| median(sss)), median(wall)))
         };
+    let measure = |scene: &Scene, k: &GpuKernel, params: &RenderParams| {
+        measure_with(scene, Scatter::Separable(std::slice::from_ref(k)), params)
+    };
     let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
     table!(
         "SSS passes at {}×{} on {} ({slug} on {}, renderer built once, median of 5 frames)",
@@ -1306,6 +1408,32 @@ fn bench(gpu: &Gpu, scene: &Scene, p: &Profile, slug: &str, a: &RenderArgs) -> R
         }
     }
     let (k, on_sss, on_frame) = preint17.expect("17 taps were timed");
+    // The area gather (--method area-gather): its layered pattern and the brute-force 2D gather
+    // over the kernel's reach at the target's distance (at most 64 px).
+    if let Some(setup) = area {
+        let dist = (scene.camera.position - scene.camera.target).length();
+        let reach =
+            setup.kernel.r_max_cm() * a.sss_width * scene.camera.px_per_cm_at_unit_depth(a.height)
+                / dist;
+        let dense = gpu::GatherPattern::dense((reach.ceil() as u32).clamp(1, 64));
+        for (path, pattern) in [("layered", setup.pattern), ("dense", dense)] {
+            let s = gpu::AreaGatherSetup {
+                pattern,
+                ..setup.clone()
+            };
+            let (sss, frame) = measure_with(scene, Scatter::AreaGather(&s), &params)?;
+            let taps = pattern.taps().len();
+            table!(
+                "  {:<12} {taps:>5} {:>5} {:>10} {path:>6} {:>12} {frame:>10.1} {:>14.2}",
+                "area-gather",
+                "-",
+                "full",
+                ms(sss),
+                frame / on_frame
+            );
+            configs.push(json!({"kernel": "area-gather", "taps": taps, "rank": null, "resolution": "full", "path": path, "gpu_ms": sss, "frame_ms": frame}));
+        }
+    }
     // Frame time relative to the 17-tap pre-integration: what a CPU adapter can quote.
     for c in &mut configs {
         c["frame_ratio_to_preint17"] = json!(c["frame_ms"].as_f64().unwrap_or(f64::NAN) / on_frame);

@@ -14,9 +14,10 @@
 //! The passes: a surface pass (world position and the pixel's footprint area, `surface.wgsl`), the
 //! area pyramid (level 0 from the G-buffer, then 2×2 sums: `level0`, `reduce`), and the gather
 //! (`area_gather.wgsl`). Choices the paper leaves open, or where this departs from it:
-//! - The pyramid stores sums of A·E, A·x and A per texel, not means: a bilinear fetch then gives
-//!   area-weighted means and the area per texel at any level, so a cell's area is exact where the
-//!   surface is seen whole, and nothing is counted twice at silhouettes.
+//! - The pyramid stores sums per texel, not means: of A·E and A, and of the positions x and their
+//!   count. A bilinear fetch then gives the area-weighted mean irradiance, the area per texel and
+//!   the mean position at any level, so a cell's area is exact where the surface is seen whole,
+//!   and nothing is counted twice at silhouettes.
 //! - A cell of size c [px] reads level round(log₂ c) (their "≈ i·log₂(5/3)" for ring layer i) and
 //!   takes the level's area per texel × (c/2^level)².
 //! - Their §6.1 "brightening term" √i on the outer layers is optional ([`GatherPattern::brighten`])
@@ -34,6 +35,12 @@ use crate::error::{GpuError, Result};
 use crate::gbuffer::GBuffer;
 use crate::mesh::MeshBuffers;
 use crate::timing::Timer;
+
+/// The gather's shader with the shared kernel lookup prepended.
+pub(crate) const AREA_GATHER_WGSL: &str = concat!(
+    include_str!("shaders/area_kernel.wgsl"),
+    include_str!("shaders/area_gather.wgsl")
+);
 
 /// The most pyramid levels (images up to 32768 px on a side).
 const MAX_LEVELS: usize = 16;
@@ -100,6 +107,12 @@ impl AreaKernel {
             r_max_cm: table.r_max as f32,
             values,
         })
+    }
+
+    /// area_kernel.wgsl's `AreaKernel` for width factor `scale`: scale and r_max as f32 bits,
+    /// then the texels along r and A.
+    pub(crate) fn uniform(&self, scale: f32) -> [u32; 4] {
+        [scale.to_bits(), self.r_max_cm.to_bits(), self.n_r, self.n_a]
     }
 
     /// Where the kernel ends [cm] (before the width factor).
@@ -266,13 +279,27 @@ impl GatherPattern {
     }
 }
 
-/// What [`crate::Scatter::AreaGather`] needs: the kernel and the pattern.
+/// What [`crate::Scatter::AreaGather`] needs: the kernel, the pattern and how splats are read.
 #[derive(Clone, Debug)]
 pub struct AreaGatherSetup {
     /// The area pre-integrated kernel of the (one) SSS material.
     pub kernel: AreaKernel,
     /// The sampling pattern.
     pub pattern: GatherPattern,
+    /// Move each splat's point towards the pixel by up to its disc's radius (their eq. 9) before
+    /// reading R′; off reads R′ at the triangle's centre (see `splat.rs`).
+    pub splat_clamp: bool,
+}
+
+impl AreaGatherSetup {
+    /// `kernel` with the paper's pattern and splats read at their centres.
+    pub fn new(kernel: AreaKernel) -> AreaGatherSetup {
+        AreaGatherSetup {
+            kernel,
+            pattern: GatherPattern::default(),
+            splat_clamp: false,
+        }
+    }
 }
 
 #[repr(C)]
@@ -282,10 +309,7 @@ struct Uniform {
     height: u32,
     taps: u32,
     material: u32,
-    scale: f32,
-    r_max: f32,
-    n_r: u32,
-    n_a: u32,
+    kernel: [u32; 4],
     levels: u32,
     _pad: [u32; 3],
     level: [[u32; 4]; MAX_LEVELS],
@@ -340,17 +364,27 @@ pub(crate) struct AreaGather {
     lookup: wgpu::ComputePipeline,
 }
 
-/// What the gather leaves for the frame: per pixel xyz world position [cm] and w the footprint
-/// area [cm²] that entered the gather (0 off the material or at grazing view).
+/// What the gather leaves for the frame and the splats.
 pub(crate) struct Gathered {
+    /// Per pixel xyz world position [cm] and w the footprint area [cm²] that entered the gather
+    /// (0 off the material or at grazing view).
     pub surface: wgpu::Buffer,
+    /// The position pyramid: per texel Σx and the count of the material's pixels.
+    pub pos: wgpu::Buffer,
+    /// The kernel's texels.
+    pub table: wgpu::Buffer,
+    /// The pyramid's levels: offset, width, height.
+    pub levels: Vec<[u32; 4]>,
 }
 
 impl AreaGather {
     pub(crate) fn new(gpu: &Gpu) -> AreaGather {
         let dev = &gpu.device;
         let surface = dev.create_shader_module(wgpu::include_wgsl!("shaders/surface.wgsl"));
-        let module = dev.create_shader_module(wgpu::include_wgsl!("shaders/area_gather.wgsl"));
+        let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("area gather"),
+            source: wgpu::ShaderSource::Wgsl(AREA_GATHER_WGSL.into()),
+        });
         let pipeline = |entry: &str| {
             dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(entry),
@@ -397,10 +431,7 @@ impl AreaGather {
             height: size.1,
             taps,
             material: 0,
-            scale,
-            r_max: kernel.r_max_cm,
-            n_r: kernel.n_r,
-            n_a: kernel.n_a,
+            kernel: kernel.uniform(scale),
             levels: lv.len() as u32,
             _pad: [0; 3],
             level,
@@ -577,7 +608,12 @@ impl AreaGather {
             groups(w, h),
             timer.as_deref_mut(),
         );
-        Ok(Gathered { surface })
+        Ok(Gathered {
+            surface,
+            pos,
+            table,
+            levels: lv,
+        })
     }
 
     /// The GPU's R′_s/energy at each (distance [cm], area [cm²]) of `points`: what the gather
@@ -687,7 +723,7 @@ mod tests {
     /// The storage structs' sizes agree with area_gather.wgsl's (stride of `Tap` included).
     #[test]
     fn the_tap_and_reduce_structs_match_the_shader() {
-        let src = include_str!("shaders/area_gather.wgsl");
+        let src = AREA_GATHER_WGSL;
         let module = naga::front::wgsl::parse_str(src).unwrap();
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(module.to_ctx()).unwrap();

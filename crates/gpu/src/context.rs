@@ -13,6 +13,9 @@ pub struct Gpu {
     pub adapter_name: String,
     /// Whether per-pass GPU timestamps are available.
     pub timestamps: bool,
+    /// Whether rgba32float render targets can blend (additive splats accumulate in f32; else in
+    /// f16, whose 11-bit mantissa drops contributions below 2⁻¹² of the running sum).
+    pub float32_blend: bool,
 }
 
 impl Gpu {
@@ -35,17 +38,17 @@ impl Gpu {
         .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         let info = adapter.get_info();
         let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let float32_blend = adapter
+            .features()
+            .contains(wgpu::Features::FLOAT32_BLENDABLE);
         let mut limits = wgpu::Limits::default().using_resolution(adapter.limits());
         limits.max_storage_buffer_binding_size = adapter.limits().max_storage_buffer_binding_size;
         limits.max_buffer_size = adapter.limits().max_buffer_size;
         limits.max_storage_buffers_per_shader_stage = 8;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("sss"),
-            required_features: if timestamps {
-                wgpu::Features::TIMESTAMP_QUERY
-            } else {
-                wgpu::Features::empty()
-            },
+            required_features: adapter.features()
+                & (wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::FLOAT32_BLENDABLE),
             required_limits: limits,
             ..Default::default()
         }))
@@ -55,6 +58,7 @@ impl Gpu {
             queue,
             adapter_name: format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type),
             timestamps,
+            float32_blend,
         })
     }
 

@@ -74,9 +74,10 @@ impl MaterialU {
     }
 }
 
-/// The scene shader with the shared Fresnel function prepended.
+/// The scene shader with the shared Fresnel and lighting functions prepended.
 pub(crate) const SCENE_WGSL: &str = concat!(
     include_str!("shaders/fresnel.wgsl"),
+    include_str!("shaders/lighting.wgsl"),
     include_str!("shaders/scene.wgsl")
 );
 
@@ -112,6 +113,8 @@ pub(crate) struct GBuffer {
     pub geometry: wgpu::Buffer,
     /// Post-scatter albedo × exit factor.
     pub albedo: wgpu::Buffer,
+    /// scene.wgsl's `Globals` (lights, materials' tables, albedo mode), for the splats' lighting.
+    pub globals: wgpu::Buffer,
 }
 
 /// The compiled scene and unpack pipelines and the shadow-map sampler.
@@ -287,6 +290,7 @@ impl GBufferPass {
             specular: pixels(gpu, n, "specular"),
             geometry: pixels(gpu, n, "geometry"),
             albedo: pixels(gpu, n, "albedo"),
+            globals: gbuf,
         };
         let mut entries: Vec<wgpu::BindGroupEntry> = views
             .iter()

@@ -38,6 +38,7 @@ mod render;
 mod scene;
 mod shading;
 mod shadow;
+mod splat;
 mod timing;
 
 pub use area_gather::{AreaGatherSetup, AreaKernel, GatherPattern};
@@ -62,7 +63,7 @@ mod tests {
     /// Rust twin uploaded into it (None: no uniform twin).
     type Shader = (&'static str, &'static str, Option<(&'static str, usize)>);
 
-    const SHADERS: [Shader; 11] = [
+    const SHADERS: [Shader; 12] = [
         (
             "scene.wgsl",
             crate::gbuffer::SCENE_WGSL,
@@ -96,9 +97,14 @@ mod tests {
             Some(("View", crate::area_gather::VIEW_UNIFORM_SIZE)),
         ),
         (
-            "area_gather.wgsl",
-            include_str!("shaders/area_gather.wgsl"),
+            "area_kernel.wgsl + area_gather.wgsl",
+            crate::area_gather::AREA_GATHER_WGSL,
             Some(("Params", crate::area_gather::GATHER_UNIFORM_SIZE)),
+        ),
+        (
+            "fresnel + lighting + area_kernel + splat.wgsl",
+            crate::splat::SPLAT_WGSL,
+            Some(("Splat", crate::splat::SPLAT_UNIFORM_SIZE)),
         ),
         (
             "dipole_maps.wgsl",

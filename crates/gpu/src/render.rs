@@ -14,6 +14,7 @@ use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
 use crate::scene::Scene;
 use crate::shadow::ShadowPass;
+use crate::splat::Splats;
 use crate::timing::{PassTime, Timer};
 
 /// How the diffuse light of SSS surfaces is scattered.
@@ -113,6 +114,7 @@ pub struct Renderer {
     blur: Blur,
     half: HalfRes,
     area: AreaGather,
+    splats: Splats,
     combine: Combine,
 }
 
@@ -134,6 +136,7 @@ impl Renderer {
             blur: Blur::new(gpu),
             half: HalfRes::new(gpu),
             area: AreaGather::new(gpu),
+            splats: Splats::new(gpu),
             combine: Combine::new(gpu),
         }
     }
@@ -418,6 +421,19 @@ impl Renderer {
                     &scattered,
                     &mut timer.as_mut(),
                 )?;
+                self.splats.encode(
+                    gpu,
+                    &mut enc,
+                    scene,
+                    setup,
+                    params.sss_width,
+                    (w, h),
+                    &gbuffer,
+                    &shadow_maps,
+                    &g,
+                    &scattered,
+                    &mut timer.as_mut(),
+                );
                 surface = Some(g.surface);
             }
             Scatter::None => {

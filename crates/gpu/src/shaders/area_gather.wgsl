@@ -4,23 +4,18 @@
 // albedo, x its mean position and A its area on the surface [cm²].
 //
 // Every pyramid level holds per texel the sums over its pixels of (A·E, A) in `light` and of
-// (A·x, A) in `pos`, so that a bilinear fetch of any level gives area-weighted means and the area
-// per texel directly; level 0 is the image (entry point `level0`), level l + 1 sums 2×2 texels of
-// level l (`reduce`). Pixels of other materials, without SSS, or at grazing view carry A = 0.
-
-const PI: f32 = 3.14159265358979;
+// (x, 1) over the material's pixels in `pos`, so that a bilinear fetch of any level gives the
+// area-weighted mean irradiance, the area per texel and the mean position directly; level 0 is
+// the image (entry point `level0`), level l + 1 sums 2×2 texels of level l (`reduce`). Pixels of
+// other materials or without SSS carry nothing, pixels at grazing view A = 0 (they still count
+// as positions: the splats' receivers). area_kernel.wgsl is prepended.
 
 struct Params {
     width: u32,
     height: u32,
     taps: u32,
     material: u32,
-    // The kernel's width factor s: R′_s(r, A) = R′(r/s, A/s²)/s².
-    scale: f32,
-    // The table: r_max [cm], texels along r and along the disc radius.
-    r_max: f32,
-    n_r: u32,
-    n_a: u32,
+    kernel: AreaKernel,
     levels: u32,
     _pad0: u32,
     _pad1: u32,
@@ -61,37 +56,13 @@ struct Tap {
 @group(0) @binding(11) var<storage, read> points: array<vec2<f32>>;
 @group(0) @binding(12) var<storage, read_write> values: array<vec4<f32>>;
 
-fn texel(j: u32, i: u32) -> vec3<f32> {
-    return table[min(j, p.n_a - 1u) * p.n_r + min(i, p.n_r - 1u)].rgb;
-}
-
-// R′_s(d, a)/energy at distance d [cm] and area a [cm²]: bilinear between texel centres, clamped
-// to them (as fit's AreaTable::lookup), 0 beyond s·r_max (gpu::AreaKernel::lookup is its twin).
-fn area_kernel(d: f32, a: f32) -> vec3<f32> {
-    let s = p.scale;
-    let rs = d / s;
-    if !(rs <= p.r_max) {
-        return vec3<f32>(0.0);
-    }
-    let ra = sqrt(max(a, 0.0) / PI) / s;
-    let x = clamp(rs / p.r_max * f32(p.n_r) - 0.5, 0.0, f32(p.n_r - 1u));
-    let y = clamp(ra / p.r_max * f32(p.n_a) - 0.5, 0.0, f32(p.n_a - 1u));
-    let i = min(u32(floor(x)), p.n_r - 2u);
-    let j = min(u32(floor(y)), p.n_a - 2u);
-    let ti = x - f32(i);
-    let tj = y - f32(j);
-    let lo = mix(texel(j, i), texel(j, i + 1u), ti);
-    let hi = mix(texel(j + 1u, i), texel(j + 1u, i + 1u), ti);
-    return mix(lo, hi, tj) / (s * s);
-}
-
 @compute @workgroup_size(64)
 fn lookup(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= arrayLength(&points) {
         return;
     }
     let q = points[id.x];
-    values[id.x] = vec4<f32>(area_kernel(q.x, q.y), 0.0);
+    values[id.x] = vec4<f32>(area_kernel(p.kernel, q.x, q.y), 0.0);
 }
 
 @compute @workgroup_size(8, 8)
@@ -104,9 +75,10 @@ fn level0(@builtin(global_invocation_id) id: vec3<u32>) {
     let g = geometry[i];
     let sss = g.y > 0.0 && u32(g.z + 0.5) == p.material;
     let a = select(0.0, s.w, sss);
+    let count = select(0.0, 1.0, sss);
     surface[i] = vec4<f32>(s.xyz, a);
     light[i] = vec4<f32>(diffuse[i].rgb * a, a);
-    pos[i] = vec4<f32>(s.xyz * a, a);
+    pos[i] = vec4<f32>(s.xyz * count, count);
 }
 
 @compute @workgroup_size(8, 8)
@@ -189,7 +161,7 @@ fn gather(@builtin(global_invocation_id) id: vec3<u32>) {
         let a = s.light.w * tap.cell * tap.cell / (texel_px * texel_px);
         let e = s.light.rgb / s.light.w;
         let x = s.pos.xyz / s.pos.w;
-        sum += tap.weight * e * a * area_kernel(distance(x, xo), a);
+        sum += tap.weight * e * a * area_kernel(p.kernel, distance(x, xo), a);
     }
     out[i] = vec4<f32>(sum, 1.0);
 }

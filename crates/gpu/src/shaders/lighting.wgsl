@@ -1,0 +1,184 @@
+// Lighting shared by the scene pass (scene.wgsl) and the splats of the area gather (splat.wgsl):
+// the lights, the SSS materials' tables, shadows, and the albedo split. World units are cm;
+// fresnel.wgsl is prepended.
+
+struct Light {
+    view_proj: mat4x4<f32>,
+    inv_view_proj: mat4x4<f32>,
+    // xyz: direction towards the light (w = 0) or its position (w = 1).
+    pos_or_dir: vec4<f32>,
+    // rgb: radiance scale (irradiance at normal incidence for directional lights, intensity for
+    // point lights, divided by distance² [cm²]); w: shadow-map layer, < 0 for none.
+    color: vec4<f32>,
+};
+
+// How one SSS material is shaded (gpu::Shading).
+struct Material {
+    // Incidence-aware shading: ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80° (rgb), and the ambient light's
+    // cosine-weighted mean of it (all ones: off).
+    incidence: array<vec4<f32>, 9>,
+    incidence_ambient: vec4<f32>,
+    // Light through thin parts: Tt(d)/ρ at d_k = first·ratio^k (rgb), and x: first [cm],
+    // y: ln ratio, z: 1 on / 0 off, w: η (gpu::Translucency).
+    translucency: array<vec4<f32>, 16>,
+    translucency_params: vec4<f32>,
+    // Exit-angle-aware shading: the radiance leaving at view angle θ relative to a Lambertian
+    // surface's, h(θ) at θ = 0°, 10°, …, 80° (rgb; all ones: off).
+    exit: array<vec4<f32>, 9>,
+};
+
+struct Globals {
+    view_proj: mat4x4<f32>,
+    view: mat4x4<f32>,
+    camera_pos: vec4<f32>,
+    // x: light count, y: albedo mode (0 pre, 1 post, 2 pre+post), z: specular intensity,
+    // w: Blinn–Phong exponent.
+    params: vec4<f32>,
+    ambient: vec4<f32>,
+    lights: array<Light, 4>,
+    // Per SSS material (the vertices' material index).
+    materials: array<Material, 4>,
+};
+
+@group(0) @binding(0) var<uniform> g: Globals;
+@group(0) @binding(1) var shadow_maps: texture_depth_2d_array;
+@group(0) @binding(2) var shadow_sampler: sampler_comparison;
+
+fn shadow(i: u32, world: vec3<f32>, n_dot_l: f32) -> f32 {
+    let layer = g.lights[i].color.w;
+    if layer < 0.0 {
+        return 1.0;
+    }
+    let p = g.lights[i].view_proj * vec4<f32>(world, 1.0);
+    let ndc = p.xyz / p.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0 {
+        return 1.0;
+    }
+    let bias = 0.0015 + 0.004 * (1.0 - n_dot_l);
+    let texel = 1.0 / vec2<f32>(textureDimensions(shadow_maps));
+    var lit = 0.0;
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            lit += textureSampleCompareLevel(shadow_maps, shadow_sampler,
+                uv + vec2<f32>(f32(dx), f32(dy)) * texel, i32(layer), ndc.z - bias);
+        }
+    }
+    return lit / 9.0;
+}
+
+// An angle table (θ = 0°, 10°, …, 80°: `incidence` or `exit`) at cos θ: linear in θ between
+// entries, the 80° value beyond (gpu::incidence_ratio is its CPU twin).
+fn angle_table(table: array<vec4<f32>, 9>, cos_a: f32) -> vec3<f32> {
+    var t = table;
+    let x = degrees(acos(clamp(cos_a, 0.0, 1.0))) / 10.0;
+    let i = min(u32(floor(x)), 8u);
+    if i >= 8u {
+        return t[8].rgb;
+    }
+    return mix(t[i].rgb, t[i + 1u].rgb, x - f32(i));
+}
+
+// Material m's Tt(d)/ρ at thickness d [cm]: linear in ln d between entries, held outside them.
+fn translucency(m: u32, d: f32) -> vec3<f32> {
+    let table = g.materials[m].translucency;
+    let t = log(max(d, 1e-30) / g.materials[m].translucency_params.x) / g.materials[m].translucency_params.y;
+    if !(t > 0.0) {
+        return table[0].rgb;
+    }
+    let i = u32(floor(t));
+    if i >= 15u {
+        return table[15].rgb;
+    }
+    return mix(table[i].rgb, table[i + 1u].rgb, t - f32(i));
+}
+
+// The thickness [cm] of an SSS part behind `world` as light `i` crosses it: the distance along
+// the light ray to where the light enters (its shadow map's first surface); < 0 without a shadow
+// map or outside it.
+fn thickness(i: u32, world: vec3<f32>) -> f32 {
+    let layer = g.lights[i].color.w;
+    if layer < 0.0 {
+        return -1.0;
+    }
+    let p = g.lights[i].view_proj * vec4<f32>(world, 1.0);
+    let ndc = p.xyz / p.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
+        return -1.0;
+    }
+    // The entry depth interpolated bilinearly between texel centres (exact on flat parts; the
+    // nearest texel alone is off by up to half a texel times the slope).
+    let size = vec2<i32>(textureDimensions(shadow_maps));
+    let t = uv * vec2<f32>(size) - 0.5;
+    let base = vec2<i32>(floor(t));
+    let f = t - vec2<f32>(base);
+    let lo = clamp(base, vec2<i32>(0), size - 1);
+    let hi = clamp(base + 1, vec2<i32>(0), size - 1);
+    let l = i32(layer);
+    let depth = mix(
+        mix(textureLoad(shadow_maps, lo, l, 0), textureLoad(shadow_maps, vec2<i32>(hi.x, lo.y), l, 0), f.x),
+        mix(textureLoad(shadow_maps, vec2<i32>(lo.x, hi.y), l, 0), textureLoad(shadow_maps, hi, l, 0), f.x),
+        f.y);
+    let e = g.lights[i].inv_view_proj * vec4<f32>(ndc.xy, depth, 1.0);
+    return length(world - e.xyz / e.w);
+}
+
+struct Lit {
+    diffuse: vec3<f32>,
+    specular: vec3<f32>,
+};
+
+// What arrives at `world` with unit normal `n`, seen from `view_dir`: the diffuse irradiance (on
+// SSS surfaces of material m with its incidence table and, with `through`, the light that crosses
+// thin parts from behind) and the Blinn–Phong specular.
+fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool, through: bool) -> Lit {
+    var irradiance = g.ambient.rgb * select(vec3<f32>(1.0), g.materials[m].incidence_ambient.rgb, sss);
+    var spec = vec3<f32>(0.0);
+    for (var i = 0u; i < u32(g.params.x); i++) {
+        let l4 = g.lights[i].pos_or_dir;
+        var l = normalize(l4.xyz);
+        var scale = g.lights[i].color.rgb;
+        if l4.w > 0.5 {
+            let d = l4.xyz - world;
+            l = normalize(d);
+            scale = scale / dot(d, d);
+        }
+        let n_dot_l = max(dot(n, l), 0.0);
+        if n_dot_l <= 0.0 {
+            // Light from behind: what crosses a thin part.
+            if through && sss && g.materials[m].translucency_params.z > 0.5 {
+                let d = thickness(i, world);
+                if d >= 0.0 {
+                    // Entering the (parallel) back face at incidence |n·l|, relative to normal.
+                    let c = -dot(n, l);
+                    let eta = g.materials[m].translucency_params.w;
+                    let entry = (1.0 - fresnel(eta, c)) / (1.0 - fresnel(eta, 1.0));
+                    irradiance += scale * c * entry * translucency(m, d);
+                }
+            }
+            continue;
+        }
+        let vis = shadow(i, world, n_dot_l);
+        irradiance += scale * n_dot_l * vis * select(vec3<f32>(1.0), angle_table(g.materials[m].incidence, n_dot_l), sss);
+        let h = normalize(l + view_dir);
+        spec += scale * g.params.z * pow(max(dot(n, h), 0.0), g.params.w) * n_dot_l * vis;
+    }
+    return Lit(irradiance, spec);
+}
+
+// The albedo applied before scattering ([0]) and after it ([1]), by the mode in g.params.y
+// (0 pre, 1 post, 2 pre+post).
+fn albedo_split(albedo: vec3<f32>) -> array<vec3<f32>, 2> {
+    var pre = albedo;
+    var post = vec3<f32>(1.0);
+    let mode = u32(g.params.y);
+    if mode == 1u {
+        pre = vec3<f32>(1.0);
+        post = albedo;
+    } else if mode == 2u {
+        pre = sqrt(albedo);
+        post = sqrt(albedo);
+    }
+    return array<vec3<f32>, 2>(pre, post);
+}
