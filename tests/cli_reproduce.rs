@@ -24,6 +24,11 @@ fn quick_report_is_complete_and_the_claims_hold() {
         "rankings": {"incidence-aware closer than preint": true}
     });
     std::fs::write(dir.path().join("images.json"), images.to_string()).unwrap();
+    // run.py's summary: its `images` list, each entry with its scene and material.
+    let mut marble = images.clone();
+    marble["material"] = serde_json::json!("marble");
+    let summary = serde_json::json!({"failed": [], "images": [images, marble]});
+    std::fs::write(dir.path().join("summary.json"), summary.to_string()).unwrap();
     let o = Command::new(env!("CARGO_BIN_EXE_sss"))
         .args([
             "reproduce",
@@ -32,6 +37,8 @@ fn quick_report_is_complete_and_the_claims_hold() {
             "report",
             "--references",
             "images.json",
+            "--references",
+            "summary.json",
         ])
         .current_dir(dir.path())
         .output()
@@ -146,7 +153,10 @@ fn quick_report_is_complete_and_the_claims_hold() {
     ] {
         assert!(html.contains(section), "missing {section}");
     }
-    assert_eq!(r["rendered"]["models"].as_array().unwrap().len(), 2);
+    let rendered = r["rendered"].as_array().unwrap();
+    assert_eq!(rendered.len(), 3);
+    assert_eq!(rendered[2]["material"], "marble");
+    assert_eq!(rendered[0]["models"].as_array().unwrap().len(), 2);
     for src in html
         .split("src=\"")
         .skip(1)

@@ -53,6 +53,14 @@ CAMERA = ((0.0, 9.0, 24.0), (-1.5, 6.5, 3.0), 16.0)
 BAR = ((-5.2, 10.4, -2.0), (-4.2, 11.4, 12.0))        # black occluder [cm]
 LIGHT = (-12.0, 20.0, 14.0)                           # point light [cm]
 INTENSITY = 500.0                                     # irradiance × cm²
+# Maisch & Ropinski 2020 for long mean free paths: the area pre-integrated profile gathered over
+# their layered pattern, plus splats where the camera does not see; and the brute-force 2D
+# screen-space gather of the same kernel (every pixel within 48 px) with the same splats.
+AREA = [
+    ("area-gather", [], ["--method", "area-gather", "--material", "{material}", "--profiles", "{profiles}"]),
+    ("area-gather-dense", [], ["--method", "area-gather", "--material", "{material}", "--profiles", "{profiles}",
+                               "--gather-inner", "48", "--gather-layers", "0"]),
+]
 MODELS = [  # label, `sss fit` arguments (None: no scattering), extra `sss render` arguments
     ("lambert", None, []),
     ("preint", ["--model", "preint"], []),
@@ -79,6 +87,7 @@ MODELS = [  # label, `sss fit` arguments (None: no scattering), extra `sss rende
     ("directional-dipole-mc", [], ["--method", "directional-dipole", "--material", "{material}",
                                    "--profiles", "{profiles}",
                                    "--samples", "32", "--frames", "32", "--light-map", "2048"]),
+    *AREA,
 ]
 
 # Thin parts: gpu::Scene::fin()'s sphere and its 3 mm and 1 mm fins, seen from the default camera
@@ -99,13 +108,14 @@ FIN_MODELS = [
     ("directional-dipole-mc", [], ["--method", "directional-dipole", "--material", "{material}",
                                    "--profiles", "{profiles}",
                                    "--samples", "32", "--frames", "32", "--light-map", "2048"]),
+    *AREA,
 ]
 
 # Small features and depth discontinuities: the depth tests, the incidence-aware shading.
 BUST_MODELS = [m for m in MODELS if m[0] in (
     "lambert", "preint", "preint-reject", "preint-nodepth", "preint-gaussian", "svd1", "svd3",
     "preint-incidence",
-    "preint-incidence-exit")]
+    "preint-incidence-exit", "area-gather")]
 
 # camera (eye, target, vertical fov [deg]); SSS media (sphere: centre, radius; box: corners [cm],
 # the geometry of `gpu::Scene`; obj: a generated mesh); black occluders; light (point: position, intensity; dir: towards
@@ -494,6 +504,8 @@ def main():
         total = row["rmse_noise_corrected"] ** 2
         row["energy_share"] = 1 - flat["rmse_noise_corrected"] ** 2 / total if total > 0 else float("nan")
         row["ssim"] = ssim(lum(o2), lum(r2))
+        # Structural dissimilarity, as Maisch & Ropinski report: (1 − SSIM)/2.
+        row["dssim"] = (1 - row["ssim"]) / 2
         rows.append({"model": label, **row})
         diff = np.clip((ours - ref).mean(2) / mean * 5, -1, 1)
         dimg = np.stack([255 * (1 - np.clip(-diff, 0, 1)), 255 * (1 - np.abs(diff)), 255 * (1 - np.clip(diff, 0, 1))], 2)
@@ -503,7 +515,7 @@ def main():
         print(f"  {label:<29} noise-corrected RMSE {100 * row['rmse_noise_corrected']:5.2f} ± "
               f"{100 * row['rmse_noise_corrected_se']:4.2f}% (raw {100 * row['rmse_rel']:5.2f}%; "
               f"{100 * row['rmse_spatial']:5.2f}% with the best factor per channel), "
-              f"SSIM {row['ssim']:.4f}, energy {e[0]:.3f}/{e[1]:.3f}/{e[2]:.3f}", flush=True)
+              f"DSSIM {row['dssim']:.4f}, energy {e[0]:.3f}/{e[1]:.3f}/{e[2]:.3f}", flush=True)
     write_png(os.path.join(out, "mitsuba.png"), tonemap(ref, 1.0 / ref[(ref.sum(2) > 0)].mean() / 4))
     write_png(os.path.join(out, "mitsuba_lambert.png"), tonemap(gi, 1.0 / mean / 4))
     cal_diff = np.clip((images["lambert"] - 0.5 * (cal_a + cal_b)).mean(2) / cal_mean * 5, -1, 1)
@@ -552,7 +564,9 @@ def main():
                        ("preint-translucency", "preint"), ("preint-incidence-translucency", "preint"),
                        ("directional-dipole-mc", "preint-incidence-translucency"),
                        ("preint-reject", "preint"), ("preint-nodepth", "preint"),
-                       ("preint-gaussian", "preint"), ("preint-gaussian", "preint-reject")]:
+                       ("preint-gaussian", "preint"), ("preint-gaussian", "preint-reject"),
+                       ("area-gather", "preint"), ("area-gather", "area-gather-dense"),
+                       ("area-gather", "preint-translucency"), ("area-gather", "directional-dipole-mc")]:
             if pair(a_, b_):
                 ranked[f"{a_} closer than {b_}"] = closer(a_, b_)
     # How much of plain pre-integration's error the angular dependence of total reflectance

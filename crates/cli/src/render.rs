@@ -1103,13 +1103,16 @@ fn area_setup(
         layers: a.gather_layers,
         brighten: a.gather_brighten,
     };
+    pattern
+        .validate()
+        .context("invalid --gather-inner/--gather-layers")?;
     let r_max = (0..3)
         .map(|c| {
             let m = fit::analytic::Medium::channel(&named.material, c);
             fit::area_table::cutoff_radius(&m, 1e-7)
         })
         .fold(0.0, f64::max);
-    if !(r_max > 0.0) {
+    if r_max.is_nan() || r_max <= 0.0 {
         bail!(
             "--method area-gather: the source term of {} never reaches 1e-7/cm (no scattering to gather)",
             named.slug

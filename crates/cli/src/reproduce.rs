@@ -45,41 +45,48 @@ pub struct ReproduceArgs {
     #[arg(long, value_name = "DIR")]
     profiles: Option<PathBuf>,
 
-    /// Include the rendered-scene comparison against Mitsuba 3 that
-    /// `python3 scripts/references/images.py` wrote (its images.json)
-    #[arg(long, value_name = "IMAGES.json")]
-    references: Option<PathBuf>,
+    /// Include the rendered-scene comparisons against Mitsuba 3: an images.json that
+    /// `python3 scripts/references/images.py` wrote, or the summary.json of `run.py` (every scene
+    /// and material it ran, the long-mean-free-path ones included); repeatable
+    #[arg(long, value_name = "JSON")]
+    references: Vec<PathBuf>,
 
     /// Also print the report's numbers (report.json) on stdout
     #[arg(long)]
     json: bool,
 }
 
-/// The image comparison against Mitsuba (`images.py`'s JSON), checked for the fields the report
-/// shows.
-fn read_references(path: &std::path::Path) -> Result<Value> {
+/// The image comparisons against Mitsuba: `images.py`'s JSON (one scene and material) or
+/// `run.py`'s summary (its `images` list), checked for the fields the report shows.
+fn read_references(path: &std::path::Path) -> Result<Vec<Value>> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("cannot read --references {}", path.display()))?;
     let v: Value = serde_json::from_str(&text)
         .with_context(|| format!("--references {}: not JSON", path.display()))?;
-    let models = v["models"].as_array().with_context(|| {
-        format!(
-            "--references {}: no \"models\" list (expected images.py's images.json)",
-            path.display()
-        )
-    })?;
-    for m in models {
-        if m["model"].as_str().is_none()
-            || m["rmse_noise_corrected"].as_f64().is_none()
-            || m["energy_ratio"].as_array().is_none_or(|e| e.len() != 3)
-        {
-            bail!(
-                "--references {}: a model entry lacks model, rmse_noise_corrected or energy_ratio (rerun images.py)",
+    let all = match v["images"].as_array() {
+        Some(images) => images.clone(),
+        None => vec![v],
+    };
+    for v in &all {
+        let models = v["models"].as_array().with_context(|| {
+            format!(
+                "--references {}: no \"models\" list (expected images.py's images.json or run.py's summary.json)",
                 path.display()
-            );
+            )
+        })?;
+        for m in models {
+            if m["model"].as_str().is_none()
+                || m["rmse_noise_corrected"].as_f64().is_none()
+                || m["energy_ratio"].as_array().is_none_or(|e| e.len() != 3)
+            {
+                bail!(
+                    "--references {}: a model entry lacks model, rmse_noise_corrected or energy_ratio (rerun images.py)",
+                    path.display()
+                );
+            }
         }
     }
-    Ok(v)
+    Ok(all)
 }
 
 /// The five materials of the thesis's main results.
@@ -187,7 +194,12 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
     let photons = a
         .photons
         .unwrap_or(if a.quick { 20_000 } else { config.photons });
-    let references = a.references.as_deref().map(read_references).transpose()?;
+    let references = a
+        .references
+        .iter()
+        .map(|p| read_references(p))
+        .collect::<Result<Vec<_>>>()?
+        .concat();
     let mut files = Outputs::default();
 
     // 1. Profiles of the whole library, one batch.
@@ -283,8 +295,8 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
     crate::reproduce_rendered::add(&mut report, &all, &profiles, a.quick)?;
     // 4. Fig. 5.15 and 5.17 on Skin1: their plots, numbers and claims.
     crate::reproduce_chapter5::add(&mut report, &all, &profiles, image, &a.out, &mut files)?;
-    if let Some(r) = references {
-        report["rendered"] = r;
+    if !references.is_empty() {
+        report["rendered"] = Value::Array(references);
     }
     files.add(
         a.out.join("report.json"),
@@ -682,13 +694,30 @@ fn html(r: &Value, all: &[library::Named]) -> String {
     h
 }
 
-/// The rendered-scene section: `images.py`'s comparison against Mitsuba 3, or how to make it.
+/// The rendered-scene section: `images.py`'s comparisons against Mitsuba 3, one per scene and
+/// material, or how to make them.
 fn rendered_html(v: &Value) -> String {
     let mut h = String::from("<h2>Rendered scenes against Mitsuba 3</h2>");
-    let Some(models) = v["models"].as_array() else {
-        h += "<p>Not included: run <code>python3 scripts/references/images.py --quick</code> and pass its <code>out/references/images/images.json</code> with <code>--references</code>.</p>";
+    let Some(all) = v.as_array() else {
+        h += "<p>Not included: run <code>python3 scripts/references/run.py --quick</code> and pass its <code>out/references/summary.json</code> (or one <code>images.json</code>) with <code>--references</code>.</p>";
         return h;
     };
+    for v in all {
+        h += &rendered_one(v);
+    }
+    h
+}
+
+/// One scene and material of `rendered_html`.
+fn rendered_one(v: &Value) -> String {
+    let Some(models) = v["models"].as_array() else {
+        return String::new();
+    };
+    let mut h = format!(
+        "<h3>{} / {}</h3>",
+        v["scene"].as_str().unwrap_or("sphere"),
+        v["material"].as_str().unwrap_or("skin1")
+    );
     let _ = write!(
         h,
         "<p>The {} scene, η = 1, {}×{} pixels, Mitsuba with {} samples per pixel (mean of two seeds; its noise {:.1} % of the mean on 2×2 blocks; silhouettes, {:.1} % of the lit blocks, excluded on both sides). Errors relative to the reference's mean; noise-corrected = √(MSE − var(reference)) ± standard error; spatial = what remains once each channel is scaled by its best global factor.</p>",
@@ -726,7 +755,7 @@ fn rendered_html(v: &Value) -> String {
             }
         );
     }
-    h += "<table><tr><th>model</th><th>RMSE</th><th>noise-corrected RMSE</th><th>spatial</th><th>SSIM</th><th>energy R / G / B</th></tr>";
+    h += "<table><tr><th>model</th><th>RMSE</th><th>noise-corrected RMSE</th><th>spatial</th><th>SSIM</th><th>DSSIM</th><th>energy R / G / B</th></tr>";
     for m in models {
         let e: Vec<String> = m["energy_ratio"]
             .as_array()
@@ -739,13 +768,14 @@ fn rendered_html(v: &Value) -> String {
         let pct = |k: &str| 100.0 * m[k].as_f64().unwrap_or(f64::NAN);
         let _ = write!(
             h,
-            "<tr><td style=\"text-align:left\">{}</td><td>{:.2} %</td><td>{:.2} ± {:.2} %</td><td>{:.2} %</td><td>{:.4}</td><td>{}</td></tr>",
+            "<tr><td style=\"text-align:left\">{}</td><td>{:.2} %</td><td>{:.2} ± {:.2} %</td><td>{:.2} %</td><td>{:.4}</td><td>{:.4}</td><td>{}</td></tr>",
             m["model"].as_str().unwrap_or("?"),
             pct("rmse_rel"),
             pct("rmse_noise_corrected"),
             pct("rmse_noise_corrected_se"),
             pct("rmse_spatial"),
             m["ssim"].as_f64().unwrap_or(f64::NAN),
+            (1.0 - m["ssim"].as_f64().unwrap_or(f64::NAN)) / 2.0,
             e.join(" / ")
         );
     }

@@ -208,7 +208,9 @@ impl GatherPattern {
         }
     }
 
-    fn validate(&self) -> Result<()> {
+    /// Refuses an even or too small ring, an inner block over 512 px and a reach over 65,536 px,
+    /// naming the field.
+    pub fn validate(&self) -> Result<()> {
         if self.ring < 3 || self.ring.is_multiple_of(2) {
             return Err(GpuError::invalid(
                 "pattern ring",

@@ -4,13 +4,16 @@
 // fresnel.wgsl, lighting.wgsl (bindings 0–2) and area_kernel.wgsl are prepended.
 //
 // `light` (per triangle): the irradiance × pre-scatter albedo at its centre, and whether it
-// splats: facing away from the camera (n·v < 0.2: their eq. 3 with eq. 8's bound, the same bound
-// below which the gather gives pixels no area) and behind the surface seen at its centre's pixel
-// (their eq. 2, tested as a larger view depth; kept where that pixel is background or off
-// screen). `vs`/`fs`: a screen-aligned quad bounding the kernel's reach around the centre; per
-// receiver texel (the material's mean position x_o there) E·A·R′(|x′ − x_o|, A) with x′ the
-// triangle's centre or, optionally, their eq. 9's point. `up`: the receiver texels' sum back at
-// full resolution.
+// splats: wherever the gather does not count it, i.e. facing away from the camera or at grazing
+// view (n·v < 0.2: their eq. 3 with eq. 8's bound, the bound below which the gather gives pixels
+// no area) or not the surface seen at its centre's pixel (their eq. 2: that pixel's point lies
+// off the triangle's plane by more than 10⁻³ of the view depth; a depth comparison would need a
+// tolerance of the depth's slope across a pixel, large at grazing view, small for thin parts).
+// The paper splats only what meets both; the visible grazing band and hidden parts facing the
+// camera then belong to neither half. `vs`/`fs`: a screen-aligned quad bounding the kernel's
+// reach around the centre; per receiver texel (the material's mean position x_o there)
+// E·A·R′(|x′ − x_o|, A) with x′ the triangle's centre or, optionally, their eq. 9's point. `up`:
+// the receiver texels' sum back at full resolution.
 
 struct Splat {
     view_proj: mat4x4<f32>,
@@ -24,6 +27,9 @@ struct Splat {
     size: vec4<u32>,
     // x: offset of the splat level in the pyramid, y: the level, z: triangles, w: the material.
     level: vec4<u32>,
+    // x: the far plane [cm] (the background's depth), y: how far [cm per cm of view depth] a
+    // triangle's plane may lie from the surface seen at its centre's pixel and count as seen.
+    far: vec4<f32>,
 };
 
 struct Tri {
@@ -46,6 +52,8 @@ struct Tri {
 @group(0) @binding(9) var<storage, read> pos: array<vec4<f32>>;
 @group(0) @binding(10) var accumulated: texture_2d<f32>;
 @group(0) @binding(11) var<storage, read_write> scattered: array<vec4<f32>>;
+// The gather's surface: xyz the world position [cm] seen at each pixel.
+@group(0) @binding(12) var<storage, read> surface: array<vec4<f32>>;
 
 // The view direction's bound below which a surface belongs to the splats (their eq. 8).
 const GRAZING: f32 = 0.2;
@@ -61,17 +69,20 @@ fn light(@builtin(global_invocation_id) id: vec3<u32>) {
     let m = u32(t.albedo.w);
     let e = shade(c, n, n, m, true, false).diffuse * albedo_split(t.albedo.rgb)[0];
     let v = normalize(sp.camera_pos.xyz - c);
-    var keep = dot(n, v) < GRAZING && any(e > vec3<f32>(0.0));
+    // Off screen or behind the camera: not seen, so splatted.
+    var hidden = true;
     let clip = sp.view_proj * vec4<f32>(c, 1.0);
-    if keep && clip.w > 0.0 {
+    if clip.w > 0.0 {
         let ndc = clip.xy / clip.w;
         let px = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * vec2<f32>(sp.size.xy);
         if all(px >= vec2<f32>(0.0)) && all(px < vec2<f32>(sp.size.xy)) {
-            let g = geometry[u32(px.y) * sp.size.x + u32(px.x)];
-            // Background (no strength, far depth) hides nothing.
-            keep = g.y <= 0.0 || clip.w > g.x;
+            let k = u32(px.y) * sp.size.x + u32(px.x);
+            // Over the background the triangle is not seen either (a silhouette).
+            let seen = surface[k].xyz;
+            hidden = geometry[k].x >= sp.far.x || abs(dot(n, seen - c)) > sp.far.y * clip.w;
         }
     }
+    let keep = any(e > vec3<f32>(0.0)) && (dot(n, v) < GRAZING || hidden);
     splat_out[id.x] = vec4<f32>(e, select(0.0, 1.0, keep));
 }
 
