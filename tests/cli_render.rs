@@ -115,13 +115,7 @@ fn render_refuses_bad_input_naming_it() {
             "layers",
         ),
         (
-            vec![
-                "render",
-                "--method",
-                "area-gather",
-                "--translucency",
-                "on",
-            ],
+            vec!["render", "--method", "area-gather", "--translucency", "on"],
             "--translucency",
         ),
         (vec!["render", "--scene", "pair"], "--material"),

@@ -8,7 +8,7 @@
 //! - Splats are lit in a compute pass (the scene pass's `shade` at the triangle's centre, with
 //!   shadows and the incidence table, without the shadow-map thin-part term, which they replace)
 //!   and culled there. A triangle splats wherever the gather does not count it: facing away or at
-//!   grazing view (n·v < 0.2, their eqs. 3 and 8) *or* not the surface seen at its centre's pixel
+//!   grazing view (n·v < [`crate::area_gather::GRAZING`], their eqs. 3 and 8) *or* not the surface seen at its centre's pixel
 //!   (eq. 2: that pixel's point lies off the triangle's plane by more than 10⁻³ of the view depth;
 //!   off screen or over the background counts as not seen). A depth comparison instead would need
 //!   the depth's slope across a pixel as its tolerance: with 10⁻³ of the depth it took 15 % of the
@@ -240,7 +240,12 @@ impl Splats {
             ],
             size: [w, h, lv[1], lv[2]],
             level: [lv[0], level as u32, tris.len() as u32, 0],
-            far: [crate::gbuffer::FAR * 0.999, SEEN_TOLERANCE, 0.0, 0.0],
+            far: [
+                crate::gbuffer::FAR * 0.999,
+                SEEN_TOLERANCE,
+                crate::area_gather::GRAZING,
+                0.0,
+            ],
         };
         let init = |label: &str, bytes: &[u8], usage| {
             dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {

@@ -130,7 +130,8 @@ fn the_gpu_lookup_equals_the_table() {
 }
 
 /// Σ over pixels of the footprint area is the area of the surface seen: a 10 × 10 cm square seen
-/// at 60° from its normal; at 80° (cos θ < 0.2) every footprint is 0, left to the geometric part.
+/// at 60° and at 75° from its normal; at 88° (cos θ < gpu::area_gather::GRAZING) every footprint
+/// is 0, left to the geometric part.
 #[test]
 fn footprint_areas_add_up_to_the_surface_seen() {
     let Some(gpu) = gpu() else { return };
@@ -150,12 +151,15 @@ fn footprint_areas_add_up_to_the_surface_seen() {
         let f = gpu::render(&gpu, &s, Scatter::AreaGather(&setup), &params(256)).unwrap();
         f.surface.iter().map(|v| v[3] as f64).sum::<f64>()
     };
-    let seen = area(60.0);
-    assert!(
-        (seen / 100.0 - 1.0).abs() < 0.01,
-        "Σ A = {seen} cm², want 100"
-    );
-    assert_eq!(area(80.0), 0.0);
+    for deg in [60.0, 75.0] {
+        let seen = area(deg);
+        assert!(
+            (seen / 100.0 - 1.0).abs() < 0.01,
+            "{deg}°: Σ A = {seen} cm², want 100"
+        );
+    }
+    assert!(88f32.to_radians().cos() < gpu::area_gather::GRAZING);
+    assert_eq!(area(88.0), 0.0);
 }
 
 /// A square lit at 40° with a box standing on it: a shadow edge, and holes without SSS where the

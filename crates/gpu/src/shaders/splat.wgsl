@@ -5,8 +5,8 @@
 //
 // `light` (per triangle): the irradiance × pre-scatter albedo at its centre, and whether it
 // splats: wherever the gather does not count it, i.e. facing away from the camera or at grazing
-// view (n·v < 0.2: their eq. 3 with eq. 8's bound, the bound below which the gather gives pixels
-// no area) or not the surface seen at its centre's pixel (their eq. 2: that pixel's point lies
+// view (n·v below the bound under which the gather gives pixels no area: their eq. 3, and eq. 8
+// with 0.05 instead of 0.2) or not the surface seen at its centre's pixel (their eq. 2: that pixel's point lies
 // off the triangle's plane by more than 10⁻³ of the view depth; a depth comparison would need a
 // tolerance of the depth's slope across a pixel, large at grazing view, small for thin parts).
 // The paper splats only what meets both; the visible grazing band and hidden parts facing the
@@ -28,7 +28,8 @@ struct Splat {
     // x: offset of the splat level in the pyramid, y: the level, z: triangles, w: the material.
     level: vec4<u32>,
     // x: the far plane [cm] (the background's depth), y: how far [cm per cm of view depth] a
-    // triangle's plane may lie from the surface seen at its centre's pixel and count as seen.
+    // triangle's plane may lie from the surface seen at its centre's pixel and count as seen;
+    // z: the bound on n·v below which a surface belongs to the splats (as surface.wgsl's).
     far: vec4<f32>,
 };
 
@@ -55,8 +56,6 @@ struct Tri {
 // The gather's surface: xyz the world position [cm] seen at each pixel.
 @group(0) @binding(12) var<storage, read> surface: array<vec4<f32>>;
 
-// The view direction's bound below which a surface belongs to the splats (their eq. 8).
-const GRAZING: f32 = 0.2;
 
 @compute @workgroup_size(64)
 fn light(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -82,7 +81,7 @@ fn light(@builtin(global_invocation_id) id: vec3<u32>) {
             hidden = geometry[k].x >= sp.far.x || abs(dot(n, seen - c)) > sp.far.y * clip.w;
         }
     }
-    let keep = any(e > vec3<f32>(0.0)) && (dot(n, v) < GRAZING || hidden);
+    let keep = any(e > vec3<f32>(0.0)) && (dot(n, v) < sp.far.z || hidden);
     splat_out[id.x] = vec4<f32>(e, select(0.0, 1.0, keep));
 }
 

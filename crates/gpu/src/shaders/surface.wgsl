@@ -1,14 +1,13 @@
 // The surface pass of the area gather (Maisch & Ropinski 2020 §3.3, §6.2): per pixel the world
 // position [cm] of the visible surface and the area [cm²] that the pixel covers on it, from the
 // screen-space derivatives of the position (exact on a flat triangle: the pixel's footprint is the
-// parallelogram |∂x/∂u × ∂x/∂v|). Where the surface is seen at a grazing angle, cos < GRAZING, the
-// area is set to 0: the footprint grows without bound there, and such parts belong to the splatted
-// (geometric) part of the integral (their eq. 8 uses the same bound).
-
-const GRAZING: f32 = 0.2;
+// parallelogram |∂x/∂u × ∂x/∂v|). Where the surface is seen at a grazing angle, cos θ below
+// v.camera_pos.w (gpu::area_gather::GRAZING), the area is set to 0: the footprint grows without
+// bound there, and such parts belong to the splatted (geometric) part of the integral.
 
 struct View {
     view_proj: mat4x4<f32>,
+    // xyz: the camera [cm]; w: the grazing bound on cos θ.
     camera_pos: vec4<f32>,
 };
 
@@ -37,5 +36,5 @@ fn fs(i: VOut) -> @location(0) vec4<f32> {
     let c = cross(dpdxFine(i.world), dpdyFine(i.world));
     let area = length(c);
     let cos_view = abs(dot(c, normalize(v.camera_pos.xyz - i.world))) / max(area, 1e-30);
-    return vec4<f32>(i.world, select(0.0, area, cos_view >= GRAZING));
+    return vec4<f32>(i.world, select(0.0, area, cos_view >= v.camera_pos.w));
 }
