@@ -60,6 +60,9 @@ fn render_writes_png_and_pfm_and_compares_every_model() {
             .as_f64()
             .unwrap()
     };
+    // The area gather is compared too (at the pixels' true depths, with light from parts the
+    // camera does not see, which this screen-space truth lacks: no ranking is asked of it).
+    assert!(rms("area-gather").is_finite());
     // Scattering with a fitted kernel is closer to the 2D ground truth than no scattering at
     // all, and rank 3 is closer than rank 1 (Eckart–Young, seen through the image).
     for m in ["preint", "svd3", "deon3", "guided"] {

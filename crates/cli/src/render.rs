@@ -910,7 +910,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     });
     if a.compare_models {
         let p = a.source.profile(named, &mut files)?;
-        summary["compare"] = compare(&gpu, &scene, &params, &p, &named.slug, &a, &mut files)?;
+        summary["compare"] = compare(&gpu, &scene, &params, &p, named, &a, &mut files)?;
     }
     files.commit()?;
     eprintln!(
@@ -953,10 +953,11 @@ fn compare(
     scene: &Scene,
     base: &RenderParams,
     p: &Profile,
-    slug: &str,
+    named: &library::Named,
     a: &RenderArgs,
     files: &mut Outputs,
 ) -> Result<serde_json::Value> {
+    let slug = &named.slug;
     let scale = gpu::compare::kernel_scale(scene, base.height, p, a.sss_width);
     eprintln!(
         "comparing models at {:.4} cm/px (profile bins of {:.4} cm × {}) …",
@@ -1026,13 +1027,13 @@ fn compare(
         a.scene
     ));
     table(format!(
-        "  {:<8} {:>9} {:>8} {:>8} {:>8}",
+        "  {:<11} {:>9} {:>8} {:>8} {:>8}",
         "model", "RGB", "R", "G", "B"
     ));
     let line = |label: &str, e: &gpu::compare::ImageError| {
         let pct = |x: f64| format!("{:.3}%", 100.0 * x);
         format!(
-            "  {label:<8} {:>9} {:>8} {:>8} {:>8}",
+            "  {label:<11} {:>9} {:>8} {:>8} {:>8}",
             pct(e.rms_rel_all),
             pct(e.rms_rel[0]),
             pct(e.rms_rel[1]),
@@ -1056,7 +1057,15 @@ fn compare(
         ),
         cell("no SSS − truth".into(), diff_crop(&l.shown)),
     ];
-    for ((label, _), k) in MODELS.iter().zip(&cmp.kernels) {
+    // The area gather with the paper's pattern, at the pixels' true depths.
+    let area = cmp.area_gather(
+        gpu,
+        scene,
+        base,
+        &gpu::AreaGatherSetup::new(area_kernel(named, p)?),
+    )?;
+    let labels = MODELS.iter().map(|(l, _)| *l).chain(["area-gather"]);
+    for (label, k) in labels.zip(cmp.kernels.iter().chain([&area])) {
         let e = k.error.rms_rel_all;
         table(line(label, &k.error));
         let png = a.out.join(format!("{label}.png"));
@@ -1106,6 +1115,17 @@ fn area_setup(
     pattern
         .validate()
         .context("invalid --gather-inner/--gather-layers")?;
+    let p = a.source.profile(named, files)?;
+    Ok(gpu::AreaGatherSetup {
+        kernel: area_kernel(named, &p)?,
+        pattern,
+        splat_clamp: a.splat_clamp,
+    })
+}
+
+/// The material's Monte Carlo profile `p` averaged over discs out to r_max
+/// ([`AREA_TABLE_SIZE`]² texels).
+fn area_kernel(named: &library::Named, p: &Profile) -> Result<gpu::AreaKernel> {
     let r_max = (0..3)
         .map(|c| {
             let m = fit::analytic::Medium::channel(&named.material, c);
@@ -1118,19 +1138,11 @@ fn area_setup(
             named.slug
         );
     }
-    let p = a.source.profile(named, files)?;
-    let p = &p;
     let rd = |c: usize| move |r: f64| p.at(c, r);
     let (r0, r1, r2) = (rd(0), rd(1), rd(2));
     let table =
         fit::area_table::AreaTable::build([&r0, &r1, &r2], r_max, AREA_TABLE_SIZE, AREA_TABLE_SIZE);
-    let kernel = gpu::AreaKernel::new(&table)
-        .with_context(|| format!("the area table of {}", named.slug))?;
-    Ok(gpu::AreaGatherSetup {
-        kernel,
-        pattern,
-        splat_clamp: a.splat_clamp,
-    })
+    gpu::AreaKernel::new(&table).with_context(|| format!("the area table of {}", named.slug))
 }
 
 /// The directional-dipole settings from the material and the flags; warns where the model is

@@ -23,13 +23,11 @@
 //! - Their §6.1 "brightening term" √i on the outer layers is optional ([`GatherPattern::brighten`])
 //!   and off by default: on a flat, evenly lit surface the pattern's cells tile the plane and the
 //!   gather already conserves energy, which √i would break (tested).
-//! - The footprint area is 0 where the surface is seen at cos θ < [`GRAZING`] = 0.05, and those
-//!   parts are splatted instead (`splat.rs`): one bound splits the surface between the two halves.
-//!   The paper's bound 0.2 (their §6.2, eq. 8) left the visible band within 11.5° of the
-//!   silhouette to the quarter-resolution splats, which blur a peaked kernel over 4 pixels: on
-//!   the marble sphere (`images.py --quick`) the rim came out dark, 8.7 ± 1.0 % from Mitsuba
-//!   against 5.8 ± 6.1 % with 0.05. Derivative-based footprints stay exact on flat parts at
-//!   any angle; 0.05 only keeps them bounded (20× the frontal footprint).
+//! - Every pixel seen counts, with its footprint area bounded at grazing view: the frontal
+//!   footprint over max(cos θ, [`GRAZING`]). The paper sets the area to 0 below cos θ = 0.2 (their
+//!   §6.2, eq. 8) and leaves that band to the quarter-resolution splats, which blur a peaked
+//!   kernel over 4 pixels: the silhouette's lit rim came out dark (marble sphere against Mitsuba,
+//!   `images.py --quick`: 8.7 ± 1.0 % with 0.2; Skin1's rim at a tenth of its light).
 //! - R′ is 0 beyond the table's r_max (where the source term has fallen to 10⁻⁷ of its
 //!   peak), and cells whose disc exceeds the table's largest are read at its last row.
 
@@ -48,7 +46,8 @@ pub(crate) const AREA_GATHER_WGSL: &str = concat!(
 );
 
 /// The bound on cos θ (θ between the surface's normal and the view direction) below which a
-/// pixel's footprint gets no area in the gather and its triangles are splatted instead.
+/// pixel's footprint area is taken as its frontal footprint over this bound (20×), not over cos θ,
+/// which grows without bound where a flat triangle stands in for a curved surface.
 pub const GRAZING: f32 = 0.05;
 
 /// The most pyramid levels (images up to 32768 px on a side).

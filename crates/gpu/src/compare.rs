@@ -199,20 +199,7 @@ fn compare_with(
                 Scatter::Separable(&[GpuKernel::from_shader_kernel(k)?]),
                 &params,
             )?;
-            let shown: Vec<[f32; 4]> = (0..w * h)
-                .map(|i| {
-                    if sss[i] {
-                        frame.scattered[i]
-                    } else {
-                        frame.irradiance[i]
-                    }
-                })
-                .collect();
-            Ok(Shown {
-                error: error(&shown),
-                shown,
-                display: frame.display,
-            })
+            Ok(shown(&frame, &sss, &error))
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(Comparison {
@@ -278,6 +265,54 @@ fn strongest_edge(irradiance: &[[f32; 4]], sss: &[bool], w: usize, h: usize) -> 
 }
 
 /// RMS of `img` − `truth` on SSS pixels per channel and over all three, divided by `mean`.
+/// What `frame` shows of the diffuse light (scattered on SSS pixels), scored by `error`.
+fn shown(
+    frame: &crate::render::Frame,
+    sss: &[bool],
+    error: &dyn Fn(&[[f32; 4]]) -> ImageError,
+) -> Shown {
+    let shown: Vec<[f32; 4]> = (0..sss.len())
+        .map(|i| {
+            if sss[i] {
+                frame.scattered[i]
+            } else {
+                frame.irradiance[i]
+            }
+        })
+        .collect();
+    Shown {
+        error: error(&shown),
+        shown,
+        display: frame.display.clone(),
+    }
+}
+
+impl Comparison {
+    /// The area gather ([`crate::area_gather`]) rendered on `scene` with `base`'s settings and
+    /// scored against this comparison's truth as the kernels are. It works at each pixel's true
+    /// depth (the fixed kernel scale and the disabled depth test do not apply to it), so where
+    /// the scene's depth varies it departs from the fixed-scale truth by design; on a surface at
+    /// the target's depth it is the same integral. Its splats replace the shadow-map light through
+    /// thin parts (`base`'s translucency tables are left out), and they add light from parts the
+    /// camera does not see, which the screen-space truth lacks: near silhouettes that counts as
+    /// error here.
+    pub fn area_gather(
+        &self,
+        gpu: &Gpu,
+        scene: &Scene,
+        base: &RenderParams,
+        setup: &crate::AreaGatherSetup,
+    ) -> Result<Shown> {
+        let mut params = *base;
+        for s in &mut params.shading {
+            s.translucency = None;
+        }
+        let frame = Renderer::new(gpu).render(gpu, scene, Scatter::AreaGather(setup), &params)?;
+        let error = |img: &[[f32; 4]]| image_error(img, &self.truth, &self.sss, self.mean);
+        Ok(shown(&frame, &self.sss, &error))
+    }
+}
+
 fn image_error(img: &[[f32; 4]], truth: &[[f32; 4]], sss: &[bool], mean: f64) -> ImageError {
     let mut sq = [0.0f64; 3];
     let mut n = 0usize;

@@ -9,14 +9,18 @@
 //!   marble's largest disc, 2.4 cm², came out 11× too bright).
 //! - Splats are lit in a compute pass (the scene pass's `shade` at the triangle's centre, with
 //!   shadows and the incidence table, without the shadow-map thin-part term, which they replace)
-//!   and culled there. A triangle splats wherever the gather does not count it: facing away or at
-//!   grazing view (n·v < [`crate::area_gather::GRAZING`], their eqs. 3 and 8) *or* not the surface seen at its centre's pixel
-//!   (eq. 2: that pixel's point lies off the triangle's plane by more than 10⁻³ of the view depth;
-//!   off screen or over the background counts as not seen). A depth comparison instead would need
-//!   the depth's slope across a pixel as its tolerance: with 10⁻³ of the depth it took 15 % of the
-//!   visible triangles of the marble sphere for hidden ones and added 12 % of light. The paper requires both, which leaves the visible grazing band (where the
-//!   gather gives pixels no area) and hidden parts facing the camera in neither half: on the marble
-//!   sphere that darkened the silhouette's rim.
+//!   and culled there. The gather counts every pixel the camera sees (at grazing view too, with a
+//!   bounded footprint), so a triangle splats exactly where it is *not seen*: its centre's view
+//!   depth lies off the G-buffer's at its pixel by more than 10⁻³ of the depth plus the surface's
+//!   depth slope over two pixels (their eq. 2; off screen or over the background counts as not
+//!   seen), or it is turned away (n·v ≤ 0, their eq. 3), which no face is seen as, however close
+//!   to one it lies (a thin slab's back). The paper also requires n·v < 0.2 (eq. 8) and leaves
+//!   the grazing band to the splats; at a quarter of the resolution they cannot hold a short
+//!   kernel's light there (Skin1's lit rim came out at a tenth of its light), and hidden parts
+//!   facing the camera would belong to neither half. Without the slope term, a fixed depth
+//!   tolerance took 15 % of the marble sphere's visible triangles for hidden ones (12 % more
+//!   light); the distance to the triangle's plane instead fails on curved surfaces at grazing view,
+//!   where a pixel's ray meets the surface far from the triangle's plane.
 //! - "A quarter of the resolution" is read as a quarter per side: splats accumulate at the
 //!   pyramid level whose texels are 4×4 pixels, and each receiver texel's x_o is the mean position
 //!   of the material's pixels in it (the gather's position pyramid). Accumulation is additive in
@@ -43,9 +47,12 @@ use crate::gbuffer::{GBuffer, NEAR};
 use crate::scene::Scene;
 use crate::timing::Timer;
 
-/// How far a triangle's plane may lie from the surface seen at its centre's pixel and count as
-/// that surface [cm per cm of view depth].
+/// How far a triangle's centre may lie in view depth from the surface seen at its pixel and
+/// count as that surface: this fraction of the depth [cm per cm] ...
 const SEEN_TOLERANCE: f32 = 1e-3;
+/// ... plus the surface's depth slope over this many pixels (the centre's offset from the
+/// pixel's, up to half a pixel, and the triangle's own extent).
+const SEEN_SLOPE_PX: f32 = 2.0;
 
 /// The pyramid level the splats accumulate at: texels of 2² × 2² = 4 × 4 pixels.
 const SPLAT_LEVEL: usize = 2;
@@ -301,8 +308,8 @@ impl Splats {
             far: [
                 crate::gbuffer::FAR * 0.999,
                 SEEN_TOLERANCE,
+                SEEN_SLOPE_PX,
                 crate::area_gather::GRAZING,
-                0.0,
             ],
         };
         let init = |label: &str, bytes: &[u8], usage| {
@@ -364,7 +371,6 @@ impl Splats {
                 entry(4, &tbuf),
                 entry(5, &lit),
                 entry(7, &gbuffer.geometry),
-                entry(12, &gathered.surface),
             ],
             ((tris.len() as u32).div_ceil(64), 1),
             timer,

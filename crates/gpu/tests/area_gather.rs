@@ -130,8 +130,9 @@ fn the_gpu_lookup_equals_the_table() {
 }
 
 /// Σ over pixels of the footprint area is the area of the surface seen: a 10 × 10 cm square seen
-/// at 60° and at 75° from its normal; at 88° (cos θ < gpu::area_gather::GRAZING) every footprint
-/// is 0, left to the geometric part.
+/// at 60° and at 75° from its normal. The pixel at the image's centre covers (d/f)²/cos θ, d the
+/// distance and f the focal length in pixels; at 88° (cos θ < gpu::area_gather::GRAZING) the
+/// frontal footprint over the bound instead.
 #[test]
 fn footprint_areas_add_up_to_the_surface_seen() {
     let Some(gpu) = gpu() else { return };
@@ -140,7 +141,8 @@ fn footprint_areas_add_up_to_the_surface_seen() {
         pattern: GatherPattern::dense(0),
         ..AreaGatherSetup::new(k)
     };
-    let area = |deg: f32| {
+    let size = 256u32;
+    let frame = |deg: f32| {
         let t = deg.to_radians();
         let camera = Camera {
             position: 40.0 * Vec3::new(0.0, t.cos(), t.sin()),
@@ -148,24 +150,39 @@ fn footprint_areas_add_up_to_the_surface_seen() {
             fov_y_deg: 20.0,
         };
         let s = scene(square(5.0), camera, Vec3::Y);
-        let f = gpu::render(&gpu, &s, Scatter::AreaGather(&setup), &params(256)).unwrap();
-        f.surface.iter().map(|v| v[3] as f64).sum::<f64>()
+        let f = gpu::render(&gpu, &s, Scatter::AreaGather(&setup), &params(size)).unwrap();
+        let centre = f.surface[(size / 2 * size + size / 2) as usize][3] as f64;
+        let sum = f.surface.iter().map(|v| v[3] as f64).sum::<f64>();
+        let d_over_f = 40.0 / camera.px_per_cm_at_unit_depth(size) as f64;
+        (sum, centre, d_over_f * d_over_f)
     };
-    for deg in [60.0, 75.0] {
-        let seen = area(deg);
+    for deg in [60.0f32, 75.0] {
+        let (sum, centre, frontal) = frame(deg);
         assert!(
-            (seen / 100.0 - 1.0).abs() < 0.01,
-            "{deg}°: Σ A = {seen} cm², want 100"
+            (sum / 100.0 - 1.0).abs() < 0.01,
+            "{deg}°: Σ A = {sum} cm², want 100"
+        );
+        let want = frontal / (deg as f64).to_radians().cos();
+        // The derivatives are differences across the pixel's 2×2 quad: off by up to a pixel
+        // along the depth's slope (0.5 % per pixel at 75° here).
+        assert!(
+            (centre / want - 1.0).abs() < 0.02,
+            "{deg}°: {centre} vs {want}"
         );
     }
-    assert!(88f32.to_radians().cos() < gpu::area_gather::GRAZING);
-    assert_eq!(area(88.0), 0.0);
+    let cos = 88f32.to_radians().cos();
+    assert!(cos < gpu::area_gather::GRAZING);
+    let (_, centre, frontal) = frame(88.0);
+    let want = frontal / gpu::area_gather::GRAZING as f64;
+    // 28.6× the frontal depth slope at 88°: 4 % per pixel across the quad.
+    assert!((centre / want - 1.0).abs() < 0.1, "88°: {centre} vs {want}");
 }
 
 /// A square lit at 40° with a box standing on it: a shadow edge, and holes without SSS where the
-/// box is seen. Camera straight above, ≈ 0.1 cm per pixel, so the kernel reaches ≈ 9 px.
+/// box is seen. Camera straight above, ≈ 0.1 cm per pixel, so the kernel reaches ≈ 9 px; the
+/// square lies within the view, so no light enters where the camera does not see (no splats).
 fn shadowed() -> Scene {
-    let mut mesh = square(5.0);
+    let mut mesh = square(4.5);
     mesh.append(&Mesh::cuboid(
         Vec3::new(-1.0, 0.0, -1.0),
         Vec3::new(1.0, 1.5, 1.0),

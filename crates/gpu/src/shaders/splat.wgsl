@@ -4,16 +4,15 @@
 // fresnel.wgsl, lighting.wgsl (bindings 0–2) and area_kernel.wgsl are prepended.
 //
 // `light` (per triangle): the irradiance × pre-scatter albedo at its centre, and whether it
-// splats: wherever the gather does not count it, i.e. facing away from the camera or at grazing
-// view (n·v below the bound under which the gather gives pixels no area: their eq. 3, and eq. 8
-// with 0.05 instead of 0.2) or not the surface seen at its centre's pixel (their eq. 2: that pixel's point lies
-// off the triangle's plane by more than 10⁻³ of the view depth; a depth comparison would need a
-// tolerance of the depth's slope across a pixel, large at grazing view, small for thin parts).
-// The paper splats only what meets both; the visible grazing band and hidden parts facing the
-// camera then belong to neither half. `vs`/`fs`: a screen-aligned quad bounding the kernel's
-// reach around the centre; per receiver texel (the material's mean position x_o there)
-// E·A·R′(|x′ − x_o|, A) with x′ the triangle's centre or, optionally, their eq. 9's point. `up`:
-// the receiver texels' sum back at full resolution.
+// splats: wherever the gather does not count it, i.e. where the camera does not see it (their
+// eq. 2, at the pixel of the triangle's centre: a view depth off the G-buffer's by more than
+// 10⁻³ of it plus the surface's depth slope over two pixels), and faces turned away (n·v ≤ 0,
+// their eq. 3), however close they lie to a face that is seen (a thin slab's back). The paper's
+// bound n·v < 0.2 (eq. 8) is not needed: the gather counts every pixel seen, at grazing view
+// too. `vs`/`fs`: a screen-aligned quad bounding the kernel's reach around the centre; per
+// receiver texel (the material's mean position x_o there) E·A·R′(|x′ − x_o|, A) with x′ the
+// triangle's centre or, optionally, their eq. 9's point. `up`: the receiver texels' sum back at
+// full resolution.
 
 struct Splat {
     view_proj: mat4x4<f32>,
@@ -27,9 +26,8 @@ struct Splat {
     size: vec4<u32>,
     // x: offset of the splat level in the pyramid, y: the level, z: triangles, w: the material.
     level: vec4<u32>,
-    // x: the far plane [cm] (the background's depth), y: how far [cm per cm of view depth] a
-    // triangle's plane may lie from the surface seen at its centre's pixel and count as seen;
-    // z: the bound on n·v below which a surface belongs to the splats (as surface.wgsl's).
+    // x: the far plane [cm] (the background's depth); y: the depth tolerance of `light` [cm per
+    // cm of view depth]; z: its pixels of depth slope; w: the grazing bound on n·v.
     far: vec4<f32>,
 };
 
@@ -53,8 +51,6 @@ struct Tri {
 @group(0) @binding(9) var<storage, read> pos: array<vec4<f32>>;
 @group(0) @binding(10) var accumulated: texture_2d<f32>;
 @group(0) @binding(11) var<storage, read_write> scattered: array<vec4<f32>>;
-// The gather's surface: xyz the world position [cm] seen at each pixel.
-@group(0) @binding(12) var<storage, read> surface: array<vec4<f32>>;
 
 
 @compute @workgroup_size(64)
@@ -67,21 +63,25 @@ fn light(@builtin(global_invocation_id) id: vec3<u32>) {
     let n = t.normal.xyz;
     let m = u32(t.albedo.w);
     let e = shade(c, n, n, m, true, false).diffuse * albedo_split(t.albedo.rgb)[0];
-    let v = normalize(sp.camera_pos.xyz - c);
-    // Off screen or behind the camera: not seen, so splatted.
+    // Turned away, off screen or behind the camera: not seen, so splatted.
     var hidden = true;
+    let v = normalize(sp.camera_pos.xyz - c);
     let clip = sp.view_proj * vec4<f32>(c, 1.0);
-    if clip.w > 0.0 {
+    let cos_v = dot(n, v);
+    if clip.w > 0.0 && cos_v > 0.0 {
         let ndc = clip.xy / clip.w;
         let px = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * vec2<f32>(sp.size.xy);
         if all(px >= vec2<f32>(0.0)) && all(px < vec2<f32>(sp.size.xy)) {
             let k = u32(px.y) * sp.size.x + u32(px.x);
+            // The depth seen there may differ from the centre's by the surface's depth slope over
+            // the pixel's offset from the centre (a pixel's side at that depth over cos θ).
+            let pixel = clip.w / (0.5 * sp.proj.y * f32(sp.size.y));
+            let tolerance = sp.far.y * clip.w + sp.far.z * pixel / max(cos_v, sp.far.w);
             // Over the background the triangle is not seen either (a silhouette).
-            let seen = surface[k].xyz;
-            hidden = geometry[k].x >= sp.far.x || abs(dot(n, seen - c)) > sp.far.y * clip.w;
+            hidden = geometry[k].x >= sp.far.x || abs(clip.w - geometry[k].x) > tolerance;
         }
     }
-    let keep = any(e > vec3<f32>(0.0)) && (dot(n, v) < sp.far.z || hidden);
+    let keep = any(e > vec3<f32>(0.0)) && hidden;
     splat_out[id.x] = vec4<f32>(e, select(0.0, 1.0, keep));
 }
 

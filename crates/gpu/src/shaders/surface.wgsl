@@ -1,9 +1,9 @@
 // The surface pass of the area gather (Maisch & Ropinski 2020 §3.3, §6.2): per pixel the world
 // position [cm] of the visible surface and the area [cm²] that the pixel covers on it, from the
 // screen-space derivatives of the position (exact on a flat triangle: the pixel's footprint is the
-// parallelogram |∂x/∂u × ∂x/∂v|). Where the surface is seen at a grazing angle, cos θ below
-// v.camera_pos.w (gpu::area_gather::GRAZING), the area is set to 0: the footprint grows without
-// bound there, and such parts belong to the splatted (geometric) part of the integral.
+// parallelogram |∂x/∂u × ∂x/∂v|, the frontal footprint over cos θ). At grazing view, cos θ below
+// v.camera_pos.w (gpu::area_gather::GRAZING), the area is the frontal footprint over that bound
+// instead: the true one grows without bound where a flat triangle stands in for a curved surface.
 
 struct View {
     view_proj: mat4x4<f32>,
@@ -34,7 +34,7 @@ fn vs(i: VIn) -> VOut {
 @fragment
 fn fs(i: VOut) -> @location(0) vec4<f32> {
     let c = cross(dpdxFine(i.world), dpdyFine(i.world));
-    let area = length(c);
-    let cos_view = abs(dot(c, normalize(v.camera_pos.xyz - i.world))) / max(area, 1e-30);
-    return vec4<f32>(i.world, select(0.0, area, cos_view >= v.camera_pos.w));
+    let frontal = abs(dot(c, normalize(v.camera_pos.xyz - i.world)));
+    let cos_view = frontal / max(length(c), 1e-30);
+    return vec4<f32>(i.world, frontal / max(cos_view, v.camera_pos.w));
 }
