@@ -33,7 +33,7 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::context::{Gpu, cleared_depth, mesh_pipeline, pixels, texture};
+use crate::context::{Gpu, bind, cleared_depth, mesh_pipeline, pixels, texture};
 use crate::error::{GpuError, Result};
 use crate::gbuffer::GBuffer;
 use crate::mesh::MeshBuffers;
@@ -395,16 +395,7 @@ impl AreaGather {
             label: Some("area gather"),
             source: wgpu::ShaderSource::Wgsl(AREA_GATHER_WGSL.into()),
         });
-        let pipeline = |entry: &str| {
-            dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let pipeline = |entry: &str| crate::context::entry_pipeline(dev, &module, entry, entry);
         AreaGather {
             surface: mesh_pipeline(dev, &surface, "surface", &[SURFACE_FORMAT]),
             level0: pipeline("level0"),
@@ -563,12 +554,12 @@ impl AreaGather {
             &self.level0,
             "area level 0",
             &[
-                entry(0, &ubuf),
-                entry(3, &light),
-                entry(4, &pos),
-                entry(5, &surface),
-                entry(6, &gbuffer.geometry),
-                entry(8, &gbuffer.diffuse),
+                bind(0, &ubuf),
+                bind(3, &light),
+                bind(4, &pos),
+                bind(5, &surface),
+                bind(6, &gbuffer.geometry),
+                bind(8, &gbuffer.diffuse),
                 wgpu::BindGroupEntry {
                     binding: 9,
                     resource: wgpu::BindingResource::TextureView(&target_view),
@@ -588,7 +579,7 @@ impl AreaGather {
                 enc,
                 &self.reduce,
                 "area pyramid",
-                &[entry(3, &light), entry(4, &pos), entry(10, &rbuf)],
+                &[bind(3, &light), bind(4, &pos), bind(10, &rbuf)],
                 groups(pair[1][1], pair[1][2]),
                 if k == 0 { timer.as_deref_mut() } else { None },
             );
@@ -606,14 +597,14 @@ impl AreaGather {
             &self.gather,
             "area gather",
             &[
-                entry(0, &ubuf),
-                entry(1, &tbuf),
-                entry(2, &table),
-                entry(3, &light),
-                entry(4, &pos),
-                entry(5, &surface),
-                entry(6, &gbuffer.geometry),
-                entry(7, scattered),
+                bind(0, &ubuf),
+                bind(1, &tbuf),
+                bind(2, &table),
+                bind(3, &light),
+                bind(4, &pos),
+                bind(5, &surface),
+                bind(6, &gbuffer.geometry),
+                bind(7, scattered),
             ],
             groups(w, h),
             timer.as_deref_mut(),
@@ -648,10 +639,10 @@ impl AreaGather {
             label: None,
             layout: &self.lookup.get_bind_group_layout(0),
             entries: &[
-                entry(0, &ubuf),
-                entry(2, &table),
-                entry(11, &pbuf),
-                entry(12, &out),
+                bind(0, &ubuf),
+                bind(2, &table),
+                bind(11, &pbuf),
+                bind(12, &out),
             ],
         });
         {
@@ -671,13 +662,6 @@ impl AreaGather {
 
 /// The surface pass's target: world position and footprint area.
 const SURFACE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-
-fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: buffer.as_entire_binding(),
-    }
-}
 
 #[cfg(test)]
 mod tests {

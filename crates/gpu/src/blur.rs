@@ -282,14 +282,7 @@ impl Blur {
                 label: Some(label),
                 source: wgpu::ShaderSource::Wgsl(source.into()),
             });
-            dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(label),
-                layout: None,
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
+            crate::context::entry_pipeline(dev, &module, entry, label)
         };
         Blur {
             pipeline: pipeline(BLUR_WGSL, "main", "blur"),

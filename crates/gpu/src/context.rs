@@ -100,14 +100,33 @@ pub(crate) fn compute_pipeline(
     label: &str,
 ) -> wgpu::ComputePipeline {
     let module = dev.create_shader_module(module);
+    entry_pipeline(dev, &module, "main", label)
+}
+
+/// A compute pipeline from entry point `entry` of a compiled module, its layout derived from the
+/// shader.
+pub(crate) fn entry_pipeline(
+    dev: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+    label: &str,
+) -> wgpu::ComputePipeline {
     dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some(label),
         layout: None,
-        module: &module,
-        entry_point: Some("main"),
+        module,
+        entry_point: Some(entry),
         compilation_options: Default::default(),
         cache: None,
     })
+}
+
+/// A whole buffer at `binding` of a bind group.
+pub(crate) fn bind(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: buffer.as_entire_binding(),
+    }
 }
 
 /// Depth32 with writes and a less-than test: what every pass that draws meshes uses.

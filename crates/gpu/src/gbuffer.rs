@@ -115,6 +115,30 @@ pub(crate) struct GBuffer {
     pub albedo: wgpu::Buffer,
     /// scene.wgsl's `Globals` (lights, materials' tables, albedo mode), for the splats' lighting.
     pub globals: wgpu::Buffer,
+    /// The shadow maps as lighting.wgsl reads them.
+    pub shadow_view: wgpu::TextureView,
+}
+
+/// lighting.wgsl's bindings 0–2: the globals, the shadow maps and their comparison sampler.
+fn lighting_entries<'a>(
+    globals: &'a wgpu::Buffer,
+    shadow_view: &'a wgpu::TextureView,
+    sampler: &'a wgpu::Sampler,
+) -> [wgpu::BindGroupEntry<'a>; 3] {
+    [
+        wgpu::BindGroupEntry {
+            binding: 0,
+            resource: globals.as_entire_binding(),
+        },
+        wgpu::BindGroupEntry {
+            binding: 1,
+            resource: wgpu::BindingResource::TextureView(shadow_view),
+        },
+        wgpu::BindGroupEntry {
+            binding: 2,
+            resource: wgpu::BindingResource::Sampler(sampler),
+        },
+    ]
 }
 
 /// The compiled scene and unpack pipelines and the shadow-map sampler.
@@ -141,6 +165,12 @@ impl GBufferPass {
                 ..Default::default()
             }),
         }
+    }
+
+    /// The lighting bindings of `g`'s frame, for other passes that light surfaces as the scene
+    /// pass does (the splats).
+    pub(crate) fn lighting<'a>(&'a self, g: &'a GBuffer) -> [wgpu::BindGroupEntry<'a>; 3] {
+        lighting_entries(&g.globals, &g.shadow_view, &self.sampler)
     }
 
     /// Records the scene pass and the unpacking; `plain`: no albedo split and no SSS shading
@@ -218,20 +248,7 @@ impl GBufferPass {
         let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
             layout: &self.scene.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: gbuf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&shadow_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::Sampler(&self.sampler),
-                },
-            ],
+            entries: &lighting_entries(&gbuf, &shadow_view, &self.sampler),
         });
         let target = |label: &str, format| {
             texture(
@@ -291,6 +308,7 @@ impl GBufferPass {
             geometry: pixels(gpu, n, "geometry"),
             albedo: pixels(gpu, n, "albedo"),
             globals: gbuf,
+            shadow_view,
         };
         let mut entries: Vec<wgpu::BindGroupEntry> = views
             .iter()

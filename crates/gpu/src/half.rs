@@ -38,16 +38,7 @@ impl HalfRes {
     pub(crate) fn new(gpu: &Gpu) -> HalfRes {
         let dev = &gpu.device;
         let module = dev.create_shader_module(wgpu::include_wgsl!("shaders/half.wgsl"));
-        let pipeline = |entry: &str| {
-            dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let pipeline = |entry: &str| crate::context::entry_pipeline(dev, &module, entry, entry);
         HalfRes {
             down: pipeline("down"),
             up: pipeline("up"),

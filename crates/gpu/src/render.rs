@@ -429,7 +429,7 @@ impl Renderer {
                     params.sss_width,
                     (w, h),
                     &gbuffer,
-                    &shadow_maps,
+                    self.gbuffer.lighting(&gbuffer),
                     &g,
                     &scattered,
                     &mut timer.as_mut(),

@@ -42,7 +42,7 @@ use glam::Vec3;
 use wgpu::util::DeviceExt;
 
 use crate::area_gather::{AreaGatherSetup, Gathered};
-use crate::context::{Gpu, texture};
+use crate::context::{Gpu, bind, texture};
 use crate::gbuffer::{GBuffer, NEAR};
 use crate::scene::Scene;
 use crate::timing::Timer;
@@ -180,15 +180,7 @@ pub(crate) struct Splats {
     light: wgpu::ComputePipeline,
     draw: wgpu::RenderPipeline,
     up: wgpu::ComputePipeline,
-    sampler: wgpu::Sampler,
     format: wgpu::TextureFormat,
-}
-
-fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: buffer.as_entire_binding(),
-    }
 }
 
 impl Splats {
@@ -198,16 +190,7 @@ impl Splats {
             label: Some("splat"),
             source: wgpu::ShaderSource::Wgsl(SPLAT_WGSL.into()),
         });
-        let compute = |entry: &str| {
-            dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let compute = |entry: &str| crate::context::entry_pipeline(dev, &module, entry, entry);
         let format = if gpu.float32_blend {
             wgpu::TextureFormat::Rgba32Float
         } else {
@@ -250,12 +233,6 @@ impl Splats {
             light: compute("light"),
             draw,
             up: compute("up"),
-            sampler: dev.create_sampler(&wgpu::SamplerDescriptor {
-                compare: Some(wgpu::CompareFunction::LessEqual),
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
-                ..Default::default()
-            }),
             format,
         }
     }
@@ -272,7 +249,7 @@ impl Splats {
         sss_width: f32,
         (w, h): (u32, u32),
         gbuffer: &GBuffer,
-        shadow_maps: &wgpu::Texture,
+        lighting: [wgpu::BindGroupEntry; 3],
         gathered: &Gathered,
         scattered: &wgpu::Buffer,
         timer: &mut Option<&mut Timer>,
@@ -330,10 +307,6 @@ impl Splats {
             wgpu::BufferUsages::STORAGE,
         );
         let lit = crate::context::pixels(gpu, tris.len(), "splat light");
-        let shadow_view = shadow_maps.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
         let compute = |enc: &mut wgpu::CommandEncoder,
                        pipeline: &wgpu::ComputePipeline,
                        label: &str,
@@ -353,24 +326,19 @@ impl Splats {
             pass.set_bind_group(0, &bind, &[]);
             pass.dispatch_workgroups(groups.0, groups.1, 1);
         };
+        let [globals, shadows, sampler] = lighting;
         compute(
             enc,
             &self.light,
             "splat light",
             &[
-                entry(0, &gbuffer.globals),
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&shadow_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::Sampler(&self.sampler),
-                },
-                entry(3, &ubuf),
-                entry(4, &tbuf),
-                entry(5, &lit),
-                entry(7, &gbuffer.geometry),
+                globals,
+                shadows,
+                sampler,
+                bind(3, &ubuf),
+                bind(4, &tbuf),
+                bind(5, &lit),
+                bind(7, &gbuffer.geometry),
             ],
             ((tris.len() as u32).div_ceil(64), 1),
             timer,
@@ -388,11 +356,11 @@ impl Splats {
                 label: None,
                 layout: &self.draw.get_bind_group_layout(0),
                 entries: &[
-                    entry(3, &ubuf),
-                    entry(4, &tbuf),
-                    entry(6, &lit),
-                    entry(8, &gathered.table),
-                    entry(9, &gathered.pos),
+                    bind(3, &ubuf),
+                    bind(4, &tbuf),
+                    bind(6, &lit),
+                    bind(8, &gathered.table),
+                    bind(9, &gathered.pos),
                 ],
             });
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -419,14 +387,14 @@ impl Splats {
             &self.up,
             "splat upsampling",
             &[
-                entry(3, &ubuf),
-                entry(7, &gbuffer.geometry),
-                entry(9, &gathered.pos),
+                bind(3, &ubuf),
+                bind(7, &gbuffer.geometry),
+                bind(9, &gathered.pos),
                 wgpu::BindGroupEntry {
                     binding: 10,
                     resource: wgpu::BindingResource::TextureView(&view),
                 },
-                entry(11, scattered),
+                bind(11, scattered),
             ],
             (w.div_ceil(8), h.div_ceil(8)),
             timer,
