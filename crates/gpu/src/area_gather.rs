@@ -28,8 +28,8 @@
 //!   §6.2, eq. 8) and leaves that band to the quarter-resolution splats, which blur a peaked
 //!   kernel over 4 pixels: the silhouette's lit rim came out dark (marble sphere against Mitsuba,
 //!   `images.py --quick`: 8.7 ± 1.0 % with 0.2; Skin1's rim at a tenth of its light).
-//! - R′ is 0 beyond the table's r_max (where the source term has fallen to 10⁻⁷ of its
-//!   peak), and cells whose disc exceeds the table's largest are read at its last row.
+//! - R′ is 0 beyond the table's r_max (where the source term α′σt′e^{−σt′r} has fallen to
+//!   10⁻⁷ cm⁻¹), and cells whose disc exceeds the table's largest are read at its last row.
 
 use wgpu::util::DeviceExt;
 
