@@ -60,6 +60,9 @@ AREA = [
     ("area-gather", [], ["--method", "area-gather", "--material", "{material}", "--profiles", "{profiles}"]),
     ("area-gather-dense", [], ["--method", "area-gather", "--material", "{material}", "--profiles", "{profiles}",
                                "--gather-inner", "48", "--gather-layers", "0"]),
+    # ... with the angular dependence of total reflectance and of the exit direction, as for preint.
+    ("area-gather-incidence-exit", [], ["--method", "area-gather", "--material", "{material}",
+                                        "--profiles", "{profiles}", "--incidence-aware", "on", "--exit-aware", "on"]),
 ]
 MODELS = [  # label, `sss fit` arguments (None: no scattering), extra `sss render` arguments
     ("lambert", None, []),
@@ -566,6 +569,7 @@ def main():
                        ("preint-reject", "preint"), ("preint-nodepth", "preint"),
                        ("preint-gaussian", "preint"), ("preint-gaussian", "preint-reject"),
                        ("area-gather", "preint"), ("area-gather", "area-gather-dense"),
+                       ("area-gather-incidence-exit", "preint-incidence-exit"),
                        ("area-gather", "preint-translucency"), ("area-gather", "directional-dipole-mc")]:
             if pair(a_, b_):
                 ranked[f"{a_} closer than {b_}"] = closer(a_, b_)
