@@ -27,25 +27,14 @@ fn kernel(n: usize) -> (AreaKernel, fit::area_table::AreaTable) {
     (AreaKernel::new(&table).unwrap(), table)
 }
 
-/// A square of half-width `half` [cm] in the plane y = 0, facing +y, with SSS.
+/// A square of half-width `half` [cm] in the plane y = 0, facing +y, with SSS: the floor mesh
+/// given a strength.
 fn square(half: f32) -> Mesh {
-    let v = |x: f32, z: f32| Vertex {
-        pos: [x, 0.0, z],
-        normal: [0.0, 1.0, 0.0],
-        albedo: [1.0; 3],
-        strength: 1.0,
-        material: 0,
-    };
-    Mesh {
-        vertices: vec![
-            v(-half, -half),
-            v(half, -half),
-            v(half, half),
-            v(-half, half),
-        ],
-        // Counter-clockwise seen from +y.
-        indices: vec![0, 2, 1, 0, 3, 2],
+    let mut m = Mesh::plane(0.0, half, [1.0; 3]);
+    for v in &mut m.vertices {
+        v.strength = 1.0;
     }
+    m
 }
 
 fn scene(mesh: Mesh, camera: Camera, towards: Vec3) -> Scene {
