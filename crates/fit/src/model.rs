@@ -22,6 +22,8 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+use rayon::prelude::*;
+
 use crate::error::{FitError, Result};
 use crate::kernel2d::{Kernel2, ground_truth};
 use crate::manual::{Manual, table_a1};
@@ -207,7 +209,7 @@ impl KernelModel {
             m => m,
         };
         let channels = truths
-            .iter()
+            .par_iter()
             .enumerate()
             .map(|(c, k)| model.fit_channel(k, c))
             .collect::<Result<Vec<_>>>()?;

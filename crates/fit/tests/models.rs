@@ -340,3 +340,66 @@ fn quadrant_solvers_equal_the_full_matrix_solvers() {
         assert!(d <= 1e-6 * scale, "guided k = {g}: {d:e} of {scale:e}");
     }
 }
+
+/// The guided fit is a KKT point of eq. 5.19–5.20 on the full grid: with G = ∂F/∂a,
+/// F(a) = Σ Γᵢⱼ(Kᵢⱼ − aᵢaⱼ)², every aᵢ > 0 has the same Gᵢ = −λ (the multiplier of Σa = √‖K‖₁)
+/// and every aᵢ = 0 has Gᵢ ≥ −λ. Checked on a narrow kernel in a wide grid (Ketchup's green and
+/// blue: the floor the multiplier spreads over the empty grid is what the iteration converges
+/// slowly on), where the solver must also converge in a few dozen passes, not hundreds.
+#[test]
+fn guided_fit_is_a_kkt_point_and_converges_fast_on_a_wide_grid() {
+    let p = Profile::from_fn(0.01, 600, |_, r| (-r / 0.01).exp() / (r + 0.005));
+    let k = ground_truth(&p, 0, None);
+    let (m, n) = (k.side(), k.half as f64);
+    let scaled = |i: usize| (i as f64 - n) / n;
+    for (kk, b) in [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (1.55, 50.0)] {
+        let guided = Guided {
+            k: kk,
+            b,
+            ..Guided::default()
+        };
+        let fit = guided.fit(&k);
+        assert_eq!(fit.stop, fit::GuidedStop::Converged, "k={kk} b={b}");
+        assert!(
+            fit.iterations <= 60,
+            "k={kk} b={b}: {} passes",
+            fit.iterations
+        );
+        assert_eq!(fit.kernel.terms[0].sign, 1.0);
+        let a = &fit.kernel.terms[0].a;
+        // Gᵢ = −4 Σⱼ Γᵢⱼ (Kᵢⱼ − aᵢaⱼ) aⱼ (Γ and K symmetric), and its scale 4 Σⱼ Γᵢⱼ |Kᵢⱼ| aⱼ.
+        let (mut grad, mut scale) = (vec![0.0; m], 0.0f64);
+        for i in 0..m {
+            let (mut g, mut sc) = (0.0, 0.0);
+            for j in 0..m {
+                let w = guided.weight(scaled(j), scaled(i));
+                g += -4.0 * w * (k.at(i, j) - a[i] * a[j]) * a[j];
+                sc += 4.0 * w * k.at(i, j).abs() * a[j];
+            }
+            grad[i] = g;
+            scale = scale.max(sc);
+        }
+        // Indices whose weight row vanishes (the centre line when b > 0) do not enter F.
+        let live: Vec<usize> = (0..m).filter(|&i| b == 0.0 || i as f64 != n).collect();
+        let on: Vec<f64> = live
+            .iter()
+            .filter(|&&i| a[i] > 0.0)
+            .map(|&i| grad[i])
+            .collect();
+        assert!(
+            on.len() > m / 2,
+            "k={kk} b={b}: support {} of {m}",
+            on.len()
+        );
+        let lambda = -on.iter().sum::<f64>() / on.len() as f64;
+        let spread = on.iter().map(|g| (g + lambda).abs()).fold(0.0, f64::max);
+        assert!(
+            spread <= 1e-6 * scale,
+            "k={kk} b={b}: spread {spread:e} of {scale:e}"
+        );
+        for &i in live.iter().filter(|&&i| a[i] == 0.0) {
+            assert!(grad[i] >= -lambda - 1e-6 * scale, "k={kk} b={b}: index {i}");
+        }
+        assert!(fit.constraint_error < 1e-12, "k={kk} b={b}");
+    }
+}
