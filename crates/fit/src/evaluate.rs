@@ -271,7 +271,8 @@ pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Result<Evaluat
 
     // Channels in parallel: each is independent (its image evaluation, its metrics, its dense
     // Burley kernel).
-    let per_channel: Vec<(Vec<Row>, (Vec<f64>, Vec<f64>), ImageEval)> = truths
+    type Channel = (Vec<Row>, (Vec<f64>, Vec<f64>), ImageEval);
+    let per_channel: Vec<Channel> = truths
         .par_iter()
         .enumerate()
         .map(|(c, k)| {

@@ -371,8 +371,8 @@ const ANDERSON_DEPTH: usize = 6;
 /// linearly, slowly for k = 0 on wide grids (hundreds of passes); the fixed point is the same.
 struct Anderson {
     depth: usize,
-    /// (xᵢ, gᵢ − xᵢ, gᵢ), oldest first.
-    history: std::collections::VecDeque<(Vec<f64>, Vec<f64>, Vec<f64>)>,
+    /// Oldest first.
+    history: std::collections::VecDeque<Iterate>,
 }
 
 impl Anderson {
@@ -391,7 +391,7 @@ impl Anderson {
     /// history is too short or the least-squares problem is degenerate (take g then).
     fn step(&mut self, x: &[f64], g: &[f64], c: &[f64]) -> Option<Vec<f64>> {
         let f: Vec<f64> = g.iter().zip(x).map(|(g, x)| g - x).collect();
-        self.history.push_back((x.to_vec(), f, g.to_vec()));
+        self.history.push_back(Iterate { f, g: g.to_vec() });
         if self.history.len() > self.depth + 1 {
             self.history.pop_front();
         }
@@ -399,15 +399,15 @@ impl Anderson {
         if n == 0 {
             return None;
         }
-        let diff = |k: usize, part: fn(&(Vec<f64>, Vec<f64>, Vec<f64>)) -> &Vec<f64>| {
+        let diff = |k: usize, part: fn(&Iterate) -> &Vec<f64>| {
             let (p, q) = (part(&self.history[k + 1]), part(&self.history[k]));
             p.iter().zip(q).map(|(p, q)| p - q).collect::<Vec<f64>>()
         };
-        let df: Vec<Vec<f64>> = (0..n).map(|k| diff(k, |h| &h.1)).collect();
+        let df: Vec<Vec<f64>> = (0..n).map(|k| diff(k, |h| &h.f)).collect();
         let dot = |p: &[f64], q: &[f64]| -> f64 {
             p.iter().zip(q).zip(c).map(|((p, q), c)| c * p * q).sum()
         };
-        let newest = &self.history[n].1;
+        let newest = &self.history[n].f;
         let normal = nalgebra::DMatrix::from_fn(n, n, |i, j| dot(&df[i], &df[j]));
         let rhs = nalgebra::DVector::from_fn(n, |i, _| dot(&df[i], newest));
         // A small ridge keeps nearly parallel differences from amplifying rounding.
@@ -418,13 +418,21 @@ impl Anderson {
         if !gamma.iter().all(|v| v.is_finite()) {
             return None;
         }
-        let mut next = self.history[n].2.clone();
+        let mut next = self.history[n].g.clone();
         for (k, gk) in gamma.iter().enumerate() {
-            let dg = diff(k, |h| &h.2);
+            let dg = diff(k, |h| &h.g);
             next.iter_mut().zip(&dg).for_each(|(v, d)| *v -= gk * d);
         }
         Some(next)
     }
+}
+
+/// One iterate of [`Anderson`]'s history.
+struct Iterate {
+    /// The residual gᵢ − xᵢ.
+    f: Vec<f64>,
+    /// The plain step gᵢ = H(xᵢ).
+    g: Vec<f64>,
 }
 
 /// Projects onto the constraint set a ≥ 0, Σ cᵢaᵢ = `target` (clip, then rescale).
