@@ -227,7 +227,8 @@ impl GroupJob {
                 layers: vec![walk],
             },
             incidence,
-        );
+        )
+        .with_importance(!spec.tallies.absorption_rz);
         let scale = chans
             .iter()
             .map(|c| {

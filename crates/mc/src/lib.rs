@@ -59,7 +59,10 @@ pub use layer::{Layer, Sample};
 pub use material::{CHANNELS, Material};
 pub use output::{Estimate, Output};
 pub use phase::{pdf_cos_theta, sample_cos_theta};
-pub use photon::{PATH_ROULETTE_INTERVAL, ROULETTE_SURVIVAL, ROULETTE_THRESHOLD};
+pub use photon::{
+    IMPORTANCE_INTERVAL, IMPORTANCE_TARGET, IMPORTANCE_THRESHOLD, PATH_ROULETTE_INTERVAL,
+    ROULETTE_SURVIVAL, ROULETTE_THRESHOLD,
+};
 pub use rng::CHUNK_PHOTONS;
 pub use simulate::{
     ROUND_CHUNKS, RunSpec, accumulate, accumulate_batch, batch_outputs, chunk_count,

@@ -25,6 +25,16 @@ pub const ROULETTE_SURVIVAL: f64 = 0.1;
 /// such rule; it touches only photons with more than 10⁵ interactions.
 pub const PATH_ROULETTE_INTERVAL: u64 = 100_000;
 
+/// Importance roulette (profile-only runs): every [`IMPORTANCE_INTERVAL`] interactions a photon
+/// whose importance-weighted weight w·I(z) has fallen below this plays roulette (see
+/// [`importance`]).
+pub const IMPORTANCE_THRESHOLD: f64 = 0.1;
+/// The importance-weighted weight w·I(z) a photon surviving the importance roulette carries
+/// (unless that would make its weight exceed 1).
+pub const IMPORTANCE_TARGET: f64 = 0.2;
+/// Interactions between two importance checks (each costs an exponential).
+pub const IMPORTANCE_INTERVAL: u64 = 16;
+
 /// A layer prepared for transport: bounds and derived coefficients.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Slab {
@@ -41,6 +51,10 @@ pub(crate) struct Slab {
     /// Index of the medium above / below this slab.
     pub n_up: f64,
     pub n_down: f64,
+    /// Diffusion's effective attenuation μ_eff = √(3μa(μa + μs(1 − g))) [cm⁻¹] (0 in glass).
+    pub mu_eff: f64,
+    /// ∫ μ_eff dz from the top surface down to this slab's top, z0 [-].
+    pub tau0: f64,
 }
 
 /// The sample prepared for transport.
@@ -54,6 +68,11 @@ pub(crate) struct Medium {
     /// Launch direction inside the first layer, in the x–z plane: (sin θt, cos θt).
     pub launch_ux: f64,
     pub launch_uz: f64,
+    /// ∫ μ_eff dz over the whole sample [-].
+    pub tau_total: f64,
+    /// Whether photons play the importance roulette ([`importance`]): only when nothing below
+    /// the surfaces is tallied.
+    pub importance: bool,
 }
 
 impl Medium {
@@ -75,7 +94,7 @@ impl Medium {
 
     pub fn new(sample: &Sample) -> Self {
         let ls = &sample.layers;
-        let mut z = 0.0;
+        let (mut z, mut tau) = (0.0, 0.0);
         let slabs = ls
             .iter()
             .enumerate()
@@ -101,8 +120,11 @@ impl Medium {
                     cos_crit_down: cos_critical(l.n, n_down),
                     n_up,
                     n_down,
+                    mu_eff: (3.0 * l.mu_a * (l.mu_a + l.mu_s * (1.0 - l.g))).sqrt(),
+                    tau0: tau,
                 };
                 z += l.thickness;
+                tau += s.mu_eff * l.thickness;
                 s
             })
             .collect();
@@ -114,7 +136,15 @@ impl Medium {
             first: usize::from(glass_first),
             launch_ux: 0.0,
             launch_uz: 1.0,
+            tau_total: tau,
+            importance: false,
         }
+    }
+
+    /// The same medium with the importance roulette on (`on`) or off.
+    pub fn with_importance(mut self, on: bool) -> Self {
+        self.importance = on;
+        self
     }
 }
 
@@ -172,6 +202,9 @@ pub(crate) fn trace<S: Scorer>(m: &Medium, rng: &mut Rng, scorer: &mut S) {
         }
         if p.alive && p.w < ROULETTE_THRESHOLD {
             roulette(&mut p, rng, scorer, ROULETTE_SURVIVAL);
+        }
+        if m.importance && p.alive && p.interactions.is_multiple_of(IMPORTANCE_INTERVAL) {
+            importance(m, &mut p, rng, scorer);
         }
     }
     scorer.finish(&p);
@@ -368,6 +401,28 @@ fn cross_or_not<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Rng, scorer: &m
         }
     } else {
         p.uz = -p.uz;
+    }
+}
+
+/// Importance roulette, for runs that tally only what leaves through the surfaces. A photon at
+/// depth z reaches a surface with a probability that falls as
+/// I(z) = max(e^{−τ(z)}, e^{−(τ_T − τ(z))}), τ(z) = ∫₀^z μ_eff dz' (diffusion theory's
+/// attenuation towards the top and the bottom surface; τ_T over the whole sample). When its
+/// importance-weighted weight w·I(z) is below [`IMPORTANCE_THRESHOLD`] it survives with
+/// probability p = max(w·I(z) / [`IMPORTANCE_TARGET`], w) and weight w/p, never above 1.
+/// Unbiased for every tally whatever I is (E[weight] = w); I only decides where the work goes:
+/// photons a few 1/μ_eff deep in a weakly absorbing half-space carry a thousandth of the
+/// reflected light but most of the interactions (Soy milk R: 72 % of the events are spent by
+/// photons that go deeper than 3/μ_eff, which bring back 0.1 % of the reflected weight). The cap
+/// on the survivor's weight bounds what one deep photon adds to the absorption tallies' variance.
+/// Off when absorption is tallied in depth, where every deposit matters.
+fn importance<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Rng, scorer: &mut S) {
+    let slab = &m.slabs[p.layer];
+    let tau = slab.tau0 + slab.mu_eff * (p.z - slab.z0).clamp(0.0, slab.z1 - slab.z0);
+    let weighted = p.w * (-tau).exp().max((tau - m.tau_total).exp());
+    if weighted < IMPORTANCE_THRESHOLD {
+        let survival = (weighted / IMPORTANCE_TARGET).max(p.w).min(1.0);
+        roulette(p, rng, scorer, survival);
     }
 }
 

@@ -153,7 +153,7 @@ pub fn run_at(
     spec.validate()?;
     incidence.validate_for(&spec.sample)?;
     let job = McmlJob {
-        medium: Medium::at(&spec.sample, incidence),
+        medium: Medium::at(&spec.sample, incidence).with_importance(!spec.tallies.absorption_rz),
         spec,
     };
     let acc = accumulate_job(
@@ -175,7 +175,7 @@ pub fn accumulate(
     spec.validate()?;
     check_chunks(&chunks, spec.photons)?;
     let job = McmlJob {
-        medium: Medium::new(&spec.sample),
+        medium: Medium::new(&spec.sample).with_importance(!spec.tallies.absorption_rz),
         spec,
     };
     Ok(accumulate_job(

@@ -237,6 +237,36 @@ fn isotropic_half_space_matches_chandrasekhar() {
     }
 }
 
+/// Profile-only runs (no absorption tallied in depth, so the importance roulette is on) reproduce
+/// the same exact reflectance, up to albedos where most of the work is deep.
+#[test]
+fn profile_only_runs_match_chandrasekhar() {
+    for (i, &a) in [0.9, 0.99, 0.999, 0.9999].iter().enumerate() {
+        let spec = RunSpec {
+            sample: Sample::single(isotropic_half_space(a)),
+            grid: small_grid(),
+            photons: 100_000,
+            seed: 40 + i as u64,
+            tallies: TallySet {
+                absorption_rz: false,
+                surface_xy: 0,
+            },
+        };
+        let o = mc::run(&spec, &|_| {}).unwrap();
+        let exact = 1.0 - (1.0 - a).sqrt() * h_function(a, 1.0);
+        within(&format!("Rd(a={a})"), o.rd.value, o.rd.se, exact, 4.0);
+        // What is not reflected is absorbed: a half-space transmits nothing.
+        let se = (o.a.se * o.a.se + o.rd.se * o.rd.se).sqrt();
+        within(
+            &format!("A + Rd(a={a})"),
+            o.a.value + o.rd.value,
+            se,
+            1.0,
+            4.0,
+        );
+    }
+}
+
 /// The artist inversion (van de Hulst's fit, `mc::artist`) against exact transport: an isotropic,
 /// index-matched half-space whose coefficients come from a colour A must have the diffuse-
 /// illumination albedo 2∫₀¹ R(μ₀) μ₀ dμ₀ = 1 − 2√(1−α)·∫₀¹ H(μ) μ dμ equal to A, to the accuracy
