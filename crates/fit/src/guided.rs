@@ -183,21 +183,26 @@ impl Guided {
                 x = g;
                 break;
             }
-            let mut next = anderson.step(&x, &g, c);
-            extrapolated = next.is_some();
-            let next = match next.take() {
-                Some(mut y) => {
+            // An extrapolation with no positive entry has no projection: take the plain step.
+            let next = anderson
+                .step(&x, &g, c)
+                .filter(|y| !self.constrained || y.iter().any(|&v| v > 0.0))
+                .map(|mut y| {
                     if self.constrained {
                         project(&mut y, c, target);
                     }
                     y
-                }
-                None => g.clone(),
-            };
+                });
+            extrapolated = next.is_some();
+            x = next.unwrap_or_else(|| g.clone());
             last = Some((objective, g));
-            x = next;
         }
-        let a = x;
+        // Stopped at max_iterations: the last plain step meets the constraint and was computed from
+        // an evaluated point; an extrapolation after it was not evaluated.
+        let a = match (stop, last) {
+            (GuidedStop::MaxIterations, Some((_, g))) => g,
+            _ => x,
+        };
         let objective: f64 = (0..m)
             .into_par_iter()
             .map(|i| {
@@ -264,11 +269,19 @@ impl Guided {
         }
         // Σa(μ) is continuous and non-increasing in μ: bracket and bisect to the last bit.
         let total = |mu: f64| solve(mu).iter().zip(c).map(|(a, c)| c * a).sum::<f64>();
+        // Σa(μ) → ∞ as μ → −∞ wherever some Dᵢ > 0, and → 0 as μ → ∞; the doublings are bounded
+        // for the degenerate b = 0 (every Dᵢ = 0), where no μ meets the constraint.
         let (mut lo, mut hi) = (-1.0, 1.0);
-        while total(lo) < target {
+        for _ in 0..2100 {
+            if total(lo) >= target {
+                break;
+            }
             lo *= 2.0;
         }
-        while total(hi) > target {
+        for _ in 0..2100 {
+            if total(hi) <= target {
+                break;
+            }
             hi *= 2.0;
         }
         for _ in 0..200 {
@@ -435,11 +448,10 @@ struct Iterate {
     g: Vec<f64>,
 }
 
-/// Projects onto the constraint set a ≥ 0, Σ cᵢaᵢ = `target` (clip, then rescale).
+/// Projects onto the constraint set a ≥ 0, Σ cᵢaᵢ = `target` (clip, then rescale; `a` must have a
+/// positive entry).
 fn project(a: &mut [f64], c: &[f64], target: f64) {
     a.iter_mut().for_each(|v| *v = v.max(0.0));
     let s: f64 = a.iter().zip(c).map(|(a, c)| c * a).sum();
-    if s > 0.0 {
-        a.iter_mut().for_each(|v| *v *= target / s);
-    }
+    a.iter_mut().for_each(|v| *v *= target / s);
 }

@@ -25,7 +25,7 @@ pub const ROULETTE_SURVIVAL: f64 = 0.1;
 /// such rule; it touches only photons with more than 10⁵ interactions.
 pub const PATH_ROULETTE_INTERVAL: u64 = 100_000;
 
-/// Importance roulette (profile-only runs): every [`IMPORTANCE_INTERVAL`] interactions a photon
+/// Importance roulette (profile-only runs): after every [`IMPORTANCE_INTERVAL`]-th interaction a photon
 /// whose importance-weighted weight w·I(z) has fallen below this plays roulette (see
 /// [`importance`]).
 pub const IMPORTANCE_THRESHOLD: f64 = 0.1;
@@ -203,9 +203,6 @@ pub(crate) fn trace<S: Scorer>(m: &Medium, rng: &mut Rng, scorer: &mut S) {
         if p.alive && p.w < ROULETTE_THRESHOLD {
             roulette(&mut p, rng, scorer, ROULETTE_SURVIVAL);
         }
-        if m.importance && p.alive && p.interactions.is_multiple_of(IMPORTANCE_INTERVAL) {
-            importance(m, &mut p, rng, scorer);
-        }
     }
     scorer.finish(&p);
 }
@@ -245,6 +242,9 @@ fn hop_drop_spin<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Rng, scorer: &
             spin(p, slab.g, rng);
             if p.interactions.is_multiple_of(PATH_ROULETTE_INTERVAL) {
                 roulette(p, rng, scorer, 0.5);
+            }
+            if m.importance && p.alive && p.interactions.is_multiple_of(IMPORTANCE_INTERVAL) {
+                importance(m, p, rng, scorer);
             }
         }
     }
@@ -420,8 +420,8 @@ fn importance<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Rng, scorer: &mut
     let slab = &m.slabs[p.layer];
     let tau = slab.tau0 + slab.mu_eff * (p.z - slab.z0).clamp(0.0, slab.z1 - slab.z0);
     let weighted = p.w * (-tau).exp().max((tau - m.tau_total).exp());
-    if weighted < IMPORTANCE_THRESHOLD {
-        let survival = (weighted / IMPORTANCE_TARGET).max(p.w).min(1.0);
+    let survival = (weighted / IMPORTANCE_TARGET).max(p.w);
+    if weighted < IMPORTANCE_THRESHOLD && survival < 1.0 {
         roulette(p, rng, scorer, survival);
     }
 }
