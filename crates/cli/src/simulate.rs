@@ -12,6 +12,7 @@ use fit::plot::IncidenceCurve;
 use mc::incidence::IncidenceRow;
 use mc::shard::{self, Shard};
 use mc::{BatchSpec, CHANNELS, ChannelSpec, Output, TallySet};
+use rayon::prelude::*;
 use serde_json::{Value, json};
 
 use crate::cache::{Provenance, provenance_path};
@@ -348,23 +349,29 @@ fn finish(
         files.add(csv, profile_csv(&chans));
         let mut mco_files = Vec::new();
         if !profile_only {
-            for (c, ch) in CHANNELS.iter().enumerate() {
-                let name = format!("{slug}.{ch}.mco");
-                let run = mc::RunSpec {
-                    sample: mc::Sample {
-                        n_above: spec.n_above,
-                        n_below: spec.n_below,
-                        layers: vec![specs[c].layer],
-                    },
-                    grid: specs[c].grid,
-                    photons: chans[c].photons,
-                    seed: spec.seed,
-                    tallies: spec.tallies,
-                };
-                files.add(
-                    out.join(&name),
-                    mc::mco::write(&name, &run, chans[c], seconds)?,
-                );
+            // The three .mco texts (each a few MB of formatted numbers) in parallel.
+            let texts: Vec<(String, String)> = CHANNELS
+                .par_iter()
+                .enumerate()
+                .map(|(c, ch)| {
+                    let name = format!("{slug}.{ch}.mco");
+                    let run = mc::RunSpec {
+                        sample: mc::Sample {
+                            n_above: spec.n_above,
+                            n_below: spec.n_below,
+                            layers: vec![specs[c].layer],
+                        },
+                        grid: specs[c].grid,
+                        photons: chans[c].photons,
+                        seed: spec.seed,
+                        tallies: spec.tallies,
+                    };
+                    let text = mc::mco::write(&name, &run, chans[c], seconds)?;
+                    Ok((name, text))
+                })
+                .collect::<Result<_>>()?;
+            for (name, text) in texts {
+                files.add(out.join(&name), text);
                 mco_files.push(name);
             }
         }
