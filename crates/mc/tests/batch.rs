@@ -1,5 +1,8 @@
 //! Batch tracing against independent per-channel MCML runs, determinism and shards.
 
+mod common;
+
+use common::chi2;
 use mc::{BatchSpec, ChannelSpec, Grid, Layer, Output, RunSpec, Sample, TallySet};
 
 /// Channels with very different albedos sharing g = 0 and η = 1.3: Ketchup G and B
@@ -36,35 +39,8 @@ fn channels() -> Vec<ChannelSpec> {
     .collect()
 }
 
-fn chi2(a: &[mc::Estimate], b: &[mc::Estimate]) -> (f64, usize) {
-    let mut chi = 0.0;
-    let mut dof = 0;
-    for (x, y) in a.iter().zip(b) {
-        let v = x.se * x.se + y.se * y.se;
-        // Bins with only a handful of scores have non-Gaussian errors; χ² needs well-sampled bins.
-        if v > 0.0 && x.se < 0.2 * x.value && y.se < 0.2 * y.value {
-            chi += (x.value - y.value).powi(2) / v;
-            dof += 1;
-        }
-    }
-    (chi, dof)
-}
-
 fn assert_agree(name: &str, batch: &Output, single: &Output) {
-    let (chi, dof) = chi2(&batch.rd_r, &single.rd_r);
-    assert!(dof >= 15, "{name}: only {dof} bins to compare");
-    // χ² with `dof` degrees of freedom: mean dof, sd √(2 dof); 5 sd is a p ≈ 10⁻⁶ tail.
-    assert!(
-        chi < dof as f64 + 5.0 * (2.0 * dof as f64).sqrt(),
-        "{name}: χ² = {chi:.1} over {dof} bins"
-    );
-    for (what, x, y) in [("Rd", batch.rd, single.rd), ("A", batch.a, single.a)] {
-        let z = (x.value - y.value) / (x.se * x.se + y.se * y.se).sqrt();
-        assert!(
-            z.abs() < 4.0,
-            "{name} {what}: batch {x:?} vs single {y:?} (z = {z:.2})"
-        );
-    }
+    common::assert_agree(name, batch, single, 15);
     assert_eq!(batch.rsp, single.rsp);
 }
 

@@ -2,6 +2,9 @@
 //! runs without it, and it removes most of the interactions of photons deep in weakly absorbing
 //! half-spaces. (Against exact transport: `validation.rs`, `profile_only_runs_match_chandrasekhar`.)
 
+mod common;
+
+use common::assert_agree;
 use mc::{Grid, Layer, Output, RunSpec, Sample, TallySet};
 
 const PROFILE_ONLY: TallySet = TallySet {
@@ -18,28 +21,6 @@ fn run(layer: Layer, grid: Grid, photons: u64, seed: u64, tallies: TallySet) -> 
         tallies,
     };
     mc::run(&spec, &|_| {}).unwrap()
-}
-
-/// χ² over the radial bins that hold at least a few hundred scores, and z-scores of the totals.
-fn assert_agree(name: &str, x: &Output, y: &Output) {
-    let (mut chi, mut dof) = (0.0, 0);
-    for (p, q) in x.rd_r.iter().zip(&y.rd_r) {
-        let v = p.se * p.se + q.se * q.se;
-        if v > 0.0 && p.se < 0.2 * p.value && q.se < 0.2 * q.value {
-            chi += (p.value - q.value).powi(2) / v;
-            dof += 1;
-        }
-    }
-    assert!(dof >= 50, "{name}: only {dof} bins to compare");
-    // χ² with `dof` degrees of freedom: mean dof, sd √(2 dof); 5 sd is a p ≈ 10⁻⁶ tail.
-    assert!(
-        chi < dof as f64 + 5.0 * (2.0 * dof as f64).sqrt(),
-        "{name}: χ² = {chi:.1} over {dof} bins"
-    );
-    for (what, p, q) in [("Rd", x.rd, y.rd), ("A", x.a, y.a)] {
-        let z = (p.value - q.value) / (p.se * p.se + q.se * q.se).sqrt();
-        assert!(z.abs() < 4.0, "{name} {what}: {p:?} vs {q:?} (z = {z:.2})");
-    }
 }
 
 /// Wholemilk R and Soy milk R (thesis Table 6.2, directional-dipole draft Table 4.1; σa, σs in
@@ -70,7 +51,7 @@ fn importance_roulette_keeps_profiles_and_halves_the_work() {
         };
         let full = run(layer, grid, photons, 1, TallySet::default());
         let fast = run(layer, grid, photons, 2, PROFILE_ONLY);
-        assert_agree(name, &fast, &full);
+        assert_agree(name, &fast, &full, 50);
         assert!(
             fast.rd.se < 1.1 * full.rd.se,
             "{name}: Rd ± {} vs {}",
@@ -125,7 +106,7 @@ fn importance_roulette_is_unbiased_in_a_layered_slab() {
     };
     let full = mc::run(&spec(5, TallySet::default()), &|_| {}).unwrap();
     let fast = mc::run(&spec(6, PROFILE_ONLY), &|_| {}).unwrap();
-    assert_agree("layered slab", &fast, &full);
+    assert_agree("layered slab", &fast, &full, 50);
     assert!(
         full.tt.value > 10.0 * full.tt.se,
         "Tt {:?} must be resolved",

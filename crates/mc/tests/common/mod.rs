@@ -1,0 +1,34 @@
+//! Statistical agreement of two independent Monte Carlo runs, shared by the test files.
+
+use mc::{Estimate, Output};
+
+/// χ² of two estimates per bin over the bins both sample well (relative standard error below
+/// 0.2: bins with a handful of scores have non-Gaussian errors), and the number of such bins.
+pub fn chi2(a: &[Estimate], b: &[Estimate]) -> (f64, usize) {
+    let mut chi = 0.0;
+    let mut dof = 0;
+    for (x, y) in a.iter().zip(b) {
+        let v = x.se * x.se + y.se * y.se;
+        if v > 0.0 && x.se < 0.2 * x.value && y.se < 0.2 * y.value {
+            chi += (x.value - y.value).powi(2) / v;
+            dof += 1;
+        }
+    }
+    (chi, dof)
+}
+
+/// Two runs agree: χ² of Rd(r) over at least `min_bins` well-sampled bins within 5 standard
+/// deviations of its mean (χ² with n degrees of freedom: mean n, sd √(2n); a p ≈ 10⁻⁶ tail), and
+/// total Rd and A within 4 standard errors.
+pub fn assert_agree(name: &str, x: &Output, y: &Output, min_bins: usize) {
+    let (chi, dof) = chi2(&x.rd_r, &y.rd_r);
+    assert!(dof >= min_bins, "{name}: only {dof} bins to compare");
+    assert!(
+        chi < dof as f64 + 5.0 * (2.0 * dof as f64).sqrt(),
+        "{name}: χ² = {chi:.1} over {dof} bins"
+    );
+    for (what, p, q) in [("Rd", x.rd, y.rd), ("A", x.a, y.a)] {
+        let z = (p.value - q.value) / (p.se * p.se + q.se * q.se).sqrt();
+        assert!(z.abs() < 4.0, "{name} {what}: {p:?} vs {q:?} (z = {z:.2})");
+    }
+}
