@@ -81,16 +81,52 @@ fn render_lights_refuse_hostile_values() {
         "spot:1,2,3",
         "🦀:1,2,3",
         "DIR:1,1,1",
+        "area:1,2,3",
+        "area:1,2,3:0,0,0",
+        "area:1,2,3:1,2,3:4",
+        "area:1,2,3:0,0,0:0",
+        "area:1,2,3:0,0,0:-2",
+        "area:1,2,3:0,0,0:1e39",
+        "area:1,2,3:0,0,0:2:nan",
+        "area:1,2,3:0,0,0:2:-1",
+        "area:1,2,3:0,0,0:2:1:1",
+        "area:1,2,nan:0,0,0:2",
     ] {
         let o = flag(dir.path(), &["render"], "--light", v);
         assert_refused(&o, &format!("--light={v}"), &["--light"]);
     }
-    // Five valid lights: one more than the renderer holds.
+    // Valid lights, more than the renderer holds: two area lights of 8×8 cells (128 point
+    // lights), or 65 directional lights.
     let mut args = vec!["render"];
+    args.extend(["--light", "area:0,20,0:0,0,0:4"].repeat(2));
+    args.extend(["--out", "never"]);
+    let o = sss(&args, dir.path());
+    assert_refused(&o, "two area lights", &["--light"]);
+    let mut args = vec!["render"];
+    args.extend(["--light", "dir:0,1,0"].repeat(65));
+    args.extend(["--out", "never"]);
+    let o = sss(&args, dir.path());
+    assert_refused(&o, "65 lights", &["--light"]);
+    // The directional dipole takes no area light.
+    let o = sss(
+        &[
+            "render",
+            "--method",
+            "directional-dipole",
+            "--light",
+            "area:0,20,0:0,0,0:4",
+            "--out",
+            "never",
+        ],
+        dir.path(),
+    );
+    assert_refused(&o, "dipole with an area light", &["--light"]);
+    // ... and at most four lights.
+    let mut args = vec!["render", "--method", "directional-dipole"];
     args.extend(["--light", "dir:0,1,0"].repeat(5));
     args.extend(["--out", "never"]);
     let o = sss(&args, dir.path());
-    assert_refused(&o, "five lights", &["--light"]);
+    assert_refused(&o, "dipole with five lights", &["--light"]);
 }
 
 #[test]

@@ -184,7 +184,6 @@ fn translucency_table(
         first_cm: first as f32,
         ratio: (d[1] / d[0]) as f32,
         table,
-        eta: named.material.eta as f32,
     })
 }
 
@@ -335,8 +334,13 @@ pub struct RenderArgs {
     #[arg(long)]
     fov: Option<f32>,
 
-    /// Lights (repeatable, up to 4): dir:X,Y,Z[:IRRADIANCE] (towards the light) or
-    /// point:X,Y,Z[:INTENSITY] (position [cm], intensity = irradiance × cm²); all cast shadows
+    /// Lights (repeatable): dir:X,Y,Z[:IRRADIANCE] (towards the light; default 1.2),
+    /// point:X,Y,Z[:INTENSITY] (position [cm], intensity = irradiance × cm²; default 1200) or
+    /// area:X,Y,Z:AX,AY,AZ:SIDE[:RADIANCE] (a square of SIDE [cm] centred at X,Y,Z facing the
+    /// point AX,AY,AZ, in Mitsuba's look_at frame with +y up; radiance default 5, a surface
+    /// facing a large one gets π × it). All cast shadows. An area light is drawn as 64 point
+    /// lights (its 8×8 cells), at most 64 in all; SSS surfaces reflect it in mirror with the
+    /// Fresnel reflectance of the material's η
     #[arg(long = "light", value_parser = parse_light)]
     lights: Vec<Light>,
 
@@ -437,7 +441,8 @@ pub struct RenderArgs {
     #[arg(long)]
     splat_clamp: bool,
 
-    /// Plain Lambertian shading: no scattering at all (a baseline)
+    /// Plain Lambertian shading: no scattering at all (a baseline); SSS surfaces still mirror
+    /// area lights with the material's η, as a Lambertian surface under a clear coat would
     #[arg(long, conflicts_with_all = ["kernel", "compare_models", "bench"])]
     no_sss: bool,
 
@@ -494,32 +499,59 @@ fn parse_box(s: &str) -> Result<(Vec3, Vec3), String> {
 
 fn parse_light(s: &str) -> Result<Light, String> {
     let parts: Vec<&str> = s.split(':').collect();
-    if parts.len() < 2 || parts.len() > 3 {
-        return Err(format!("{s:?}: expected dir:X,Y,Z[:I] or point:X,Y,Z[:I]"));
-    }
-    let v = parse_vec3(parts[1])?;
-    let default = if parts[0] == "dir" { 1.2 } else { 1200.0 };
-    let i: f32 = match parts.get(2) {
-        Some(t) => t
+    let number = |t: &str, what: &str| -> Result<f32, String> {
+        let v: f32 = t
             .parse()
-            .map_err(|_| format!("{s:?}: intensity {t:?} is not a number"))?,
-        None => default,
+            .map_err(|_| format!("{s:?}: {what} {t:?} is not a number"))?;
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(format!("{s:?}: {what} must be finite and ≥ 0"))
+        }
     };
-    if !(i.is_finite() && i >= 0.0) {
-        return Err(format!("{s:?}: intensity must be finite and ≥ 0"));
-    }
-    match parts[0] {
-        "dir" if v.length() > 0.0 => Ok(Light::Directional {
-            towards: v.normalize(),
-            irradiance: Vec3::splat(i),
-            shadow: true,
-        }),
-        "point" => Ok(Light::Point {
-            position: v,
-            intensity: Vec3::splat(i),
-            shadow: true,
-        }),
-        _ => Err(format!("{s:?}: expected dir (non-zero direction) or point")),
+    match parts[..] {
+        ["area", at, aim, side, ref rest @ ..] if rest.len() <= 1 => {
+            let radiance = match rest.first() {
+                Some(t) => number(t, "radiance")?,
+                None => 5.0,
+            };
+            let side = number(side, "side")?;
+            Light::square(
+                parse_vec3(at)?,
+                parse_vec3(aim)?,
+                side,
+                Vec3::splat(radiance),
+                true,
+            )
+            .map_err(|e| format!("{s:?}: {e}"))
+        }
+        [kind @ ("dir" | "point"), v, ref rest @ ..] if rest.len() <= 1 => {
+            let v = parse_vec3(v)?;
+            let i = match rest.first() {
+                Some(t) => number(t, "intensity")?,
+                None if kind == "dir" => 1.2,
+                None => 1200.0,
+            };
+            if kind == "dir" {
+                if v.length() == 0.0 {
+                    return Err(format!("{s:?}: the direction must not be zero"));
+                }
+                Ok(Light::Directional {
+                    towards: v.normalize(),
+                    irradiance: Vec3::splat(i),
+                    shadow: true,
+                })
+            } else {
+                Ok(Light::Point {
+                    position: v,
+                    intensity: Vec3::splat(i),
+                    shadow: true,
+                })
+            }
+        }
+        _ => Err(format!(
+            "{s:?}: expected dir:X,Y,Z[:I], point:X,Y,Z[:I] or area:X,Y,Z:AX,AY,AZ:SIDE[:L]"
+        )),
     }
 }
 
@@ -653,8 +685,23 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
             a.tolerance
         );
     }
-    if a.lights.len() > 4 {
-        bail!("invalid --light: {} given, at most 4", a.lights.len());
+    let emitters = gpu::emitters(&a.lights).len();
+    if a.method == Method::DirectionalDipole
+        && (emitters > gpu::DIPOLE_LIGHTS
+            || a.lights.iter().any(|l| matches!(l, Light::Area { .. })))
+    {
+        bail!(
+            "invalid --light: the directional dipole takes at most {} directional or point lights, no area light",
+            gpu::DIPOLE_LIGHTS
+        );
+    }
+    if emitters > gpu::MAX_EMITTERS {
+        bail!(
+            "invalid --light: {} given, {emitters} point lights once each area light is split into its {} cells; at most {}",
+            a.lights.len(),
+            gpu::AREA_CELLS * gpu::AREA_CELLS,
+            gpu::MAX_EMITTERS
+        );
     }
     if let Some(f) = a.fov
         && !(f > 1.0 && f < 170.0)
@@ -794,6 +841,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
             incidence,
             exit,
             translucency,
+            eta: n.material.eta as f32,
         };
     }
     let params = RenderParams {

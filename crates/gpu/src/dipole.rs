@@ -34,7 +34,7 @@ use wgpu::util::DeviceExt;
 use crate::context::{Gpu, cleared_depth, compute_pipeline, mesh_pipeline, texture};
 use crate::error::{GpuError, Result};
 use crate::mesh::MeshBuffers;
-use crate::scene::{Light, Scene};
+use crate::scene::Scene;
 use crate::timing::Timer;
 
 /// Settings of the directional-dipole method for one material.
@@ -195,7 +195,7 @@ struct DipoleLight {
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub(crate) struct DipoleUniform {
-    lights: [DipoleLight; 4],
+    lights: [DipoleLight; DIPOLE_LIGHTS],
     camera_pos: [f32; 4],
     d: [f32; 4],
     sigma_tr: [f32; 4],
@@ -215,9 +215,13 @@ pub(crate) const DIPOLE_WGSL: &str = concat!(
     include_str!("shaders/dipole.wgsl")
 );
 
+/// The lights the dipole shader holds: directional and point lights only (an area light's
+/// cells would need their own emission lobe and many more light maps).
+pub const DIPOLE_LIGHTS: usize = 4;
+
 /// WGSL's size of `Dipole`: 4 lights × 96 + 11 vec4 × 16 bytes (checked against naga's layout in
 /// a test).
-pub(crate) const DIPOLE_UNIFORM_SIZE: usize = 4 * 96 + 11 * 16;
+pub(crate) const DIPOLE_UNIFORM_SIZE: usize = DIPOLE_LIGHTS * 96 + 11 * 16;
 const _: () = assert!(std::mem::size_of::<DipoleUniform>() == DIPOLE_UNIFORM_SIZE);
 
 const MAP_FORMATS: [wgpu::TextureFormat; 2] = [
@@ -324,34 +328,19 @@ pub(crate) fn encode(
     setup.validate()?;
     let dev = &gpu.device;
     let cam = draw_maps(gpu, enc, mesh, &[camera_view_proj], (w, h));
-    let light_vps: Vec<Mat4> = scene
-        .lights
-        .iter()
-        .map(|l| scene.light_view_proj(l))
-        .collect();
+    let emitters = scene.emitters();
+    let light_vps: Vec<Mat4> = emitters.iter().map(|l| scene.light_view_proj(l)).collect();
     let lights = draw_maps(gpu, enc, mesh, &light_vps, (setup.map_size, setup.map_size));
     let mut u_lights = [DipoleLight {
         view_proj: Mat4::IDENTITY.to_cols_array_2d(),
         pos_or_dir: [0.0; 4],
         color: [0.0; 4],
-    }; 4];
-    for (i, (light, vp)) in scene.lights.iter().zip(&light_vps).enumerate() {
-        let (pos_or_dir, color) = match *light {
-            Light::Directional {
-                towards,
-                irradiance,
-                ..
-            } => (towards.normalize().extend(0.0), irradiance),
-            Light::Point {
-                position,
-                intensity,
-                ..
-            } => (position.extend(1.0), intensity),
-        };
+    }; DIPOLE_LIGHTS];
+    for (i, (light, vp)) in emitters.iter().zip(&light_vps).enumerate() {
         u_lights[i] = DipoleLight {
             view_proj: vp.to_cols_array_2d(),
-            pos_or_dir: pos_or_dir.into(),
-            color: color.extend(i as f32).into(),
+            pos_or_dir: light.pos_or_dir.into(),
+            color: light.power.extend(i as f32).into(),
         };
     }
     let k = &setup.channels;
@@ -383,7 +372,7 @@ pub(crate) fn encode(
             0.0,
             0.0,
         ],
-        size: [w, h, scene.lights.len() as u32, setup.samples],
+        size: [w, h, emitters.len() as u32, setup.samples],
         frame: [0, setup.seed, setup.map_size, 0],
     };
     let pipeline = compute_pipeline(

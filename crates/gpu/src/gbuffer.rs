@@ -9,9 +9,10 @@ use glam::Mat4;
 use wgpu::util::DeviceExt;
 
 use crate::context::{Gpu, cleared_depth, compute_pipeline, mesh_pipeline, pixels, texture};
+use crate::light::MAX_EMITTERS;
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
-use crate::scene::{AlbedoMode, Light, Scene};
+use crate::scene::{AlbedoMode, Scene};
 use crate::shading::{INCIDENCE_STEPS, Shading, TRANSLUCENCY_STEPS, incidence_hemispherical};
 use crate::timing::Timer;
 
@@ -22,6 +23,9 @@ struct LightU {
     inv_view_proj: [[f32; 4]; 4],
     pos_or_dir: [f32; 4],
     color: [f32; 4],
+    /// A cell of an area light: xyz its half edges [cm], w 1 (0: not a cell).
+    cell_u: [f32; 4],
+    cell_v: [f32; 4],
 }
 
 #[repr(C)]
@@ -32,7 +36,7 @@ struct Globals {
     camera_pos: [f32; 4],
     params: [f32; 4],
     ambient: [f32; 4],
-    lights: [LightU; 4],
+    lights: [LightU; MAX_EMITTERS],
     /// Per SSS material.
     materials: [MaterialU; MAX_MATERIALS],
 }
@@ -47,16 +51,23 @@ struct MaterialU {
     incidence_ambient: [f32; 4],
     /// Tt(d)/ρ at the geometric thicknesses of [`crate::Translucency`] (rgb).
     translucency: [[f32; 4]; TRANSLUCENCY_STEPS],
-    /// x: first thickness [cm], y: ln ratio, z: 1 on / 0 off, w: η.
+    /// x: first thickness [cm], y: ln ratio, z: 1 on / 0 off, w: η ([`Shading::eta`]).
     translucency_params: [f32; 4],
     /// h(θ) at θ = 0°, 10°, …, 80° (rgb).
     exit: [[f32; 4]; INCIDENCE_STEPS],
 }
 
 impl MaterialU {
-    /// The material's tables; `plain`: all off (the dipole brings its own physics).
+    /// The material's tables; `plain`: all off but η (the dipole brings its own physics).
     fn new(s: &Shading, plain: bool) -> MaterialU {
-        let s = if plain { &Shading::default() } else { s };
+        let s = &if plain {
+            Shading {
+                eta: s.eta,
+                ..Shading::default()
+            }
+        } else {
+            *s
+        };
         let rgb = |r: [f32; 3]| [r[0], r[1], r[2], 0.0];
         MaterialU {
             incidence: s.incidence.map(rgb),
@@ -66,8 +77,8 @@ impl MaterialU {
                 None => [[0.0; 4]; TRANSLUCENCY_STEPS],
             },
             translucency_params: match &s.translucency {
-                Some(t) => [t.first_cm, t.ratio.ln(), 1.0, t.eta],
-                None => [1.0, 1.0, 0.0, 1.0],
+                Some(t) => [t.first_cm, t.ratio.ln(), 1.0, s.eta],
+                None => [1.0, 1.0, 0.0, s.eta],
             },
             exit: s.exit.map(rgb),
         }
@@ -81,11 +92,11 @@ pub(crate) const SCENE_WGSL: &str = concat!(
     include_str!("shaders/scene.wgsl")
 );
 
-/// The size of scene.wgsl's `Globals`: 2 mat4 + 3 vec4 + 4 lights × 160 + per material 10 vec4
+/// The size of scene.wgsl's `Globals`: 2 mat4 + 3 vec4 + 64 emitters × 192 + per material 10 vec4
 /// of incidence, 17 vec4 of translucency and 9 vec4 of exit (checked against naga's layout in a
 /// test).
 pub(crate) const GLOBALS_SIZE: usize =
-    2 * 64 + 3 * 16 + 4 * 160 + MAX_MATERIALS * (10 * 16 + 17 * 16 + 9 * 16);
+    2 * 64 + 3 * 16 + MAX_EMITTERS * 192 + MAX_MATERIALS * (10 * 16 + 17 * 16 + 9 * 16);
 const _: () = assert!(std::mem::size_of::<Globals>() == GLOBALS_SIZE);
 
 /// Scene targets: diffuse; specular + strength; view depth + packed post-scatter albedo.
@@ -190,31 +201,30 @@ impl GBufferPass {
         let dev = &gpu.device;
         let (w, h) = (params.width, params.height);
         let cam = &scene.camera;
+        let emitters = scene.emitters();
         let mut lights = [LightU {
             view_proj: Mat4::IDENTITY.to_cols_array_2d(),
             inv_view_proj: Mat4::IDENTITY.to_cols_array_2d(),
             pos_or_dir: [0.0; 4],
             color: [0.0; 4],
-        }; 4];
-        for (i, light) in scene.lights.iter().enumerate() {
+            cell_u: [0.0; 4],
+            cell_v: [0.0; 4],
+        }; MAX_EMITTERS];
+        for (i, light) in emitters.iter().enumerate() {
             let vp = scene.light_view_proj(light);
-            let (pos_or_dir, color, shadow) = match *light {
-                Light::Directional {
-                    towards,
-                    irradiance,
-                    shadow,
-                } => (towards.normalize().extend(0.0), irradiance, shadow),
-                Light::Point {
-                    position,
-                    intensity,
-                    shadow,
-                } => (position.extend(1.0), intensity, shadow),
-            };
+            let [u, v] = light.cell.unwrap_or([glam::Vec3::ZERO; 2]);
             lights[i] = LightU {
                 view_proj: vp.to_cols_array_2d(),
                 inv_view_proj: vp.inverse().to_cols_array_2d(),
-                pos_or_dir: pos_or_dir.into(),
-                color: color.extend(if shadow { i as f32 } else { -1.0 }).into(),
+                pos_or_dir: light.pos_or_dir.into(),
+                color: light
+                    .power
+                    .extend(if light.shadow { i as f32 } else { -1.0 })
+                    .into(),
+                cell_u: u
+                    .extend(if light.cell.is_some() { 1.0 } else { 0.0 })
+                    .into(),
+                cell_v: v.extend(0.0).into(),
             };
         }
         let globals = Globals {
@@ -222,7 +232,7 @@ impl GBufferPass {
             view: cam.view().to_cols_array_2d(),
             camera_pos: cam.position.extend(1.0).into(),
             params: [
-                scene.lights.len() as f32,
+                emitters.len() as f32,
                 match params.albedo {
                     _ if plain => 0.0,
                     AlbedoMode::Pre => 0.0,

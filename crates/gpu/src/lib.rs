@@ -32,6 +32,7 @@ pub mod dipole;
 mod error;
 mod gbuffer;
 mod half;
+mod light;
 mod mesh;
 mod params;
 mod render;
@@ -45,12 +46,13 @@ pub use area_gather::{AreaGatherSetup, AreaKernel, GatherPattern};
 pub use blur::{BlurParams, DepthMode, GpuKernel, blur_image};
 pub use compare::{Comparison, compare_kernels, compare_models};
 pub use context::Gpu;
-pub use dipole::DipoleSetup;
+pub use dipole::{DIPOLE_LIGHTS, DipoleSetup};
 pub use error::{GpuError, Result};
+pub use light::{AREA_CELLS, Emitter, Light, MAX_EMITTERS, emitters};
 pub use mesh::{Mesh, Vertex};
 pub use params::{MAX_MATERIALS, RenderParams};
 pub use render::{Frame, FrameTime, Renderer, SUBPIXEL_PX, Scatter, kernel_footprint_px, render};
-pub use scene::{AlbedoMode, Camera, Light, Scene};
+pub use scene::{AlbedoMode, Camera, Scene};
 pub use shading::{
     INCIDENCE_STEPS, Shading, TRANSLUCENCY_STEPS, Translucency, incidence_hemispherical,
     incidence_ratio,

@@ -6,10 +6,11 @@ use crate::area_gather::{AreaGather, AreaGatherSetup};
 use crate::blur::{Blur, BlurParams, GpuKernel};
 use crate::combine::Combine;
 use crate::context::{Gpu, pixels};
-use crate::dipole::DipoleSetup;
+use crate::dipole::{DIPOLE_LIGHTS, DipoleSetup};
 use crate::error::{GpuError, Result};
 use crate::gbuffer::{GBufferPass, camera_view_proj};
 use crate::half::{HalfRes, half_size};
+use crate::light::{AREA_CELLS, MAX_EMITTERS};
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
 use crate::scene::Scene;
@@ -232,8 +233,28 @@ impl Renderer {
                 format!("each side must lie in 1..={max}"),
             ));
         }
-        if scene.lights.len() > 4 {
-            return Err(GpuError::invalid("lights", scene.lights.len(), "at most 4"));
+        for light in &scene.lights {
+            light.validate()?;
+        }
+        let emitters = scene.emitters();
+        if emitters.len() > MAX_EMITTERS {
+            return Err(GpuError::invalid(
+                "lights",
+                format!("{} emitters", emitters.len()),
+                format!(
+                    "at most {MAX_EMITTERS} (an area light counts {})",
+                    AREA_CELLS * AREA_CELLS
+                ),
+            ));
+        }
+        if dipole && (emitters.len() > DIPOLE_LIGHTS || emitters.iter().any(|e| e.cell.is_some())) {
+            return Err(GpuError::invalid(
+                "lights",
+                scene.lights.len(),
+                format!(
+                    "the directional dipole takes at most {DIPOLE_LIGHTS} directional or point lights"
+                ),
+            ));
         }
         for s in &params.shading {
             s.validate()?;

@@ -5,6 +5,7 @@ use std::path::Path;
 use glam::{Mat4, Vec3};
 
 use crate::error::{GpuError, Result};
+use crate::light::{Emitter, Light};
 use crate::mesh::Mesh;
 
 /// A pinhole camera.
@@ -40,30 +41,6 @@ impl Camera {
     }
 }
 
-/// A light, with a shadow map when `shadow` is set.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Light {
-    /// Light from direction `towards` (pointing at the light) with `irradiance` at normal
-    /// incidence, RGB.
-    Directional {
-        /// Direction towards the light (normalized when rendering).
-        towards: Vec3,
-        /// Irradiance on a surface facing the light, RGB.
-        irradiance: Vec3,
-        /// Whether the light casts shadows (has a shadow map).
-        shadow: bool,
-    },
-    /// A point light at `position` [cm] with radiant `intensity` (irradiance × distance² [cm²]).
-    Point {
-        /// Position [cm].
-        position: Vec3,
-        /// Radiant intensity, RGB: the irradiance at normal incidence times distance² [cm²].
-        intensity: Vec3,
-        /// Whether the light casts shadows (has a shadow map).
-        shadow: bool,
-    },
-}
-
 /// How the albedo is split around the scattering (thesis §4.4): before, after, or √ on both sides.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AlbedoMode {
@@ -83,7 +60,8 @@ pub struct Scene {
     pub mesh: Mesh,
     /// The view.
     pub camera: Camera,
-    /// At most 4 lights (what the scene pass holds).
+    /// The lights: at most [`crate::MAX_EMITTERS`] emitters in all, an area light counting
+    /// [`crate::AREA_CELLS`]².
     pub lights: Vec<Light>,
     /// Constant ambient irradiance, RGB.
     pub ambient: Vec3,
@@ -210,9 +188,10 @@ impl Scene {
         }
     }
 
-    /// The light's view-projection for its shadow map: orthographic over the scene's bounding
-    /// sphere for directional lights, perspective onto it for point lights.
-    pub(crate) fn light_view_proj(&self, light: &Light) -> Mat4 {
+    /// An emitter's view-projection for its shadow map: orthographic over the scene's bounding
+    /// sphere for directional lights, perspective onto it from points (point lights, the cells
+    /// of area lights).
+    pub(crate) fn light_view_proj(&self, light: &Emitter) -> Mat4 {
         let (lo, hi) = self.mesh.bounds();
         // The floor is large; shadow maps cover the objects on it.
         let objects: Vec<_> = self
@@ -231,19 +210,32 @@ impl Scene {
         };
         let centre = 0.5 * (lo + hi);
         let radius = 0.5 * (hi - lo).length() * 1.5;
-        match *light {
-            Light::Directional { towards, .. } => {
-                let eye = centre + towards.normalize() * 3.0 * radius;
-                Mat4::orthographic_rh(-radius, radius, -radius, radius, 0.1, 6.0 * radius)
-                    * Mat4::look_at_rh(eye, centre, up_for(towards))
-            }
-            Light::Point { position, .. } => {
-                let d = (centre - position).length().max(1e-3);
-                let fov = (2.0 * (radius / d).min(0.99).asin()).min(2.9);
-                Mat4::perspective_rh(fov, 1.0, (d - radius).max(0.1), d + 3.0 * radius)
-                    * Mat4::look_at_rh(position, centre, up_for(centre - position))
-            }
+        let at = light.pos_or_dir.truncate();
+        if light.pos_or_dir.w == 0.0 {
+            let eye = centre + at * 3.0 * radius;
+            Mat4::orthographic_rh(-radius, radius, -radius, radius, 0.1, 6.0 * radius)
+                * Mat4::look_at_rh(eye, centre, up_for(at))
+        } else {
+            let d = (centre - at).length().max(1e-3);
+            let fov = (2.0 * (radius / d).min(0.99).asin()).min(2.9);
+            // Occluders between the point and the objects (non-scattering boxes) must lie beyond
+            // the near plane: the nearest vertex of anything counts, with a margin of 10 % (a
+            // large face whose interior comes closer than that to the point is still clipped).
+            let nearest = self
+                .mesh
+                .vertices
+                .iter()
+                .map(|v| (Vec3::from(v.pos) - at).length())
+                .fold(f32::MAX, f32::min);
+            let near = (d - radius).min(0.9 * nearest).max(0.1);
+            Mat4::perspective_rh(fov, 1.0, near, d + 3.0 * radius)
+                * Mat4::look_at_rh(at, centre, up_for(centre - at))
         }
+    }
+
+    /// Every emitter of the scene's lights, in order.
+    pub(crate) fn emitters(&self) -> Vec<Emitter> {
+        crate::light::emitters(&self.lights)
     }
 }
 

@@ -21,6 +21,11 @@ pub struct Shading {
     pub exit: [[f32; 3]; INCIDENCE_STEPS],
     /// Light through thin parts of SSS surfaces (None: off).
     pub translucency: Option<Translucency>,
+    /// The relative refractive index η of the material's smooth boundary (1: index-matched).
+    /// SSS surfaces reflect area lights in mirror with the Fresnel reflectance F(η, θ) at the
+    /// view angle, and light entering the back face of a thin part at incidence θ is scaled by
+    /// the Fresnel transmittance T(θ)/T(0) (the translucency table holds normal incidence).
+    pub eta: f32,
 }
 
 impl Shading {
@@ -28,6 +33,9 @@ impl Shading {
     pub fn validate(&self) -> Result<()> {
         if let Some(t) = &self.translucency {
             t.validate()?;
+        }
+        if !(self.eta.is_finite() && self.eta > 0.0) {
+            return Err(GpuError::invalid("eta", self.eta, "must be positive"));
         }
         // Exit factors reach the shader through pack_albedo's 8-bit shared scale of at most 4:
         // with albedos ≤ 1, h up to 4 is exact to 8 bits.
@@ -57,6 +65,7 @@ impl Default for Shading {
             incidence: [[1.0; 3]; INCIDENCE_STEPS],
             exit: [[1.0; 3]; INCIDENCE_STEPS],
             translucency: None,
+            eta: 1.0,
         }
     }
 }
@@ -94,9 +103,6 @@ pub struct Translucency {
     pub ratio: f32,
     /// Tt(d_k)/ρ per channel.
     pub table: [[f32; 3]; TRANSLUCENCY_STEPS],
-    /// The material's relative index η: light entering the back face at incidence θ is scaled
-    /// by the Fresnel transmittance T(θ)/T(0) (the table holds normal incidence).
-    pub eta: f32,
 }
 
 impl Translucency {
@@ -134,13 +140,6 @@ impl Translucency {
                 "translucency ratio",
                 self.ratio,
                 "must exceed 1",
-            ));
-        }
-        if !(self.eta.is_finite() && self.eta > 0.0) {
-            return Err(GpuError::invalid(
-                "translucency eta",
-                self.eta,
-                "must be positive",
             ));
         }
         if let Some(v) = self

@@ -1,17 +1,20 @@
-//! The shadow pass: one depth map per light that casts shadows, drawn from the light (an
+//! The shadow pass: one depth map per emitter that casts shadows, drawn from it (an
 //! orthographic view over the SSS objects for directional lights, a perspective one for point
-//! lights; [`crate::Scene`]'s `light_view_proj`). The scene pass reads them for shadows and for
+//! lights and the cells of area lights; [`crate::Scene`]'s `light_view_proj`). The scene pass reads them for shadows and for
 //! the thickness light crosses in thin parts.
 
 use wgpu::util::DeviceExt;
 
 use crate::context::{Gpu, cleared_depth, mesh_pipeline, texture};
 use crate::mesh::MeshBuffers;
-use crate::scene::{Light, Scene};
+use crate::scene::Scene;
 use crate::timing::Timer;
 
-/// Side of each shadow map [texels].
-pub(crate) const SHADOW_SIZE: u32 = 2048;
+/// Side of each shadow map [texels]: 2048, or 1024 beyond 16 emitters (an area light's cells),
+/// which keeps the maps within 256 MB.
+fn shadow_size(layers: u32) -> u32 {
+    if layers > 16 { 1024 } else { 2048 }
+}
 
 /// The compiled shadow pipeline.
 pub(crate) struct ShadowPass {
@@ -27,9 +30,9 @@ impl ShadowPass {
         }
     }
 
-    /// Records the shadow maps of `scene`'s lights: a depth array with one layer per light (at
-    /// least one, so the scene pass's binding exists); layers of lights without shadows stay
-    /// cleared.
+    /// Records the shadow maps of `scene`'s emitters: a depth array with one layer per emitter
+    /// (at least one, so the scene pass's binding exists); layers of emitters without shadows
+    /// stay cleared.
     pub(crate) fn encode(
         &self,
         gpu: &Gpu,
@@ -39,18 +42,16 @@ impl ShadowPass {
         timer: &mut Option<&mut Timer>,
     ) -> wgpu::Texture {
         let dev = &gpu.device;
-        let layers = scene.lights.len().max(1) as u32;
+        let emitters = scene.emitters();
+        let layers = emitters.len().max(1) as u32;
         let maps = texture(
             dev,
             "shadow maps",
-            (SHADOW_SIZE, SHADOW_SIZE, layers),
+            (shadow_size(layers), shadow_size(layers), layers),
             wgpu::TextureFormat::Depth32Float,
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         );
-        for (i, light) in scene.lights.iter().enumerate() {
-            let shadow = match *light {
-                Light::Directional { shadow, .. } | Light::Point { shadow, .. } => shadow,
-            };
+        for (i, light) in emitters.iter().enumerate() {
             let vp = scene.light_view_proj(light);
             let ubuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("light"),
@@ -79,7 +80,7 @@ impl ShadowPass {
                 timestamp_writes: timer.as_mut().map(|t| t.render_writes(&label)),
                 ..Default::default()
             });
-            if shadow {
+            if light.shadow {
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &bind, &[]);
                 mesh.draw(&mut pass);

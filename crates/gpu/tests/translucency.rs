@@ -25,7 +25,6 @@ fn table() -> Translucency {
             let t = (-d[k] / 0.1).exp() as f32;
             [t, 0.5 * t, 0.25 * t]
         }),
-        eta: 1.3,
     }
 }
 
@@ -69,6 +68,7 @@ fn a_slab_lit_from_behind_receives_its_transmitted_light() {
         albedo: AlbedoMode::Post,
         shading: [Shading {
             translucency: Some(t),
+            eta: 1.3,
             ..Shading::default()
         }; MAX_MATERIALS],
         ..RenderParams::default()

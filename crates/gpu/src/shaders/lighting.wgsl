@@ -2,14 +2,19 @@
 // the lights, the SSS materials' tables, shadows, and the albedo split. World units are cm;
 // fresnel.wgsl is prepended.
 
+// One emitter (gpu::Emitter): a directional or point light, or one cell of an area light.
 struct Light {
     view_proj: mat4x4<f32>,
     inv_view_proj: mat4x4<f32>,
     // xyz: direction towards the light (w = 0) or its position (w = 1).
     pos_or_dir: vec4<f32>,
     // rgb: radiance scale (irradiance at normal incidence for directional lights, intensity for
-    // point lights, divided by distance² [cm²]); w: shadow-map layer, < 0 for none.
+    // point lights and cells, divided by distance² [cm²]); w: shadow-map layer, < 0 for none.
     color: vec4<f32>,
+    // A cell of an area light: xyz its half edges [cm] (u × v points to the emitting side),
+    // cell_u.w = 1 (0: not a cell).
+    cell_u: vec4<f32>,
+    cell_v: vec4<f32>,
 };
 
 // How one SSS material is shaded (gpu::Shading).
@@ -19,7 +24,7 @@ struct Material {
     incidence: array<vec4<f32>, 9>,
     incidence_ambient: vec4<f32>,
     // Light through thin parts: Tt(d)/ρ at d_k = first·ratio^k (rgb), and x: first [cm],
-    // y: ln ratio, z: 1 on / 0 off, w: η (gpu::Translucency).
+    // y: ln ratio, z: 1 on / 0 off (gpu::Translucency), w: the boundary's η (gpu::Shading).
     translucency: array<vec4<f32>, 16>,
     translucency_params: vec4<f32>,
     // Exit-angle-aware shading: the radiance leaving at view angle θ relative to a Lambertian
@@ -35,7 +40,7 @@ struct Globals {
     // w: Blinn–Phong exponent.
     params: vec4<f32>,
     ambient: vec4<f32>,
-    lights: array<Light, 4>,
+    lights: array<Light, 64>,
     // Per SSS material (the vertices' material index).
     materials: array<Material, 4>,
 };
@@ -124,6 +129,30 @@ fn thickness(i: u32, world: vec3<f32>) -> f32 {
     return length(world - e.xyz / e.w);
 }
 
+// π × the radiance a smooth dielectric boundary of index eta at `world` (unit normal n) reflects
+// towards the camera (`view_dir`) from cell i of an area light: the Fresnel reflectance at the
+// view angle times the cell's radiance, where the mirror ray hits the cell's front face (π: the
+// image holds π × radiance, as it holds irradiance × albedo for Lambertian surfaces). `shade`
+// multiplies it by the cell's shadow test.
+fn mirror(i: u32, world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, eta: f32) -> vec3<f32> {
+    let u = g.lights[i].cell_u.xyz;
+    let v = g.lights[i].cell_v.xyz;
+    let normal = cross(u, v);
+    let r = reflect(-view_dir, n);
+    let facing = dot(r, normal);
+    if facing >= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let c = g.lights[i].pos_or_dir.xyz;
+    let t = dot(c - world, normal) / facing;
+    let p = world + t * r - c;
+    if t <= 0.0 || abs(dot(p, u)) > dot(u, u) || abs(dot(p, v)) > dot(v, v) {
+        return vec3<f32>(0.0);
+    }
+    let radiance = g.lights[i].color.rgb / (4.0 * length(normal));
+    return 3.14159265 * fresnel(eta, dot(n, view_dir)) * radiance;
+}
+
 struct Lit {
     diffuse: vec3<f32>,
     specular: vec3<f32>,
@@ -131,7 +160,8 @@ struct Lit {
 
 // What arrives at `world` with unit normal `n`, seen from `view_dir`: the diffuse irradiance (on
 // SSS surfaces of material m with its incidence table and, with `through`, the light that crosses
-// thin parts from behind) and the Blinn–Phong specular.
+// thin parts from behind) and the specular: Blinn–Phong, plus on SSS surfaces the mirror image
+// of area lights in their dielectric boundary.
 fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool, through: bool) -> Lit {
     var irradiance = g.ambient.rgb * select(vec3<f32>(1.0), g.materials[m].incidence_ambient.rgb, sss);
     var spec = vec3<f32>(0.0);
@@ -143,6 +173,11 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
             let d = l4.xyz - world;
             l = normalize(d);
             scale = scale / dot(d, d);
+        }
+        let cell = g.lights[i].cell_u.w > 0.5;
+        if cell {
+            // A cell of an area light emits ∝ cos θ off the light's normal, from its front.
+            scale *= max(dot(normalize(cross(g.lights[i].cell_u.xyz, g.lights[i].cell_v.xyz)), -l), 0.0);
         }
         let n_dot_l = max(dot(n, l), 0.0);
         if n_dot_l <= 0.0 {
@@ -160,6 +195,12 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
             continue;
         }
         let vis = shadow(i, world, n_dot_l);
+        let eta = g.materials[m].translucency_params.w;
+        if cell && sss && eta != 1.0 {
+            // The mirror ray meets the cell within half a cell of its centre: what hides the
+            // centre (the cell's shadow map) hides the mirror image.
+            spec += mirror(i, world, n, view_dir, eta) * vis;
+        }
         irradiance += scale * n_dot_l * vis * select(vec3<f32>(1.0), angle_table(g.materials[m].incidence, n_dot_l), sss);
         let h = normalize(l + view_dir);
         spec += scale * g.params.z * pow(max(dot(n, h), 0.0), g.params.w) * n_dot_l * vis;
