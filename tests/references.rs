@@ -47,7 +47,7 @@ fn mitsuba_references_agree() {
     // light on the same opaque Lambertian surfaces agrees (noise-corrected RMSE ≤ 2 % of the
     // mean, energy within 1 % per channel, silhouettes masked on both sides), and a deliberately
     // wrong render (albedo × 0.8) is rejected by the same test: the instrument can fail.
-    for scene in ["images", "images-fin", "images-bust"] {
+    for scene in ["images", "images-fin", "images-bust", "images-dielectric"] {
         let v = read(scene);
         assert_eq!(v["calibration_pass"], true, "{scene}: {v}");
         for e in v["calibration_energy_ratio"].as_array().unwrap() {

@@ -3,14 +3,16 @@
 built-in sphere scene (`--scene sphere`, the default: a hard shadow on a curved surface), on the
 fin scene (`--scene fin`: a sphere and a 3 mm and a 1 mm fin lit from behind, where light reaches
 the camera through the fins: plain pre-integration, with `--translucency on`, and the directional
-dipole) or on a generated bust (`--scene bust`: small features and depth discontinuities).
+dipole), on a generated bust (`--scene bust`: small features and depth discontinuities) or on the
+sphere behind a smooth dielectric boundary (`--scene dielectric`: η = 1.3, lit by a square area
+light, which the sphere also mirrors).
 
 Mitsuba renders the objects as a homogeneous medium (the material's σa, σs, g per channel) behind
-an index-matched `null` boundary, lit by a light it can connect from inside the medium, on a
-black floor. Our side uses the same camera, light and floor, η = 1 profiles simulated by
-`sss simulate`, the material's total diffuse reflectance as albedo, no specular and no ambient
-light; `sss render` writes irradiance × albedo, which is π × radiance for a Lambertian surface.
-The directional dipole (`--method directional-dipole`, no kernel) is rendered as published and
+an index-matched `null` boundary, lit by a light it can connect from inside the medium (or, in
+the dielectric scene, behind a `dielectric` boundary), on a black floor. Our side uses the same
+camera, light and floor, profiles of the scene's η simulated by `sss simulate`, the material's
+total diffuse reflectance as albedo, no specular and no ambient light; `sss render` writes
+irradiance × albedo, which is π × radiance for a Lambertian surface. The directional dipole (`--method directional-dipole`, no kernel) is rendered as published and
 rescaled to the Monte Carlo total reflectance.
 
 Calibration first: the same scene with opaque Lambertian surfaces of that albedo, Mitsuba's
@@ -27,10 +29,11 @@ SSIM on luminance, the energy ratio per channel, and difference images. Rankings
 models block by block (paired) and are resolved only when the difference of their
 noise-corrected MSEs exceeds 3 standard errors; otherwise they are reported as undecided. What
 must hold: no ranking is resolved the wrong way round (every kernel model closer to Mitsuba than
-plain Lambertian shading, pre-integration and SVD rank-3 closer than SVD rank-1, incidence-aware
-shading closer than pre-integration, exit-angle-aware closer than incidence-aware alone), and
-incidence-aware shading brings every channel's energy
-ratio within 2 % of 1 (or closer to 1 than pre-integration's). The rescaled directional dipole's
+plain Lambertian shading, pre-integration and SVD rank-3 closer than SVD rank-1 — reported, not
+required, on the dielectric scene, whose large light leaves the kernels little to do —,
+incidence-aware shading closer than pre-integration, exit-angle-aware closer than
+incidence-aware alone), and incidence-aware shading brings every channel's energy ratio within
+2 % of 1 (or closer to 1 than pre-integration's). The rescaled directional dipole's
 rankings against pre-integration with and without incidence-aware shading are reported, not
 required.
 """
@@ -42,6 +45,7 @@ import math
 import os
 import sys
 import tempfile
+import time
 
 import numpy as np
 
@@ -120,9 +124,21 @@ BUST_MODELS = [m for m in MODELS if m[0] in (
     "preint-incidence",
     "preint-incidence-exit", "area-gather")]
 
+# A smooth dielectric boundary (η = 1.3) lit by a square area light: what the index-matched scenes
+# leave out. Light enters through Fresnel transmission and leaves by refraction, so Mitsuba cannot
+# connect to the light from inside the medium: paths must hit it, and a large light keeps the
+# noise down. The sphere mirrors the light in its boundary; `sss render` adds that reflection
+# (F(η, θ) × L where the mirror ray meets the light) on SSS surfaces. The same bar casts a soft
+# shadow.
+AREA_LIGHT = ((-12.0, 20.0, 14.0), (0.0, 5.0, 0.0), 12.0, 6.0)   # centre, aim [cm], side [cm], radiance
+DIELECTRIC_MODELS = [m for m in MODELS if m[0] in (
+    "lambert", "preint", "svd1", "svd3", "preint-incidence", "preint-incidence-exit")]
+
 # camera (eye, target, vertical fov [deg]); SSS media (sphere: centre, radius; box: corners [cm],
 # the geometry of `gpu::Scene`; obj: a generated mesh); black occluders; light (point: position, intensity; dir: towards
-# the light, irradiance); `sss render` arguments for the same scene; the models compared.
+# the light, irradiance; area: centre, aim, side, radiance); the boundary's η (1: index-matched);
+# `sss render`'s --scene where it is not the scene's name; the models compared; whether the kernel
+# shapes' order is checked (default) or reported; a factor on the samples per pixel.
 SCENES = {
     "sphere": {"camera": CAMERA, "media": [("sphere", (0.0, 5.0, 0.0), 5.0)], "boxes": [BAR],
                "light": ("point", LIGHT, INTENSITY), "models": MODELS},
@@ -133,6 +149,12 @@ SCENES = {
     # bust_obj()'s mesh seen from the side, so its nose hides part of the cheek.
     "bust": {"camera": ((16.0, 8.0, 18.0), (0.0, 5.0, 0.0), 28.0), "media": [("obj", "bust")], "boxes": [],
              "light": ("point", LIGHT, INTENSITY), "models": BUST_MODELS},
+    "dielectric": {"camera": CAMERA, "media": [("sphere", (0.0, 5.0, 0.0), 5.0)], "boxes": [BAR],
+                   "light": ("area", *AREA_LIGHT), "eta": 1.3, "geometry": "sphere", "models": DIELECTRIC_MODELS,
+                   # The large light's irradiance is smooth: the kernels differ from each other and
+                   # from Lambertian shading (which mirrors the light too) by a few tenths of a
+                   # point here, and their order is reported, not required.
+                   "kernel_order": False, "spp_factor": 3},
 }
 
 
@@ -157,7 +179,7 @@ def cube(mi, lo, hi, bsdf, interior=None):
 
 def scene_dict(mi, m, scene_name, width, height, spp, surface="medium", rho=None, files=None):
     """The Mitsuba scene: SSS shapes as the material's medium behind an index-matched `null`
-    boundary (surface="medium"), as an opaque Lambertian surface of reflectance rho [R,G,B] lit
+    boundary, or a smooth `dielectric` one where the scene has η ≠ 1 (surface="medium"), as an opaque Lambertian surface of reflectance rho [R,G,B] lit
     directly only (surface="direct", the calibration of camera, light and geometry) or with every
     interreflection (surface="diffuse"), or the shape-index AOV that marks silhouettes
     (surface="aov": shape index and geometric normal). files: paths of generated meshes (scene "bust")."""
@@ -174,9 +196,12 @@ def scene_dict(mi, m, scene_name, width, height, spp, surface="medium", rho=None
                       "phase": {"type": "hg", "g": g}}
     black = {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0, 0, 0]}}
 
+    eta = sc.get("eta", 1.0)
+
     def surf():
         if surface == "medium":
-            return {"bsdf": {"type": "null"}, "interior": medium()}
+            boundary = {"type": "null"} if eta == 1.0 else {"type": "dielectric", "int_ior": eta, "ext_ior": 1.0}
+            return {"bsdf": boundary, "interior": medium()}
         return {"bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": list(rho or [0.5] * 3)}}}
     shapes = {}
     for i, shape in enumerate(sc["media"]):
@@ -189,15 +214,31 @@ def scene_dict(mi, m, scene_name, width, height, spp, surface="medium", rho=None
             shapes[f"medium{i}"] = cube(mi, shape[1], shape[2], s["bsdf"], s.get("interior"))
     for i, (lo, hi) in enumerate(sc["boxes"]):
         shapes[f"occluder{i}"] = cube(mi, lo, hi, black)
-    kind, v, power = sc["light"]
+    kind, v, *rest = sc["light"]
     if kind == "point":
-        light = {"type": "point", "position": list(v), "intensity": {"type": "rgb", "value": [power] * 3}}
+        light = {"type": "point", "position": list(v), "intensity": {"type": "rgb", "value": [rest[0]] * 3}}
+    elif kind == "area":
+        # A square of side `side` centred at v facing `aim`: Mitsuba's rectangle spans [−1, 1]² in
+        # its local xy plane and emits along local +z, which look_at points at the aim.
+        aim, side, radiance = rest
+        light = {"type": "rectangle", "bsdf": black,
+                 "to_world": mi.ScalarTransform4f().look_at(origin=list(v), target=list(aim), up=[0, 1, 0])
+                 .scale([side / 2, side / 2, 1]),
+                 "emitter": {"type": "area", "radiance": {"type": "rgb", "value": [radiance] * 3}}}
     else:
+        power = rest[0]
         n = math.sqrt(sum(x * x for x in v))
         light = {"type": "directional", "direction": [-x / n for x in v],
                  "irradiance": {"type": "rgb", "value": [power] * 3}}
     integrator = {
-        "medium": {"type": "volpath", "max_depth": -1, "rr_depth": 1000},
+        # Spectral MIS (volpathmis): a path's distances are sampled from one channel's σt, and
+        # plain volpath weights the other channels by ratios of transmittances that grow
+        # exponentially along long paths (red fireflies in Skin1); volpathmis weights by the
+        # mean of the channels' densities. Measured on the sphere, 96×54, 64 spp: the same mean,
+        # per-block noise 16 % → 6.4 % for 1.2× the time. Russian roulette only after 1,000
+        # interactions: with Mitsuba's default (5) the medium renders came out 15–20 % brighter
+        # (3.9.1, both integrators), against its own deep-roulette renders and our profiles.
+        "medium": {"type": "volpathmis", "max_depth": -1, "rr_depth": 1000},
         # Camera → surface → light: one bounce, what `sss render --no-sss` computes.
         "direct": {"type": "path", "max_depth": 2},
         "diffuse": {"type": "path", "max_depth": -1, "rr_depth": 1000},
@@ -378,9 +419,12 @@ def main():
     ap.add_argument("--out", default="out/references", help="output folder")
     a = ap.parse_args()
     sss = sss_binary(a.sss)
-    width, height, spp, photons = (192, 108, 384, 300_000) if a.quick else (384, 216, 2048, 10_000_000)
-    # Opaque surfaces lit directly converge fast: a quarter of the samples.
-    cal_spp = max(spp // 4, 16)
+    width, height, spp, photons = (192, 108, 128, 300_000) if a.quick else (384, 216, 1024, 10_000_000)
+    # Paths that must find the light by chance (behind a dielectric boundary) need more samples.
+    spp *= SCENES[a.scene].get("spp_factor", 1)
+    # Opaque surfaces lit directly by a point or directional light converge fast: a quarter of
+    # the samples. Direct light from an area light is sampled over its surface: all of them.
+    cal_spp = spp if SCENES[a.scene]["light"][0] == "area" else max(spp // 4, 16)
     m = material(sss, a.material)
     sc = SCENES[a.scene]
     name = ("images" if a.scene == "sphere" else f"images-{a.scene}") + (
@@ -394,19 +438,26 @@ def main():
         if any(shape[0] == "obj" for shape in sc["media"]):
             files["bust"] = os.path.join(tmp, "bust.obj")
             bust_obj(files["bust"])
-        # The material behind an index-matched boundary: η = 1.
+        # The material behind the scene's boundary: index-matched (η = 1) unless the scene says.
         ch = m["channels"]
-        toml = (f'name = "{a.material} (eta 1)"\nunit = "cm"\n'
+        eta = sc.get("eta", 1.0)
+        toml = (f'name = "{a.material} (eta {eta})"\nunit = "cm"\n'
                 f'sigma_a = [{", ".join(str(ch[c]["sigma_a_per_cm"]) for c in "RGB")}]\n'
                 f'sigma_s = [{", ".join(str(ch[c]["sigma_s_per_cm"]) for c in "RGB")}]\n'
-                f'g = [{", ".join(str(ch[c]["g"]) for c in "RGB")}]\neta = 1.0\n')
-        mat = os.path.join(tmp, "eta1.toml")
+                f'g = [{", ".join(str(ch[c]["g"]) for c in "RGB")}]\neta = {eta}\n')
+        mat = os.path.join(tmp, "medium.toml")
         with open(mat, "w") as f:
             f.write(toml)
+        # The calibration's opaque Lambertian surfaces have no dielectric boundary: η = 1 there.
+        cal_mat = mat
+        if eta != 1.0:
+            cal_mat = os.path.join(tmp, "calibration.toml")
+            with open(cal_mat, "w") as f:
+                f.write(toml.replace(f"eta = {eta}", "eta = 1.0"))
         run([sss, "simulate", mat, "--photons", str(photons), "--profile-only", "--out", tmp])
-        summary = json.load(open(os.path.join(tmp, "eta1.summary.json")))
+        summary = json.load(open(os.path.join(tmp, "medium.summary.json")))
         rho = [summary["channels"][c]["rd"] for c in "RGB"]
-        profile = os.path.join(tmp, "eta1.profile.csv")
+        profile = os.path.join(tmp, "medium.profile.csv")
 
         def mitsuba_scene(surface, n):
             return scene_dict(mi, m, a.scene, width, height, n, surface, rho, files)
@@ -414,32 +465,47 @@ def main():
         # measures its noise (per 2×2 block, var(mean) = (r₁ − r₂)²/4). The same for the
         # calibration (opaque Lambertian surfaces of reflectance ρ, direct light only), one render
         # with every interreflection, and the shape index that marks silhouettes.
+        t0 = time.time()
         ref_a = mitsuba_image(mi, mitsuba_scene("medium", spp // 2), seed=3)
         ref_b = mitsuba_image(mi, mitsuba_scene("medium", spp // 2), seed=4)
+        t_ref = time.time() - t0
         cal_a = mitsuba_image(mi, mitsuba_scene("direct", cal_spp // 2), seed=5)
         cal_b = mitsuba_image(mi, mitsuba_scene("direct", cal_spp // 2), seed=6)
         gi = mitsuba_image(mi, mitsuba_scene("diffuse", cal_spp), seed=7)
         edge = silhouettes(mi, mitsuba_scene("aov", 16))
+        print(f"  Mitsuba: reference {t_ref:.0f} s ({spp} spp), calibration and AOVs "
+              f"{time.time() - t0 - t_ref:.0f} s", flush=True)
         eye, target, fov = sc["camera"]
-        kind, v, power = sc["light"]
-        common = ["--scene", files.get("bust", a.scene), "--width", str(width), "--height", str(height),
+        kind, v, *rest = sc["light"]
+        light = (f"area:{','.join(map(str, v))}:{','.join(map(str, rest[0]))}:{rest[1]}:{rest[2]}" if kind == "area"
+                 else f"{kind}:{v[0]},{v[1]},{v[2]}:{rest[0]}")
+        common = ["--scene", files.get("bust", sc.get("geometry", a.scene)), "--width", str(width), "--height", str(height),
                   "--camera=" + ",".join(map(str, eye)), "--target=" + ",".join(map(str, target)),
                   "--fov", str(fov),
                   *["--box=" + ":".join(",".join(map(str, c)) for c in box) for box in sc["boxes"]],
-                  "--light=" + f"{kind}:{v[0]},{v[1]},{v[2]}:{power}", "--floor-albedo", "0,0,0",
+                  "--light=" + light, "--floor-albedo", "0,0,0",
                   "--specular", "0", "--ambient", "0", "--albedo", "pre-post"]
         albedo = ["--object-albedo", ",".join(f"{r:.6f}" for r in rho)]
         # The negative control: a deliberately wrong render (albedo × 0.8) the calibration must
         # reject, so the instrument is shown to be able to fail.
         wrong = os.path.join(tmp, "wrong")
         run([sss, "render", *common, "--object-albedo", ",".join(f"{0.8 * r:.6f}" for r in rho),
-             "--no-sss", "--out", wrong])
+             "--no-sss", "--material", cal_mat, "--out", wrong])
         wrong = read_pfm(os.path.join(wrong, "render.pfm")) / math.pi
+        # The calibration render: `--no-sss` on the same surfaces (the `lambert` model's image
+        # where the boundary is index-matched; behind a dielectric one, `lambert` also mirrors the
+        # area light, which Mitsuba's opaque Lambertian surfaces do not).
+        lambertian = os.path.join(tmp, "calibration")
+        run([sss, "render", *common, *albedo, "--no-sss", "--material", cal_mat, "--out", lambertian])
+        lambertian = read_pfm(os.path.join(lambertian, "render.pfm")) / math.pi
         for label, fit_args, extra in sc["models"]:
             rdir = os.path.join(tmp, label)
             extra = [x.replace("{material}", mat).replace("{profiles}", tmp) for x in extra]
+            # The material names the boundary's η (the mirror image of an area light) to every model.
+            if "--material" not in extra:
+                extra = [*extra, "--material", mat]
             if fit_args is None:
-                run([sss, "render", *common, *albedo, "--no-sss", "--out", rdir])
+                run([sss, "render", *common, *albedo, *extra, "--no-sss", "--out", rdir])
             elif not fit_args:
                 run([sss, "render", *common, *albedo, *extra, "--out", rdir])
             else:
@@ -468,10 +534,11 @@ def main():
     # Calibration: our Lambertian image against Mitsuba's direct light on the same opaque
     # surfaces, on the same blocks; and the deliberately wrong render against it.
     c2, dc2 = blocks(0.5 * (cal_a + cal_b)), blocks(cal_a) - blocks(cal_b)
-    cal_mask = (c2.sum(2) > 0) | (o2s["lambert"].sum(2) > 0)
+    l2 = blocks(lambertian)
+    cal_mask = (c2.sum(2) > 0) | (l2.sum(2) > 0)
     cal_mask &= ~sil
     cal_mean = c2[cal_mask].mean()
-    _, cal = measure(o2s["lambert"], c2, dc2, cal_mask, cal_mean)
+    _, cal = measure(l2, c2, dc2, cal_mask, cal_mean)
     _, control = measure(blocks(wrong), c2, dc2, cal_mask, cal_mean)
     cal_ok, control_rejected = calibrated(cal), not calibrated(control)
     # Light that reaches the camera after more than one bounce between the scene's surfaces: no
@@ -521,7 +588,7 @@ def main():
               f"DSSIM {row['dssim']:.4f}, energy {e[0]:.3f}/{e[1]:.3f}/{e[2]:.3f}", flush=True)
     write_png(os.path.join(out, "mitsuba.png"), tonemap(ref, 1.0 / ref[(ref.sum(2) > 0)].mean() / 4))
     write_png(os.path.join(out, "mitsuba_lambert.png"), tonemap(gi, 1.0 / mean / 4))
-    cal_diff = np.clip((images["lambert"] - 0.5 * (cal_a + cal_b)).mean(2) / cal_mean * 5, -1, 1)
+    cal_diff = np.clip((lambertian - 0.5 * (cal_a + cal_b)).mean(2) / cal_mean * 5, -1, 1)
     write_png(os.path.join(out, "calibration_diff.png"), np.stack(
         [255 * (1 - np.clip(-cal_diff, 0, 1)), 255 * (1 - np.abs(cal_diff)), 255 * (1 - np.clip(cal_diff, 0, 1))], 2))
     write_png(os.path.join(out, "silhouettes.png"),
@@ -541,14 +608,21 @@ def main():
     ranked = {}
     # A scene that fails calibration is not used to compare models.
     if cal_ok:
-        ranked = {f"{k} closer than lambert": closer(k, "lambert") for k in o2s if k != "lambert" and "-" not in k}
-        for a_, b_, name in [("preint", "svd1", "preint closer than svd1"), ("svd3", "svd1", "svd3 closer than svd1"),
-                             ("preint-incidence", "preint", "incidence-aware closer than preint"),
+        # The kernels' shapes: each closer than Lambertian shading, pre-integration and SVD rank-3
+        # closer than SVD rank-1 (required where the scene says so, else reported).
+        kernels = {f"{k} closer than lambert": closer(k, "lambert") for k in o2s if k != "lambert" and "-" not in k}
+        for a_, b_, name in [("preint", "svd1", "preint closer than svd1"), ("svd3", "svd1", "svd3 closer than svd1")]:
+            if pair(a_, b_):
+                kernels[name] = closer(a_, b_)
+        # The physics around the kernel (always required).
+        for a_, b_, name in [("preint-incidence", "preint", "incidence-aware closer than preint"),
                              ("preint-incidence-exit", "preint-incidence", "exit-aware closer than incidence-aware"),
                              ("preint-incidence-translucency-exit", "preint-incidence-translucency",
                               "exit-aware closer than incidence-aware (with translucency)")]:
             if pair(a_, b_):
                 ranked[name] = closer(a_, b_)
+        if sc.get("kernel_order", True):
+            ranked.update(kernels)
         # Energy is a sum over thousands of pixels, far less noisy than the RMSE: with
         # incidence-aware shading every channel's energy ratio must lie within 2 % of 1 (issue
         # 15's goal) or at least closer to 1 than plain pre-integration's.
@@ -563,6 +637,8 @@ def main():
         # A ranking fails only where it is resolved the wrong way round.
         checks.update({k: v is not False for k, v in ranked.items()})
         # Reported, not required: the best real-time methods against each other.
+        if not sc.get("kernel_order", True):
+            ranked.update(kernels)
         for a_, b_ in [("directional-dipole-mc", "preint-incidence"), ("directional-dipole-mc", "preint"),
                        ("preint-translucency", "preint"), ("preint-incidence-translucency", "preint"),
                        ("directional-dipole-mc", "preint-incidence-translucency"),

@@ -2,8 +2,8 @@
 """Regenerates every Mitsuba 3 reference and prints one table of the image comparisons: Rd(r)
 profiles (profiles.py), then images (images.py) of each scene and material: scene × material ×
 model, the noise-corrected error ± its standard error, SSIM and the energy ratio per channel,
-after each scene's calibration. --quick is the CI size (Skin1 on the sphere, fin and bust scenes;
-about 12 minutes on 2 cores); without it, the full version (larger images, more samples, Skin1,
+after each scene's calibration. --quick is the CI size (Skin1 on the sphere, fin, bust and dielectric
+scenes; about 16 minutes on 2 cores); without it, the full version (larger images, more samples, Skin1,
 Marble, Ketchup and Whole milk; hours). Exits non-zero when an agreement test or a calibration
 fails. Outputs: OUT/profiles.json, OUT/images*/images.json and their PNGs, OUT/summary.json."""
 
@@ -17,10 +17,11 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 # (scene, material) pairs: the sphere's hard shadow, the fins lit from behind, the bust's small
-# features; short (Skin1, Ketchup) and long (Marble, Whole milk) mean free paths.
-QUICK = [("sphere", "skin1"), ("fin", "skin1"), ("bust", "skin1")]
+# features, the sphere behind a dielectric boundary under an area light; short (Skin1, Ketchup)
+# and long (Marble, Whole milk) mean free paths.
+QUICK = [("sphere", "skin1"), ("fin", "skin1"), ("bust", "skin1"), ("dielectric", "skin1")]
 FULL = QUICK + [("sphere", "marble"), ("sphere", "ketchup"), ("sphere", "wholemilk"), ("fin", "marble"),
-                ("bust", "marble")]
+                ("bust", "marble"), ("dielectric", "marble")]
 
 
 def table(results):
