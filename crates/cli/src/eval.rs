@@ -44,7 +44,7 @@ fn row_json(r: &Row) -> Value {
         _ => (None, None),
     };
     json!({
-        "model": r.model, "family": r.model.family(), "variant": r.variant, "rank": rank, "k": k, "channel": mc::CHANNELS[r.channel],
+        "model": r.model, "family": r.model.family().name(), "variant": r.variant, "rank": rank, "k": k, "channel": mc::CHANNELS[r.channel],
         "kernel_rms": r.kernel_rms, "kernel_rms_normalized": r.kernel_rms_normalized, "l1_error": r.l1_error,
         "image_rms": r.image_rms.iter().map(|(s, e)| (s.name().to_string(), json!(e))).collect::<serde_json::Map<_, _>>(),
         "fit_seconds": r.fit_seconds,

@@ -58,7 +58,7 @@ pub use gaussians::Gaussians;
 pub use guided::{Guided, GuidedFit, GuidedStop};
 pub use kernel2d::{Kernel2, SUPPORT_EPSILON, ground_truth};
 pub use manual::{Manual, WSweep, table_a1};
-pub use model::{FittedKernel, KernelModel, ManualParams, SkinParams};
+pub use model::{Family, FittedKernel, KernelModel, ManualParams, SkinParams};
 pub use preint::preint;
 pub use profile::Profile;
 pub use separable::{Separable, Term};

@@ -86,6 +86,52 @@ pub enum KernelModel {
     },
 }
 
+/// A family of kernel models ([`KernelModel::family`]): plots colour and group models by it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Family {
+    /// SVD rank-N.
+    Svd,
+    /// Pre-integration.
+    Preint,
+    /// Guided optimization.
+    Guided,
+    /// The manual two-Gaussian model.
+    Manual,
+    /// d'Eon sums of Gaussians.
+    Deon,
+    /// The SSSS skin kernel.
+    Skin,
+    /// Christensen–Burley normalized diffusion.
+    Burley,
+}
+
+impl Family {
+    /// Every family, in the thesis's order.
+    pub const ALL: [Family; 7] = [
+        Family::Svd,
+        Family::Preint,
+        Family::Guided,
+        Family::Manual,
+        Family::Deon,
+        Family::Skin,
+        Family::Burley,
+    ];
+
+    /// The family's name, the stem of every model name of the family (and itself a model name):
+    /// `svd`, `preint`, `guided`, `manual`, `deon`, `skin`, `burley`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::Svd => "svd",
+            Family::Preint => "preint",
+            Family::Guided => "guided",
+            Family::Manual => "manual",
+            Family::Deon => "deon",
+            Family::Skin => "skin",
+            Family::Burley => "burley",
+        }
+    }
+}
+
 /// A model fitted to the three channels of a profile.
 #[derive(Clone, Debug)]
 pub struct FittedKernel {
@@ -110,17 +156,16 @@ impl KernelModel {
         }
     }
 
-    /// The family's name, the stem of every name of the family: `svd`, `preint`, `guided`,
-    /// `manual`, `deon`, `skin`, `burley`.
-    pub fn family(&self) -> &'static str {
+    /// The model's family: what it is before its parameters.
+    pub fn family(&self) -> Family {
         match self {
-            KernelModel::Svd { .. } => "svd",
-            KernelModel::Preint => "preint",
-            KernelModel::Guided { .. } => "guided",
-            KernelModel::Manual(_) => "manual",
-            KernelModel::Deon { .. } => "deon",
-            KernelModel::Skin(_) => "skin",
-            KernelModel::Burley { .. } => "burley",
+            KernelModel::Svd { .. } => Family::Svd,
+            KernelModel::Preint => Family::Preint,
+            KernelModel::Guided { .. } => Family::Guided,
+            KernelModel::Manual(_) => Family::Manual,
+            KernelModel::Deon { .. } => Family::Deon,
+            KernelModel::Skin(_) => Family::Skin,
+            KernelModel::Burley { .. } => Family::Burley,
         }
     }
 
@@ -552,7 +597,7 @@ mod tests {
             assert_eq!(toml::from_str::<F>(&t).unwrap().model.to_string(), name);
             // A family's name is itself a name, of the same family.
             assert_eq!(
-                m.family().parse::<KernelModel>().unwrap().family(),
+                m.family().name().parse::<KernelModel>().unwrap().family(),
                 m.family()
             );
         }

@@ -42,7 +42,7 @@ use serde::Serialize;
 
 use crate::error::{FitError, Result};
 use crate::evaluate::Evaluation;
-use crate::model::KernelModel;
+use crate::model::{Family, KernelModel};
 use crate::plot::{font, png_of};
 
 /// The pass budgets recommendations are made for [full-screen 1D passes].
@@ -237,27 +237,22 @@ fn point(ev: &Evaluation, model: KernelModel, taps_per_pass: usize) -> Result<Po
     })
 }
 
-/// One colour per model family, in [`KernelModel::family`]'s order.
-const FAMILIES: [(&str, RGBColor); 7] = [
-    ("svd", RGBColor(0, 0, 0)),
-    ("preint", RGBColor(230, 120, 0)),
-    ("guided", RGBColor(0, 150, 200)),
-    ("manual", RGBColor(160, 0, 160)),
-    ("deon", RGBColor(30, 160, 60)),
-    ("skin", RGBColor(120, 120, 0)),
-    ("burley", RGBColor(220, 40, 40)),
-];
+/// One colour per model family.
+fn family_color(family: Family) -> RGBColor {
+    match family {
+        Family::Svd => RGBColor(0, 0, 0),
+        Family::Preint => RGBColor(230, 120, 0),
+        Family::Guided => RGBColor(0, 150, 200),
+        Family::Manual => RGBColor(160, 0, 160),
+        Family::Deon => RGBColor(30, 160, 60),
+        Family::Skin => RGBColor(120, 120, 0),
+        Family::Burley => RGBColor(220, 40, 40),
+    }
+}
 
 /// Label font size [px] and the least vertical distance between two labels [px].
 const LABEL_FONT: u32 = 13;
 const LABEL_PITCH: i32 = 14;
-
-fn family_color(model: KernelModel) -> RGBColor {
-    FAMILIES
-        .iter()
-        .find(|(f, _)| *f == model.family())
-        .map_or(BLACK, |(_, c)| *c)
-}
 
 /// Taps per pixel (x, log, ticks at every model's cost) against mean image RMS (y, log) of every
 /// model, each labelled and coloured by family (filled: on the front; squares: dense 2D kernels),
@@ -338,14 +333,15 @@ pub fn plot(p: &Pareto, title: &str) -> Result<Vec<u8>> {
 
         let at = |q: &Point| (q.cost.taps as f64, q.mean_image_rms);
         let style = |q: &Point| {
-            let color = family_color(q.model);
+            let color = family_color(q.model.family());
             if on_front(q) {
                 color.filled()
             } else {
                 color.stroke_width(2)
             }
         };
-        for (family, color) in FAMILIES {
+        for family in Family::ALL {
+            let color = family_color(family);
             let members = shown
                 .iter()
                 .filter(|q| q.model.family() == family && !q.cost.dense);
@@ -354,7 +350,7 @@ pub fn plot(p: &Pareto, title: &str) -> Result<Vec<u8>> {
             }
             ch.draw_series(members.map(|q| Circle::new(at(q), 5, style(q))))
                 .map_err(|e| fail(&e))?
-                .label(family)
+                .label(family.name())
                 .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
         }
         if shown.iter().any(|q| q.cost.dense) {
@@ -394,7 +390,7 @@ pub fn plot(p: &Pareto, title: &str) -> Result<Vec<u8>> {
                 _ => y - 1,
             };
             below = Some((taps, bottom - LABEL_PITCH));
-            let color = family_color(q.model);
+            let color = family_color(q.model.family());
             if bottom < y - LABEL_PITCH / 2 {
                 root.draw(&PathElement::new(
                     vec![(x + 4, y - 4), (x + 9, bottom - LABEL_PITCH / 2)],

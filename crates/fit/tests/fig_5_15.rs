@@ -80,7 +80,7 @@ fn the_axis_term_takes_away_k_s_control() {
 fn every_guided_kernel_meets_the_l1_constraint() {
     let im = skin1();
     for cand in &im.candidates {
-        if cand.model.family() != "guided" {
+        if cand.model.family() != fit::Family::Guided {
             continue;
         }
         for c in 0..3 {
