@@ -97,7 +97,7 @@ def compare(sss, name, channels, bins, spp, seeds, photons, tmp):
     run([sss, "simulate", name, "--photons", str(photons), "--profile-only", "--out", tmp,
          "--seed", "7"])
     dr, rows = read_profile(os.path.join(tmp, f"{name}.profile.csv"))
-    mi = mitsuba()
+    mi = mitsuba(vectorised=True)
     results = []
     for ch in channels:
         c = "RGB".index(ch)

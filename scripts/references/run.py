@@ -3,7 +3,7 @@
 profiles (profiles.py), then images (images.py) of each scene and material: scene × material ×
 model, the noise-corrected error ± its standard error, SSIM and the energy ratio per channel,
 after each scene's calibration. --quick is the CI size (Skin1 on the sphere, fin, bust and
-dielectric scenes; about 12 minutes on 2 cores); without it, the full version (larger images, more
+dielectric scenes; about 7 minutes on 2 cores); without it, the full version (larger images, more
 samples, Skin1, Marble, Ketchup and Whole milk; hours). Exits non-zero when an agreement test or a calibration
 fails. Outputs: OUT/profiles.json, OUT/images*/images.json and their PNGs, OUT/summary.json."""
 
