@@ -257,7 +257,7 @@ impl ProfileSource {
             self.photons.unwrap_or(config.photons),
             self.seed.unwrap_or(config.seed),
         );
-        let spec = simulate::batch_spec(std::slice::from_ref(n), &config, photons, seed, true)?;
+        let spec = config.batch(&[&n.material], photons, seed, true)?;
         let asked = Provenance::of(&spec, 0, &n.slug, None);
         let explicit = self.explicit();
         if csv.exists() {
@@ -332,9 +332,7 @@ mod tests {
     fn only_asked_settings_must_match() {
         let n = library::material("skin1").unwrap();
         let config = library::config(None).unwrap();
-        let spec = |photons, seed| {
-            simulate::batch_spec(std::slice::from_ref(&n), &config, photons, seed, true).unwrap()
-        };
+        let spec = |photons, seed| config.batch(&[&n.material], photons, seed, true).unwrap();
         let asked = Provenance::of(&spec(1000, 1), 0, "skin1", None);
         let have = Provenance::of(&spec(3000, 2), 0, "x", None);
         assert!(have.mismatches(&asked, Explicit::default()).is_empty());

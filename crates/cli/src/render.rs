@@ -26,165 +26,86 @@ pub enum OnOff {
     Off,
 }
 
-/// A table at θ = 0°, 10°, …, 80° per channel.
-type AngleTable = [[f32; 3]; gpu::INCIDENCE_STEPS];
-
 /// A profile-only batch of `named` for the tables of the shading: the profiles' run settings
-/// (`--config`) and seed, `photons` per channel, `na` exit-angle bins (None: the config's).
+/// (`--config`) and seed, `photons` per channel.
 fn table_spec(
     named: &library::Named,
     photons: u64,
     source: &ProfileSource,
-    na: Option<usize>,
 ) -> Result<mc::BatchSpec> {
-    let mut config = library::config(source.config.as_deref())?;
-    if let Some(na) = na {
-        config.grid.na = na;
-    }
-    crate::simulate::batch_spec(
-        std::slice::from_ref(named),
-        &config,
-        photons,
-        source.seed(),
-        true,
-    )
+    let config = library::config(source.config.as_deref())?;
+    Ok(config.batch(&[&named.material], photons, source.seed(), true)?)
 }
 
-/// The material's angle tables by `mc` (profile-only batch runs on the material's grid with 10°
-/// exit-angle bins, `photons` per channel and angle): the incidence table ρ(θ)/ρ(0) (all ones
-/// unless `incidence`; runs every angle) and the exit table h(θ) (all ones unless `exit`; from
-/// the normal-incidence run, h at 0° is the first bin's, at 10°…80° the mean of the two bins
-/// around it). Seed and run settings (grid rule, ambient η) are those of the profiles (`source`).
+/// The material's angle tables (`gpu::AngleTables::from_mc`, printed on stderr): the incidence
+/// table if `incidence`, the exit table if `exit`, `photons` per channel and angle, with the
+/// profiles' seed and run settings (`source`).
 fn angle_tables(
     named: &library::Named,
     photons: u64,
     source: &ProfileSource,
     incidence: bool,
     exit: bool,
-) -> Result<(AngleTable, AngleTable)> {
-    let mut tables = (
-        [[1.0f32; 3]; gpu::INCIDENCE_STEPS],
-        [[1.0f32; 3]; gpu::INCIDENCE_STEPS],
-    );
-    if !(incidence || exit) {
-        return Ok(tables);
+) -> Result<gpu::AngleTables> {
+    let angles = gpu::AngleTables::angles(incidence, exit).len() as u64;
+    if angles == 0 {
+        return Ok(gpu::AngleTables::ONES);
     }
-    let spec = table_spec(named, photons, source, Some(gpu::INCIDENCE_STEPS))?;
-    let angles: Vec<f64> = if incidence {
-        (0..gpu::INCIDENCE_STEPS).map(|k| 10.0 * k as f64).collect()
-    } else {
-        vec![0.0]
-    };
-    let bar = crate::progress::photons(
-        photons * spec.groups().len() as u64 * angles.len() as u64,
-        "angle tables",
-    );
-    let rows = mc::incidence::rd_table(&spec, &angles, &|k| bar.inc(k))?;
+    let spec = table_spec(named, photons, source)?;
+    let bar = crate::progress::photons(photons * 3 * angles, "angle tables");
+    let t = gpu::AngleTables::from_mc(&spec, incidence, exit, &|k| bar.inc(k))
+        .with_context(|| format!("--incidence-aware/--exit-aware: {}", named.slug))?;
     bar.finish_and_clear();
-    let rd0 = &rows[0].rd;
-    if rd0.iter().any(|e| e.value.is_nan() || e.value <= 0.0) {
-        bail!(
-            "--incidence-aware/--exit-aware: {} has no diffuse reflectance at normal incidence in some channel",
-            named.slug
-        );
-    }
+    let rgb = |v: [f32; 3]| format!("{:.3} {:.3} {:.3}", v[0], v[1], v[2]);
     if incidence {
         eprintln!("incidence table of {} (ρ(θ)/ρ(0), R G B):", named.slug);
-        for (k, row) in rows.iter().enumerate() {
-            tables.0[k] = [0, 1, 2].map(|c| (row.rd[c].value / rd0[c].value) as f32);
-            eprintln!(
-                "  {:>4.0}°  {:.3} {:.3} {:.3}",
-                row.theta_deg, tables.0[k][0], tables.0[k][1], tables.0[k][2]
-            );
+        for (k, row) in t.incidence.iter().enumerate() {
+            eprintln!("  {:>4}°  {}", 10 * k, rgb(*row));
         }
     }
     if exit {
-        let bins = &rows[0].exit;
         eprintln!(
             "exit table of {} (h(θ): radiance over a Lambertian surface's, R G B, ± SE):",
             named.slug
         );
         for k in 0..gpu::INCIDENCE_STEPS {
-            let (lo, hi) = (k.saturating_sub(1), k.min(gpu::INCIDENCE_STEPS - 1));
-            let at = |c: usize| {
-                let b = &bins[c];
-                (
-                    0.5 * (b[lo].h.value + b[hi].h.value),
-                    0.5 * (b[lo].h.se.powi(2) + b[hi].h.se.powi(2)).sqrt(),
-                )
-            };
-            let h = [0, 1, 2].map(at);
-            tables.1[k] = h.map(|(v, _)| v as f32);
             eprintln!(
-                "  {:>4}°  {:.3} {:.3} {:.3}  ± {:.3} {:.3} {:.3}",
+                "  {:>4}°  {}  ± {}",
                 10 * k,
-                h[0].0,
-                h[1].0,
-                h[2].0,
-                h[0].1,
-                h[1].1,
-                h[2].1
+                rgb(t.exit[k]),
+                rgb(t.exit_se[k])
             );
         }
     }
-    Ok(tables)
+    Ok(t)
 }
 
-/// The translucency table of a material: Tt(d)/ρ per channel at 16 geometric thicknesses from a
-/// quarter of the shortest transport mean free path to ln(1000)/σtr of the slowest-decaying
-/// channel, by `mc` slab runs (`photons` per channel and thickness); ρ is the total diffuse
-/// reflectance of the material's profile, whose seed and run settings the slab runs share.
+/// The material's translucency table (`gpu::Translucency::from_mc`, printed on stderr), `photons`
+/// per channel and thickness, with the profiles' seed and run settings; ρ from `profile`.
 fn translucency_table(
     named: &library::Named,
     profile: &Profile,
     photons: u64,
     source: &ProfileSource,
 ) -> Result<gpu::Translucency> {
-    let media: Vec<fit::analytic::Medium> = (0..3)
-        .map(|c| fit::analytic::Medium::channel(&named.material, c))
-        .collect();
-    let first = 0.25
-        * media
-            .iter()
-            .map(|m| m.transport_mfp())
-            .fold(f64::MAX, f64::min);
-    let slowest = media
-        .iter()
-        .map(|m| (3.0 * m.sigma_a * m.sigma_t_reduced()).sqrt())
-        .fold(f64::MAX, f64::min);
-    let last = (1000f64.ln() / slowest.max(1e-12)).clamp(20.0 * first, 1e3 * first);
-    let d = gpu::Translucency::thicknesses(first, last);
-    let spec = table_spec(named, photons, source, None)?;
+    let spec = table_spec(named, photons, source)?;
+    let rho = [0, 1, 2].map(|c| profile.total(c));
     let bar = crate::progress::photons(
-        photons * spec.groups().len() as u64 * d.len() as u64,
+        photons * 3 * gpu::TRANSLUCENCY_STEPS as u64,
         "translucency table",
     );
-    let rows = mc::slab::transmittance_table(&spec, &d, &|k| bar.inc(k))?;
+    let t = gpu::Translucency::from_mc(&spec, rho, &|k| bar.inc(k))
+        .with_context(|| format!("--translucency: {}", named.slug))?;
     bar.finish_and_clear();
-    let rho = [0, 1, 2].map(|c| profile.total(c));
-    if rho.iter().any(|r| !(r.is_finite() && *r > 0.0)) {
-        bail!(
-            "--translucency: {} has no diffuse reflectance in some channel ({rho:?})",
-            named.slug
-        );
-    }
-    let mut table = [[0.0f32; 3]; gpu::TRANSLUCENCY_STEPS];
     eprintln!(
         "translucency table of {} (slab Tt(d) / ρ; ρ = {:.3} {:.3} {:.3}):",
         named.slug, rho[0], rho[1], rho[2]
     );
-    for (k, row) in rows.iter().enumerate() {
-        table[k] = [0, 1, 2].map(|c| (row.tt[c].value / rho[c]) as f32);
-        eprintln!(
-            "  {:>8.4} cm  {:.4} {:.4} {:.4}",
-            row.thickness_cm, table[k][0], table[k][1], table[k][2]
-        );
+    for (k, row) in t.table.iter().enumerate() {
+        let d = t.first_cm as f64 * (t.ratio as f64).powi(k as i32);
+        eprintln!("  {d:>8.4} cm  {:.4} {:.4} {:.4}", row[0], row[1], row[2]);
     }
-    Ok(gpu::Translucency {
-        first_cm: first as f32,
-        ratio: (d[1] / d[0]) as f32,
-        table,
-    })
+    Ok(t)
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -819,7 +740,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     eprintln!("GPU: {}", gpu.adapter_name);
     let mut shading = [Shading::default(); gpu::MAX_MATERIALS];
     for (s, n) in shading.iter_mut().zip(&all_named) {
-        let (incidence, exit) = angle_tables(
+        let tables = angle_tables(
             n,
             a.incidence_photons,
             &a.source,
@@ -838,8 +759,8 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
             _ => None,
         };
         *s = Shading {
-            incidence,
-            exit,
+            incidence: tables.incidence,
+            exit: tables.exit,
             translucency,
             eta: n.material.eta as f32,
         };
@@ -951,7 +872,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         "materials": all_named.iter().map(|n| &n.slug).collect::<Vec<_>>(),
         "kernel": kernels.first().map(|k| k.model.to_string()), "width": a.width, "height": a.height,
         "kernels": kernels.iter().map(|k| json!({"model": k.model.to_string(), "passes": k.pass.len(), "taps": k.taps})).collect::<Vec<_>>(),
-        "area_gather": area.as_ref().map(|s| json!({"inner": s.pattern.inner, "layers": s.pattern.layers, "taps": s.pattern.taps().len(), "reach_px": s.pattern.reach_px(), "brighten": s.pattern.brighten, "r_max_cm": s.kernel.r_max_cm(), "table": AREA_TABLE_SIZE})),
+        "area_gather": area.as_ref().map(|s| json!({"inner": s.pattern.inner, "layers": s.pattern.layers, "taps": s.pattern.taps().len(), "reach_px": s.pattern.reach_px(), "brighten": s.pattern.brighten, "r_max_cm": s.kernel.r_max_cm(), "table": gpu::area_gather::AREA_TABLE_SIZE})),
         "dipole": dipole.as_ref().map(|d| json!({"samples": d.samples, "frames": d.frames, "radius_cm": d.radius_cm, "light_map": d.map_size, "scale": d.scale})),
         "translucency": params.shading[..all_named.len()].iter().map(|s| s.translucency.as_ref().map(|t| json!({"first_cm": t.first_cm, "ratio": t.ratio, "tt_over_rho": t.table}))).collect::<Vec<_>>(),
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
@@ -980,20 +901,6 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// ACES (Narkowicz) and sRGB, as the GPU's recombination does, for CPU-side images.
-fn display_rgb(v: [f32; 3], exposure: f32) -> [u8; 3] {
-    v.map(|x| {
-        let x = (x * exposure).max(0.0);
-        let t = ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0);
-        let s = if t <= 0.0031308 {
-            12.92 * t
-        } else {
-            1.055 * t.powf(1.0 / 2.4) - 0.055
-        };
-        (s * 255.0 + 0.5) as u8
-    })
-}
-
 /// Every model rendered against the CPU 2D ground truth (`gpu::compare_models`): the table on
 /// stdout, each model's PNG, the sheet of cut-outs with difference images, and compare.json.
 fn compare(
@@ -1017,53 +924,6 @@ fn compare(
         ..Default::default()
     };
     let cmp = gpu::compare_models(gpu, scene, base, p, slug, &models, spec)?;
-    let (w, side) = (cmp.width, cmp.crop.side);
-    let (x0, y0) = (cmp.crop.x0, cmp.crop.y0);
-    let crop = |img: &[[f32; 4]]| -> Vec<u8> {
-        let mut rgb = Vec::with_capacity(side * side * 3);
-        for y in y0..y0 + side {
-            for x in x0..x0 + side {
-                let v = img[y * w + x];
-                rgb.extend(display_rgb([v[0], v[1], v[2]], a.exposure));
-            }
-        }
-        rgb
-    };
-    let diff_crop = |img: &[[f32; 4]]| -> Vec<u8> {
-        let gain = 10.0 / cmp.mean.max(1e-12) as f32;
-        let mut rgb = Vec::with_capacity(side * side * 3);
-        for y in y0..y0 + side {
-            for x in x0..x0 + side {
-                let i = y * w + x;
-                let d = (0..3).map(|c| img[i][c] - cmp.truth[i][c]).sum::<f32>() / 3.0 * gain;
-                let m = (d.abs().min(1.0) * 255.0) as u8;
-                rgb.extend(if d >= 0.0 {
-                    [255, 255 - m, 255 - m]
-                } else {
-                    [255 - m, 255 - m, 255]
-                });
-            }
-        }
-        rgb
-    };
-    // Cut-outs are shown at least 240 px wide (nearest-neighbour), so labels fit.
-    let zoom = 240usize.div_ceil(side).max(1);
-    let cell = |label: String, rgb: Vec<u8>| {
-        let s = side * zoom;
-        let mut big = Vec::with_capacity(s * s * 3);
-        for y in 0..s {
-            for x in 0..s {
-                let k = ((y / zoom) * side + x / zoom) * 3;
-                big.extend_from_slice(&rgb[k..k + 3]);
-            }
-        }
-        fit::plot::SheetCell {
-            label,
-            width: s as u32,
-            height: s as u32,
-            rgb: big,
-        }
-    };
     // With --json the table stays off stdout.
     let table = |line: String| {
         if !a.json {
@@ -1093,40 +953,37 @@ fn compare(
     let mut rows = vec![
         json!({"model": "lambert", "image_rms_rel": l.error.rms_rel_all, "image_rms_rel_rgb": l.error.rms_rel}),
     ];
-    let mut cells = vec![
-        cell("2D ground truth (CPU)".into(), crop(&cmp.truth)),
-        cell(
-            "difference ×10 (red +, blue −)".into(),
-            vec![255; side * side * 3],
-        ),
-        cell(
-            format!("no SSS (Lambert): rms {:.2}%", 100.0 * l.error.rms_rel_all),
-            crop(&l.shown),
-        ),
-        cell("no SSS − truth".into(), diff_crop(&l.shown)),
-    ];
     // The area gather with the paper's pattern, at the pixels' true depths.
     let area = cmp.area_gather(
         gpu,
         scene,
         base,
-        &gpu::AreaGatherSetup::new(area_kernel(named, p)?),
+        &gpu::AreaGatherSetup::new(gpu::AreaKernel::for_material(&named.material, p)?),
     )?;
     let labels = MODELS.iter().map(|(l, _)| *l).chain(["area-gather"]);
-    for (label, k) in labels.zip(cmp.kernels.iter().chain([&area])) {
+    let shown: Vec<(&str, &gpu::compare::Shown)> =
+        labels.zip(cmp.kernels.iter().chain([&area])).collect();
+    for &(label, k) in &shown {
         let e = k.error.rms_rel_all;
         table(line(label, &k.error));
         let png = a.out.join(format!("{label}.png"));
         files.add(&png, png_rgba(base.width, base.height, &k.display)?);
         rows.push(json!({"model": label, "image_rms_rel": e, "image_rms_rel_rgb": k.error.rms_rel, "png": png}));
-        cells.push(cell(
-            format!("{label}: rms {:.2}%", 100.0 * e),
-            crop(&k.shown),
-        ));
-        cells.push(cell(format!("{label} − truth"), diff_crop(&k.shown)));
     }
     let sheet = a.out.join("compare_sheet.png");
-    files.add(&sheet, fit::plot::image_sheet(&cells, 2)?);
+    let title = vec![
+        format!(
+            "{slug} on {}: each kernel model against the CPU 2D ground truth (scattered diffuse light)",
+            a.scene
+        ),
+        format!(
+            "cut-out of {0}×{0} px around the strongest shadow edge; {1:.4} cm per pixel",
+            cmp.crop.side, cmp.scale.cm_per_px
+        ),
+    ];
+    let lambert = [("no SSS (Lambert)", l)];
+    let all: Vec<_> = lambert.into_iter().chain(shown).collect();
+    files.add(&sheet, cmp.sheet(title, &all, a.exposure)?);
     let v = json!({ "cm_per_px": cmp.scale.cm_per_px, "models": rows, "sheet": sheet });
     files.add(
         a.out.join("compare.json"),
@@ -1134,9 +991,6 @@ fn compare(
     );
     Ok(v)
 }
-
-/// Texels of the area gather's R′(r, A) table along each axis (the paper's 512).
-const AREA_TABLE_SIZE: usize = 512;
 
 /// The area gather's kernel, from the material's Monte Carlo profile averaged over discs out to
 /// r_max, where the source term α′σt′e^{−σt′r} falls to 10⁻⁷ cm⁻¹ (Maisch & Ropinski 2020 §7.1),
@@ -1165,32 +1019,11 @@ fn area_setup(
         .context("invalid --gather-inner/--gather-layers")?;
     let p = a.source.profile(named, files)?;
     Ok(gpu::AreaGatherSetup {
-        kernel: area_kernel(named, &p)?,
+        kernel: gpu::AreaKernel::for_material(&named.material, &p)
+            .with_context(|| format!("--method area-gather: {}", named.slug))?,
         pattern,
         splat_clamp: a.splat_clamp,
     })
-}
-
-/// The material's Monte Carlo profile `p` averaged over discs out to r_max
-/// ([`AREA_TABLE_SIZE`]² texels).
-fn area_kernel(named: &library::Named, p: &Profile) -> Result<gpu::AreaKernel> {
-    let r_max = (0..3)
-        .map(|c| {
-            let m = fit::analytic::Medium::channel(&named.material, c);
-            fit::area_table::cutoff_radius(&m, 1e-7)
-        })
-        .fold(0.0, f64::max);
-    if r_max.is_nan() || r_max <= 0.0 {
-        bail!(
-            "--method area-gather: the source term of {} never reaches 1e-7/cm (no scattering to gather)",
-            named.slug
-        );
-    }
-    let rd = |c: usize| move |r: f64| p.at(c, r);
-    let (r0, r1, r2) = (rd(0), rd(1), rd(2));
-    let table =
-        fit::area_table::AreaTable::build([&r0, &r1, &r2], r_max, AREA_TABLE_SIZE, AREA_TABLE_SIZE);
-    gpu::AreaKernel::new(&table).with_context(|| format!("the area table of {}", named.slug))
 }
 
 /// The directional-dipole settings from the material and the flags; warns where the model is

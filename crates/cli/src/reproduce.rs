@@ -205,7 +205,8 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
     // 1. Profiles of the whole library, one batch.
     let all = library::all()?;
     let t = Instant::now();
-    let spec = simulate::batch_spec(&all, &config, photons, config.seed, true)?;
+    let materials: Vec<&mc::Material> = all.iter().map(|n| &n.material).collect();
+    let spec = config.batch(&materials, photons, config.seed, true)?;
     let (csvs, provenance): (Vec<String>, Vec<Option<Provenance>>) = match &a.profiles {
         Some(dir) => {
             let explicit = Explicit {

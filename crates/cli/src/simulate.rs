@@ -11,7 +11,7 @@ use fit::analytic::{Medium, Model, total_at};
 use fit::plot::IncidenceCurve;
 use mc::incidence::IncidenceRow;
 use mc::shard::{self, Shard};
-use mc::{BatchSpec, CHANNELS, ChannelSpec, Output, TallySet};
+use mc::{BatchSpec, CHANNELS, ChannelSpec, Output};
 use rayon::prelude::*;
 use serde_json::{Value, json};
 
@@ -119,7 +119,8 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
     let config = library::config(args.config.as_deref())?;
     let photons = args.photons.unwrap_or(config.photons);
     let seed = args.seed.unwrap_or(config.seed);
-    let spec = batch_spec(&named, &config, photons, seed, args.profile_only)?;
+    let materials: Vec<&mc::Material> = named.iter().map(|n| &n.material).collect();
+    let spec = config.batch(&materials, photons, seed, args.profile_only)?;
     let labels: Vec<String> = named
         .iter()
         .flat_map(|n| CHANNELS.iter().map(move |c| format!("{}:{c}", n.slug)))
@@ -132,16 +133,8 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
     } else {
         named
             .iter()
-            .map(|n| {
-                batch_spec(
-                    std::slice::from_ref(n),
-                    &config,
-                    args.incidence_photons,
-                    seed,
-                    true,
-                )
-            })
-            .collect::<Result<Vec<_>>>()?
+            .map(|n| config.batch(&[&n.material], args.incidence_photons, seed, true))
+            .collect::<mc::Result<Vec<_>>>()?
     };
 
     let start = Instant::now();
@@ -282,38 +275,6 @@ fn check_labels(labels: &[String]) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// The batch of all RGB channels of `named` with the config's grid rule.
-pub fn batch_spec(
-    named: &[Named],
-    config: &mc::SimConfig,
-    photons: u64,
-    seed: u64,
-    profile_only: bool,
-) -> Result<BatchSpec> {
-    let mut channels = Vec::new();
-    for n in named {
-        let grid = config.grid_for(&n.material)?;
-        let thickness = n.material.thickness.unwrap_or(config.thickness_cm);
-        channels.extend((0..3).map(|c| ChannelSpec {
-            layer: n.material.layer(c, thickness),
-            grid,
-        }));
-    }
-    let spec = BatchSpec {
-        n_above: config.n_above,
-        n_below: config.n_below,
-        channels,
-        photons,
-        seed,
-        tallies: TallySet {
-            absorption_rz: !profile_only,
-            surface_xy: 0,
-        },
-    };
-    spec.validate()?;
-    Ok(spec)
 }
 
 /// Writes each material's CSV profile with its provenance, JSON summary and .mco files (and its

@@ -50,6 +50,9 @@ pub(crate) const AREA_GATHER_WGSL: &str = concat!(
 /// which grows without bound where a flat triangle stands in for a curved surface.
 pub const GRAZING: f32 = 0.05;
 
+/// Texels of a material's R′(r, A) table along each axis (the paper's 512).
+pub const AREA_TABLE_SIZE: usize = 512;
+
 /// The most pyramid levels (images up to 32768 px on a side).
 const MAX_LEVELS: usize = 16;
 
@@ -115,6 +118,35 @@ impl AreaKernel {
             r_max_cm: table.r_max as f32,
             values,
         })
+    }
+
+    /// The kernel of a material (Maisch & Ropinski 2020 §7.1): its Monte Carlo profile
+    /// `profile` averaged over discs ([`AREA_TABLE_SIZE`]² texels) out to r_max, where the
+    /// source term α′σt′e^{−σt′r} of the slowest-decaying channel falls to 10⁻⁷ cm⁻¹. Refuses a
+    /// material whose source term never reaches that (nothing scatters).
+    pub fn for_material(material: &mc::Material, profile: &fit::Profile) -> Result<AreaKernel> {
+        let r_max = (0..3)
+            .map(|c| {
+                let m = fit::analytic::Medium::channel(material, c);
+                fit::area_table::cutoff_radius(&m, 1e-7)
+            })
+            .fold(0.0, f64::max);
+        if r_max.is_nan() || r_max <= 0.0 {
+            return Err(GpuError::invalid(
+                format!("area gather: r_max of {}", material.name),
+                r_max,
+                "the source term never reaches 1e-7/cm (no scattering to gather)",
+            ));
+        }
+        let rd = |c: usize| move |r: f64| profile.at(c, r);
+        let (r0, r1, r2) = (rd(0), rd(1), rd(2));
+        let table = fit::area_table::AreaTable::build(
+            [&r0, &r1, &r2],
+            r_max,
+            AREA_TABLE_SIZE,
+            AREA_TABLE_SIZE,
+        );
+        AreaKernel::new(&table)
     }
 
     /// area_kernel.wgsl's `AreaKernel` for width factor `scale`: scale and r_max as f32 bits,

@@ -313,6 +313,106 @@ impl Comparison {
     }
 }
 
+/// What a comparison sheet's difference images show at full colour: ±10 % of the truth's mean.
+const DIFF_RANGE: f32 = 0.1;
+
+impl Comparison {
+    /// The comparison sheet as PNG bytes: under `title`, the ground truth's cut-out ([`Crop`],
+    /// magnified to at least 240 px), then one row per image of `rows` (its label and error,
+    /// then its difference from the truth, red where brighter and blue where darker, full colour
+    /// at ±10 % of the truth's mean, with the colour bar underneath). Cut-outs are tone-mapped as
+    /// the renderer's recombination does ([`tone_map`], `exposure`).
+    pub fn sheet(
+        &self,
+        title: Vec<String>,
+        rows: &[(&str, &Shown)],
+        exposure: f32,
+    ) -> Result<Vec<u8>> {
+        use fit::plot::{ColourBar, Sheet, SheetCell};
+        let Crop { x0, y0, side } = self.crop;
+        let zoom = 240usize.div_ceil(side).max(1);
+        let cell = |label: String, pixel: &dyn Fn(usize) -> [u8; 3]| {
+            let s = side * zoom;
+            let mut rgb = Vec::with_capacity(s * s * 3);
+            for y in 0..s {
+                for x in 0..s {
+                    rgb.extend(pixel((y0 + y / zoom) * self.width + x0 + x / zoom));
+                }
+            }
+            SheetCell {
+                label,
+                width: s as u32,
+                height: s as u32,
+                rgb,
+            }
+        };
+        let picture = |label: String, img: &[[f32; 4]]| {
+            cell(label, &|i| {
+                tone_map([img[i][0], img[i][1], img[i][2]], exposure)
+            })
+        };
+        let gain = 1.0 / (DIFF_RANGE * self.mean.max(1e-12) as f32);
+        let difference = |label: String, img: &[[f32; 4]]| {
+            cell(label, &|i| {
+                let d = (0..3).map(|c| img[i][c] - self.truth[i][c]).sum::<f32>() / 3.0 * gain;
+                diverging(0.5 + 0.5 * f64::from(d.clamp(-1.0, 1.0)))
+            })
+        };
+        let mut cells = vec![vec![picture("2D ground truth (CPU)".into(), &self.truth)]];
+        for (label, k) in rows {
+            cells.push(vec![
+                picture(
+                    format!(
+                        "{label}: RMS {:.2} % of the mean",
+                        100.0 * k.error.rms_rel_all
+                    ),
+                    &k.shown,
+                ),
+                difference(format!("{label} − truth"), &k.shown),
+            ]);
+        }
+        let pct = 100.0 * DIFF_RANGE as f64;
+        Ok(Sheet {
+            title,
+            rows: cells,
+            bars: vec![ColourBar {
+                caption: "difference from the truth, mean of R, G, B [% of the truth's mean]"
+                    .into(),
+                ramp: diverging,
+                ticks: [-1.0, -0.5, 0.0, 0.5, 1.0]
+                    .map(|v: f64| (0.5 + 0.5 * v, format!("{:+.0}", v * pct)))
+                    .to_vec(),
+            }],
+        }
+        .png()?)
+    }
+}
+
+/// Blue (t = 0) through white (½) to red (1).
+fn diverging(t: f64) -> [u8; 3] {
+    let m = ((2.0 * t - 1.0).abs().min(1.0) * 255.0) as u8;
+    if t >= 0.5 {
+        [255, 255 - m, 255 - m]
+    } else {
+        [255 - m, 255 - m, 255]
+    }
+}
+
+/// A linear colour as the renderer's recombination shows it: × `exposure`, ACES (Narkowicz's
+/// fit), then sRGB, as 8-bit values.
+pub fn tone_map(v: [f32; 3], exposure: f32) -> [u8; 3] {
+    v.map(|x| {
+        let x = (x * exposure).max(0.0);
+        let t = ((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0);
+        let s = if t <= 0.0031308 {
+            12.92 * t
+        } else {
+            1.055 * t.powf(1.0 / 2.4) - 0.055
+        };
+        (s * 255.0 + 0.5) as u8
+    })
+}
+
 fn image_error(img: &[[f32; 4]], truth: &[[f32; 4]], sss: &[bool], mean: f64) -> ImageError {
     let mut sq = [0.0f64; 3];
     let mut n = 0usize;

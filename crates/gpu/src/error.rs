@@ -35,6 +35,9 @@ pub enum GpuError {
     /// Fitting a kernel model for a comparison failed.
     #[error(transparent)]
     Fit(#[from] fit::FitError),
+    /// A Monte Carlo run for a shading table failed.
+    #[error(transparent)]
+    Mc(#[from] mc::McError),
 }
 
 impl GpuError {

@@ -54,8 +54,8 @@ pub use params::{MAX_MATERIALS, RenderParams};
 pub use render::{Frame, FrameTime, Renderer, SUBPIXEL_PX, Scatter, kernel_footprint_px, render};
 pub use scene::{AlbedoMode, Camera, Scene};
 pub use shading::{
-    INCIDENCE_STEPS, Shading, TRANSLUCENCY_STEPS, Translucency, incidence_hemispherical,
-    incidence_ratio,
+    AngleTables, INCIDENCE_STEPS, Shading, TRANSLUCENCY_STEPS, Translucency,
+    incidence_hemispherical, incidence_ratio,
 };
 pub use timing::PassTime;
 

@@ -112,6 +112,72 @@ impl Translucency {
         std::array::from_fn(|k| first_cm * q.powi(k as i32))
     }
 
+    /// The thickness range [cm] of a material's table: from a quarter of the shortest transport
+    /// mean free path of its channels to ln(1000)/σtr of the slowest-decaying one (where diffuse
+    /// transmittance has fallen by about 10³), held within 20–1000× the first.
+    pub fn thickness_range(media: &[fit::analytic::Medium; 3]) -> (f64, f64) {
+        let first = 0.25
+            * media
+                .iter()
+                .map(|m| m.transport_mfp())
+                .fold(f64::MAX, f64::min);
+        let slowest = media
+            .iter()
+            .map(|m| (3.0 * m.sigma_a * m.sigma_t_reduced()).sqrt())
+            .fold(f64::MAX, f64::min);
+        let last = (1000f64.ln() / slowest.max(1e-12)).clamp(20.0 * first, 1e3 * first);
+        (first, last)
+    }
+
+    /// The table of the material whose three channels `spec` holds (a profile-only batch), by
+    /// `mc` slab runs at the [`TRANSLUCENCY_STEPS`] thicknesses of
+    /// [`Translucency::thickness_range`], `spec.photons` per channel and thickness; `progress`
+    /// receives photon counts. Entries are Tt(d)/ρ with `rho` the total diffuse reflectance of
+    /// the material's profile per channel, which must be positive.
+    pub fn from_mc(
+        spec: &mc::BatchSpec,
+        rho: [f64; 3],
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<Translucency> {
+        if spec.channels.len() != 3 {
+            return Err(GpuError::invalid(
+                "translucency table: channels",
+                spec.channels.len(),
+                "one material (three channels) per table",
+            ));
+        }
+        if let Some(r) = rho.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
+            return Err(GpuError::invalid(
+                "translucency table: total diffuse reflectance ρ",
+                r,
+                "must be positive in every channel",
+            ));
+        }
+        let media = [0, 1, 2].map(|c| {
+            let l = &spec.channels[c].layer;
+            fit::analytic::Medium {
+                sigma_a: l.mu_a,
+                sigma_s: l.mu_s,
+                g: l.g,
+                eta: l.n / spec.n_above,
+            }
+        });
+        let (first, last) = Translucency::thickness_range(&media);
+        let d = Translucency::thicknesses(first, last);
+        let rows = mc::slab::transmittance_table(spec, &d, progress)?;
+        let mut table = [[0.0f32; 3]; TRANSLUCENCY_STEPS];
+        for (k, row) in rows.iter().enumerate() {
+            table[k] = [0, 1, 2].map(|c| (row.tt[c].value / rho[c]) as f32);
+        }
+        let t = Translucency {
+            first_cm: first as f32,
+            ratio: (d[1] / d[0]) as f32,
+            table,
+        };
+        t.validate()?;
+        Ok(t)
+    }
+
     /// Tt(d)/ρ at thickness `d_cm` (what the scene shader evaluates).
     pub fn at(&self, d_cm: f32) -> [f32; 3] {
         let t = (d_cm.max(1e-30) / self.first_cm).ln() / self.ratio.ln();
@@ -155,6 +221,105 @@ impl Translucency {
             ));
         }
         Ok(())
+    }
+}
+
+/// A material's angle tables by `mc`: profile-only batch runs of its channels with
+/// [`INCIDENCE_STEPS`] exit-angle bins of 10°.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AngleTables {
+    /// ρ(θ)/ρ(0) per channel at θ = 0°, 10°, …, 80° ([`Shading::incidence`]).
+    pub incidence: [[f32; 3]; INCIDENCE_STEPS],
+    /// The standard error of each `incidence` entry (the runs at each angle are independent;
+    /// 0 at 0°, where the ratio is 1 by definition).
+    pub incidence_se: [[f32; 3]; INCIDENCE_STEPS],
+    /// h(θ) per channel at θ = 0°, 10°, …, 80° ([`Shading::exit`]).
+    pub exit: [[f32; 3]; INCIDENCE_STEPS],
+    /// The standard error of each `exit` entry.
+    pub exit_se: [[f32; 3]; INCIDENCE_STEPS],
+}
+
+impl AngleTables {
+    /// No angle dependence: plain Lambertian entry and exit.
+    pub const ONES: AngleTables = AngleTables {
+        incidence: [[1.0; 3]; INCIDENCE_STEPS],
+        incidence_se: [[0.0; 3]; INCIDENCE_STEPS],
+        exit: [[1.0; 3]; INCIDENCE_STEPS],
+        exit_se: [[0.0; 3]; INCIDENCE_STEPS],
+    };
+
+    /// The beam angles [degrees] the tables need: every table angle for `incidence`, else
+    /// normal incidence only (the exit table's run); none when neither table is asked for.
+    pub fn angles(incidence: bool, exit: bool) -> Vec<f64> {
+        match (incidence, exit) {
+            (true, _) => (0..INCIDENCE_STEPS).map(|k| 10.0 * k as f64).collect(),
+            (false, true) => vec![0.0],
+            (false, false) => Vec::new(),
+        }
+    }
+
+    /// The tables of the three channels of `spec` (a profile-only batch of one material; its
+    /// exit-angle bins are set to [`INCIDENCE_STEPS`] here), each run of `spec.photons` per
+    /// channel and angle ([`AngleTables::angles`]); `progress` receives photon counts. The
+    /// incidence table is ρ(θ)/ρ(0) (all ones unless `incidence`); the exit table h(θ) (all
+    /// ones unless `exit`) comes from the normal-incidence run: at 0° the first bin's, at
+    /// 10°…80° the mean of the two bins around the angle. Refuses a material that reflects
+    /// nothing at normal incidence in some channel.
+    pub fn from_mc(
+        spec: &mc::BatchSpec,
+        incidence: bool,
+        exit: bool,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<AngleTables> {
+        let mut tables = AngleTables::ONES;
+        let angles = AngleTables::angles(incidence, exit);
+        if angles.is_empty() {
+            return Ok(tables);
+        }
+        if spec.channels.len() != 3 {
+            return Err(GpuError::invalid(
+                "angle tables: channels",
+                spec.channels.len(),
+                "one material (three channels) per table",
+            ));
+        }
+        let mut spec = spec.clone();
+        for ch in &mut spec.channels {
+            ch.grid.na = INCIDENCE_STEPS;
+        }
+        let rows = mc::incidence::rd_table(&spec, &angles, progress)?;
+        let rd0 = &rows[0].rd;
+        if let Some(c) = (0..3).find(|&c| rd0[c].value.is_nan() || rd0[c].value <= 0.0) {
+            return Err(GpuError::invalid(
+                format!("angle tables: diffuse reflectance at normal incidence of channel {c}"),
+                rd0[c].value,
+                "the material reflects nothing there",
+            ));
+        }
+        if incidence {
+            for (k, row) in rows.iter().enumerate().skip(1) {
+                for c in 0..3 {
+                    let (r, r0) = (&row.rd[c], &rd0[c]);
+                    let ratio = r.value / r0.value;
+                    tables.incidence[k][c] = ratio as f32;
+                    // (0 where nothing came back: NaN.max(0) is 0.)
+                    tables.incidence_se[k][c] =
+                        (ratio * (r.se / r.value).hypot(r0.se / r0.value)).max(0.0) as f32;
+                }
+            }
+        }
+        if exit {
+            let bins = &rows[0].exit;
+            for k in 0..INCIDENCE_STEPS {
+                let (lo, hi) = (k.saturating_sub(1), k);
+                for c in 0..3 {
+                    let (a, b) = (&bins[c][lo].h, &bins[c][hi].h);
+                    tables.exit[k][c] = (0.5 * (a.value + b.value)) as f32;
+                    tables.exit_se[k][c] = (0.5 * (a.se.powi(2) + b.se.powi(2)).sqrt()) as f32;
+                }
+            }
+        }
+        Ok(tables)
     }
 }
 

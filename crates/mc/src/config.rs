@@ -16,9 +16,11 @@
 
 use serde::Deserialize;
 
+use crate::batch::{BatchSpec, ChannelSpec};
 use crate::error::{McError, Result};
 use crate::grid::Grid;
 use crate::material::Material;
+use crate::tally::TallySet;
 
 /// Per-material run settings.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -126,5 +128,86 @@ impl SimConfig {
         };
         grid.validate()?;
         Ok(grid)
+    }
+
+    /// The batch run of `materials` under these settings: three channels (R, G, B) per material
+    /// in order, each on its material's grid ([`SimConfig::grid_for`]) and thickness (the
+    /// material's, else `thickness_cm`), `photons` per channel from `seed`; A(r, z) is tallied
+    /// unless `profile_only`. Validated.
+    pub fn batch(
+        &self,
+        materials: &[&Material],
+        photons: u64,
+        seed: u64,
+        profile_only: bool,
+    ) -> Result<BatchSpec> {
+        let mut channels = Vec::new();
+        for m in materials {
+            let grid = self.grid_for(m)?;
+            let thickness = m.thickness.unwrap_or(self.thickness_cm);
+            channels.extend((0..3).map(|c| ChannelSpec {
+                layer: m.layer(c, thickness),
+                grid,
+            }));
+        }
+        let spec = BatchSpec {
+            n_above: self.n_above,
+            n_below: self.n_below,
+            channels,
+            photons,
+            seed,
+            tallies: TallySet {
+                absorption_rz: !profile_only,
+                surface_xy: 0,
+            },
+        };
+        spec.validate()?;
+        Ok(spec)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn material(name: &str, thickness: Option<f64>) -> Material {
+        Material {
+            name: name.into(),
+            source: String::new(),
+            sigma_a: [0.1, 0.5, 2.0],
+            sigma_s: [10.0, 20.0, 40.0],
+            g: [0.0, 0.5, 0.9],
+            eta: 1.4,
+            thickness,
+        }
+    }
+
+    /// Three channels per material in order, each with its material's layer, grid and thickness;
+    /// the tallies follow `profile_only`; a zero photon count is refused.
+    #[test]
+    fn batch_lays_out_three_channels_per_material() {
+        let config =
+            SimConfig::from_toml(include_str!("../../../configs/thesis.toml"), "thesis").unwrap();
+        let (a, b) = (material("a", None), material("b", Some(0.2)));
+        let spec = config.batch(&[&a, &b], 1000, 7, true).unwrap();
+        assert_eq!(spec.channels.len(), 6);
+        assert_eq!((spec.photons, spec.seed), (1000, 7));
+        assert!(!spec.tallies.absorption_rz);
+        for (k, ch) in spec.channels.iter().enumerate() {
+            let (m, c) = (if k < 3 { &a } else { &b }, k % 3);
+            assert_eq!(
+                ch.layer,
+                m.layer(c, m.thickness.unwrap_or(config.thickness_cm))
+            );
+            assert_eq!(ch.grid, config.grid_for(m).unwrap());
+        }
+        assert!(
+            config
+                .batch(&[&a], 1000, 7, false)
+                .unwrap()
+                .tallies
+                .absorption_rz
+        );
+        assert!(config.batch(&[&a], 0, 7, true).is_err());
     }
 }
