@@ -17,8 +17,6 @@ mod profile;
 mod progress;
 mod render;
 mod reproduce;
-mod reproduce_chapter5;
-mod reproduce_rendered;
 mod simulate;
 
 use std::path::PathBuf;

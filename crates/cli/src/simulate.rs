@@ -15,10 +15,10 @@ use mc::{BatchSpec, CHANNELS, ChannelSpec, Output};
 use rayon::prelude::*;
 use serde_json::{Value, json};
 
-use crate::cache::{Provenance, provenance_path};
 use crate::files::Outputs;
 use crate::library::{self, Named};
 use crate::{parse_count, progress};
+use mc::provenance::{Provenance, provenance_path};
 
 #[derive(Args)]
 pub struct SimulateArgs {
@@ -307,7 +307,10 @@ fn finish(
             provenance_path(&csv),
             Provenance::of(spec, m, &slug, target_error).to_json(),
         );
-        files.add(csv, profile_csv(&chans));
+        files.add(
+            csv,
+            fit::Profile::csv_from_mc([chans[0], chans[1], chans[2]]),
+        );
         let mut mco_files = Vec::new();
         if !profile_only {
             // The three .mco texts (each a few MB of formatted numbers) in parallel.
@@ -384,21 +387,6 @@ fn finish(
         );
     }
     Ok(())
-}
-
-/// `r_cm,R,G,B,R_se,G_se,B_se`: Rd(r) [cm⁻²] at MCML's optimal bin radii, with standard errors;
-/// the last row is MCML's overflow bin.
-pub fn profile_csv(chans: &[&Output]) -> String {
-    let g = chans[0].grid;
-    let n = g.nr - 1;
-    let est = |c: usize, i: usize| chans[c].rd_r[i];
-    let p = fit::Profile {
-        dr: g.dr,
-        r: (0..n).map(|i| g.r_optimal(i)).collect(),
-        rd: [0, 1, 2].map(|c| (0..n).map(|i| est(c, i).value).collect()),
-        se: [0, 1, 2].map(|c| (0..n).map(|i| est(c, i).se).collect()),
-    };
-    p.to_csv([0, 1, 2].map(|c| (est(c, n).value, est(c, n).se)))
 }
 
 fn summary_json(

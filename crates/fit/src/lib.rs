@@ -45,6 +45,7 @@ pub mod plot;
 mod preint;
 mod profile;
 pub mod profile_compare;
+pub mod reproduce;
 pub mod select;
 mod separable;
 pub mod signals;

@@ -176,6 +176,21 @@ impl Profile {
         Ok(())
     }
 
+    /// The CSV of three `mc` runs on one grid (R, G, B): Rd(r) with its standard errors at
+    /// MCML's optimal radii, the grid's last bin (everything beyond it) as the overflow row.
+    pub fn csv_from_mc(chans: [&mc::Output; 3]) -> String {
+        let g = chans[0].grid;
+        let n = g.nr - 1;
+        let est = |c: usize, i: usize| chans[c].rd_r[i];
+        let p = Profile {
+            dr: g.dr,
+            r: (0..n).map(|i| g.r_optimal(i)).collect(),
+            rd: [0, 1, 2].map(|c| (0..n).map(|i| est(c, i).value).collect()),
+            se: [0, 1, 2].map(|c| (0..n).map(|i| est(c, i).se).collect()),
+        };
+        p.to_csv([0, 1, 2].map(|c| (est(c, n).value, est(c, n).se)))
+    }
+
     /// The CSV `sss simulate` writes (`r_cm,R,G,B,R_se,G_se,B_se`): one row per bin, then the
     /// overflow bin with `overflow` (Rd [cm⁻²] of everything beyond the grid spread over the
     /// last annulus, as MCML does, standard error 0 when not known) at MCML's optimal coordinate

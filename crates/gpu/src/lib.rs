@@ -36,6 +36,7 @@ mod light;
 mod mesh;
 mod params;
 mod render;
+pub mod reproduce;
 mod scene;
 mod shading;
 mod shadow;

@@ -44,6 +44,7 @@ pub mod mco;
 mod output;
 mod phase;
 mod photon;
+pub mod provenance;
 mod rng;
 pub mod shard;
 mod simulate;
