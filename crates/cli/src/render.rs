@@ -52,7 +52,10 @@ fn angle_tables(
         return Ok(gpu::AngleTables::ONES);
     }
     let spec = table_spec(named, photons, source)?;
-    let bar = crate::progress::photons(photons * 3 * angles, "angle tables");
+    let bar = crate::progress::photons(
+        photons * spec.groups().len() as u64 * angles,
+        "angle tables",
+    );
     let t = gpu::AngleTables::from_mc(&spec, incidence, exit, &|k| bar.inc(k))
         .with_context(|| format!("--incidence-aware/--exit-aware: {}", named.slug))?;
     bar.finish_and_clear();
@@ -91,7 +94,7 @@ fn translucency_table(
     let spec = table_spec(named, photons, source)?;
     let rho = [0, 1, 2].map(|c| profile.total(c));
     let bar = crate::progress::photons(
-        photons * 3 * gpu::TRANSLUCENCY_STEPS as u64,
+        photons * spec.groups().len() as u64 * gpu::TRANSLUCENCY_STEPS as u64,
         "translucency table",
     );
     let t = gpu::Translucency::from_mc(&spec, rho, &|k| bar.inc(k))
@@ -512,25 +515,13 @@ fn kernel_of(p: &Profile, slug: &str, model: KernelModel, taps: usize) -> Result
     Ok(build_kernel(p, &plain(model), slug, spec)?.0)
 }
 
-/// The model of rank `rank` on the ladder `--error-target` climbs: 1 pre-integration, 2–6 SVD
-/// rescaled to the kernel's energy.
-fn rank_model(rank: usize) -> KernelModel {
-    match rank {
-        1 => KernelModel::Preint,
-        _ => KernelModel::Svd {
-            rank,
-            renormalize: true,
-        },
-    }
-}
-
 /// The kernel of the smallest rank (1: pre-integration, 2–6: SVD, renormalized) whose image RMS
 /// meets `target` (see `--error-target`), else rank 6 with a warning; prints each rank tried.
 fn kernel_for_target(p: &Profile, slug: &str, taps: usize, target: f64) -> Result<ShaderKernel> {
     let judge = fit::select::Judge::new(p);
     let mut best = None;
     for rank in 1..=6usize {
-        let model = rank_model(rank);
+        let model = gpu::bench::rank_model(rank);
         let scored = judge.fit_and_score(model, slug, taps)?;
         let e = scored.error();
         let met = e <= target;
@@ -958,7 +949,10 @@ fn compare(
         gpu,
         scene,
         base,
-        &gpu::AreaGatherSetup::new(gpu::AreaKernel::for_material(&named.material, p)?),
+        &gpu::AreaGatherSetup::new(
+            gpu::AreaKernel::for_material(&named.material, p)
+                .with_context(|| format!("the area gather of {slug}"))?,
+        ),
     )?;
     let labels = MODELS.iter().map(|(l, _)| *l).chain(["area-gather"]);
     let shown: Vec<(&str, &gpu::compare::Shown)> =
@@ -1080,9 +1074,8 @@ fn dipole_setup(
     Ok(setup)
 }
 
-/// Directional-dipole frame times at 1920×1080 (median of 3 renders of `frames` frames each):
-/// 8 and 16 samples per pixel and light, with the scene's lights and with 4 lights (the draft's
-/// target is 3–5 lights under 100 ms per frame, ideally 16 ms).
+/// `--bench` with the directional dipole (`gpu::bench::dipole`): its table (stdout, or stderr
+/// with --json) and with --json the rows on stdout.
 fn bench_dipole(
     gpu: &Gpu,
     scene: &Scene,
@@ -1090,77 +1083,35 @@ fn bench_dipole(
     slug: &str,
     a: &RenderArgs,
 ) -> Result<()> {
-    macro_rules! table {
-        ($($t:tt)*) => {
-            if a.json { eprintln!($($t)*) } else { println!($($t)*) }
-        };
-    }
-    let params = RenderParams {
-        width: 1920,
-        height: 1080,
-        ..RenderParams::default()
+    let table = |line: String| {
+        if a.json {
+            eprintln!("{line}")
+        } else {
+            println!("{line}")
+        }
     };
     if !gpu.timestamps {
         eprintln!(
             "this adapter has no timestamp queries: reporting whole-render wall time instead"
         );
     }
-    let mut four = scene.clone();
-    while four.lights.len() < 4 {
-        let k = four.lights.len() as f32;
-        four.lights.push(Light::Directional {
-            towards: Vec3::new((1.7 * k).cos(), 1.0, (1.7 * k).sin()).normalize(),
-            irradiance: Vec3::splat(0.4),
-            shadow: true,
-        });
-    }
-    table!(
+    let rows = gpu::bench::dipole(gpu, scene, base)?;
+    table(format!(
         "directional dipole at 1920×1080 on {} ({slug}, {} frames per render, median of 3 renders)",
-        gpu.adapter_name,
-        base.frames
-    );
-    table!(
+        gpu.adapter_name, base.frames
+    ));
+    table(format!(
         "  {:>6} {:>8} {:>18} {:>18}",
-        "lights",
-        "samples",
-        "dipole ms/frame",
-        "render wall ms"
-    );
-    let mut rows = Vec::new();
-    for s in [scene, &four] {
-        for samples in [8, 16] {
-            let setup = DipoleSetup { samples, ..*base };
-            let mut runs = Vec::new();
-            for _ in 0..3 {
-                let t = std::time::Instant::now();
-                let f = gpu::render(gpu, s, Scatter::DirectionalDipole(&setup), &params)?;
-                let wall = t.elapsed().as_secs_f64() * 1e3;
-                let dipole: f64 = f
-                    .times
-                    .iter()
-                    .filter(|t| t.label.starts_with("directional dipole"))
-                    .map(|t| t.ms)
-                    .sum();
-                runs.push((dipole / setup.frames as f64, wall));
-            }
-            let median = |mut v: Vec<f64>| {
-                v.sort_by(f64::total_cmp);
-                v[v.len() / 2]
-            };
-            let per_frame = median(runs.iter().map(|r| r.0).collect());
-            let wall = median(runs.iter().map(|r| r.1).collect());
-            let lights = s.lights.len();
-            table!(
-                "  {lights:>6} {samples:>8} {:>18} {wall:>18.1}",
-                if gpu.timestamps {
-                    format!("{per_frame:.3}")
-                } else {
-                    "-".into()
-                }
-            );
-            rows.push(json!({"method": "directional-dipole", "lights": lights, "samples": samples, "frames": setup.frames,
-                "dipole_ms_per_frame": gpu.timestamps.then_some(per_frame), "render_wall_ms": wall, "timestamps": gpu.timestamps}));
-        }
+        "lights", "samples", "dipole ms/frame", "render wall ms"
+    ));
+    for r in &rows {
+        table(format!(
+            "  {:>6} {:>8} {:>18} {:>18.1}",
+            r.lights,
+            r.samples,
+            ms(r.dipole_ms_per_frame),
+            r.render_wall_ms
+        ));
     }
     if a.json {
         println!(
@@ -1171,14 +1122,14 @@ fn bench_dipole(
     Ok(())
 }
 
-/// The SSS passes timed at --width × --height (1920×1080 by default) on a renderer built once
-/// (median of 5 frames each): every configuration of 11/17/25/33 taps × rank 1
-/// (pre-integration), 2, 3 (SVD) × full and half resolution (the latter's down- and upsampling
-/// counted in its SSS time) × the exact and the fast blur path, then what each skip saves on the
-/// 17-tap kernels (pixels without SSS, sub-pixel kernels, ranks beyond an image-error target).
-/// GPU times are the blur passes' timestamp queries (null where the adapter has none; on a CPU
-/// adapter such as lavapipe they do not measure the work, so compare frame-time ratios there);
-/// frame times are wall-clock from recording to completion, uploads included, readback not.
+/// A time [ms] with three decimals, or "-" where there is none.
+fn ms(v: Option<f64>) -> String {
+    v.map_or("-".to_string(), |v| format!("{v:.3}"))
+}
+
+/// `--bench` with the separable passes (`gpu::bench::separable`, at --width × --height): every
+/// configuration and what each skip saves, as a table (stdout, or stderr with --json) and with
+/// --json as JSON on stdout.
 fn bench(
     gpu: &Gpu,
     scene: &Scene,
@@ -1187,16 +1138,12 @@ fn bench(
     area: Option<&gpu::AreaGatherSetup>,
     a: &RenderArgs,
 ) -> Result<()> {
-    // With --json, stdout carries only the JSON: the table goes to stderr.
-    macro_rules! table {
-        ($($t:tt)*) => {
-            if a.json { eprintln!($($t)*) } else { println!($($t)*) }
-        };
-    }
-    let params = RenderParams {
-        width: a.width,
-        height: a.height,
-        ..RenderParams::default()
+    let table = |line: String| {
+        if a.json {
+            eprintln!("{line}")
+        } else {
+            println!("{line}")
+        }
     };
     if !gpu.timestamps {
         eprintln!("this adapter has no timestamp queries: GPU times are null, frame times remain");
@@ -1208,239 +1155,60 @@ fn bench(
             gpu.adapter_name
         );
     }
-    let renderer = gpu::Renderer::new(gpu);
-    // Median over 5 frames of the SSS passes' GPU time (None without timestamps) and the frame.
-    let measure_with =
-        |scene: &Scene, scatter: Scatter, params: &RenderParams| -> Result<(Option<f64>, f64)> {
-            let mut sss = Vec::new();
-            let mut wall = Vec::new();
-            for _ in 0..5 {
-                let t = renderer.time(gpu, scene, scatter, params)?;
-                sss.push(
-                    t.passes
-                        .iter()
-                        .filter(|p| {
-                            [
-                                "horizontal",
-                                "vertical",
-                                "half-res down",
-                                "half-res up",
-                                "blur pack",
-                                "surface",
-                                "area level 0",
-                                "area pyramid",
-                                "area gather",
-                            ]
-                            .iter()
-                            .any(|k| p.label.ends_with(k))
-                        })
-                        .map(|p| p.ms)
-                        .sum::<f64>(),
-                );
-                wall.push(t.wall_ms);
-            }
-            let median = |mut v: Vec<f64>| {
-                v.sort_by(f64::total_cmp);
-                v[v.len() / 2]
-            };
-            Ok((gpu.timestamps.then(|| median(sss)), median(wall)))
-        };
-    let measure = |scene: &Scene, k: &GpuKernel, params: &RenderParams| {
-        measure_with(scene, Scatter::Separable(std::slice::from_ref(k)), params)
-    };
-    let ms = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.3}"));
-    table!(
+    let b = gpu::bench::separable(gpu, scene, p, slug, a.width, a.height, a.sss_width, area)?;
+    table(format!(
         "SSS passes at {}×{} on {} ({slug} on {}, renderer built once, median of 5 frames)",
-        a.width,
-        a.height,
-        gpu.adapter_name,
-        a.scene
-    );
-    table!(
+        a.width, a.height, gpu.adapter_name, a.scene
+    ));
+    table(format!(
         "  {:<12} {:>5} {:>5} {:>10} {:>6} {:>12} {:>10} {:>14}",
-        "kernel",
-        "taps",
-        "rank",
-        "resolution",
-        "path",
-        "SSS GPU ms",
-        "frame ms",
-        "÷ preint 17"
-    );
-    let mut configs = Vec::new();
-    let mut preint17 = None;
-    for rank in 1..=3usize {
-        let model = rank_model(rank);
-        for taps in [11, 17, 25, 33] {
-            let k = GpuKernel::from_shader_kernel(&kernel_of(p, slug, model, taps)?)?;
-            for (half, fast) in [(false, false), (true, false), (false, true), (true, true)] {
-                let (sss, frame) = measure(
-                    scene,
-                    &k,
-                    &RenderParams {
-                        half_res: half,
-                        fast,
-                        ..params
-                    },
-                )?;
-                if rank == 1 && taps == 17 && !half && !fast {
-                    preint17 = Some((k.clone(), sss, frame));
-                }
-                let ratio = frame / preint17.as_ref().map_or(frame, |p| p.2);
-                let resolution = if half { "half" } else { "full" };
-                let path = if fast { "fast" } else { "exact" };
-                table!(
-                    "  {:<12} {taps:>5} {rank:>5} {resolution:>10} {path:>6} {:>12} {frame:>10.1} {:>14}",
-                    model.to_string(),
-                    ms(sss),
-                    if preint17.is_some() {
-                        format!("{ratio:.2}")
-                    } else {
-                        "-".into()
-                    }
-                );
-                configs.push(json!({"kernel": model.to_string(), "taps": taps, "rank": rank, "resolution": resolution, "path": path, "gpu_ms": sss, "frame_ms": frame}));
-            }
-        }
+        "kernel", "taps", "rank", "resolution", "path", "SSS GPU ms", "frame ms", "÷ preint 17"
+    ));
+    for c in &b.configs {
+        table(format!(
+            "  {:<12} {:>5} {:>5} {:>10} {:>6} {:>12} {:>10.1} {:>14.2}",
+            c.kernel,
+            c.taps,
+            c.rank.map_or("-".into(), |r| r.to_string()),
+            c.resolution,
+            c.path,
+            ms(c.gpu_ms),
+            c.frame_ms,
+            c.frame_ratio_to_preint17
+        ));
     }
-    let (k, on_sss, on_frame) = preint17.expect("17 taps were timed");
-    // The area gather (--method area-gather): its layered pattern and the brute-force 2D gather
-    // over the kernel's reach at the target's distance (at most 64 px).
-    if let Some(setup) = area {
-        let dist = (scene.camera.position - scene.camera.target).length();
-        let reach =
-            setup.kernel.r_max_cm() * a.sss_width * scene.camera.px_per_cm_at_unit_depth(a.height)
-                / dist;
-        let dense = gpu::GatherPattern::dense((reach.ceil() as u32).clamp(1, 64));
-        for (path, pattern) in [("layered", setup.pattern), ("dense", dense)] {
-            let s = gpu::AreaGatherSetup {
-                pattern,
-                ..setup.clone()
-            };
-            let (sss, frame) = measure_with(scene, Scatter::AreaGather(&s), &params)?;
-            let taps = pattern.taps().len();
-            table!(
-                "  {:<12} {taps:>5} {:>5} {:>10} {path:>6} {:>12} {frame:>10.1} {:>14.2}",
-                "area-gather",
-                "-",
-                "full",
-                ms(sss),
-                frame / on_frame
-            );
-            configs.push(json!({"kernel": "area-gather", "taps": taps, "rank": null, "resolution": "full", "path": path, "gpu_ms": sss, "frame_ms": frame}));
-        }
-    }
-    // Frame time relative to the 17-tap pre-integration: what a CPU adapter can quote.
-    for c in &mut configs {
-        c["frame_ratio_to_preint17"] = json!(c["frame_ms"].as_f64().unwrap_or(f64::NAN) / on_frame);
-    }
-    // Pixels without SSS: the same frame with every pixel running every tap.
-    let (off_sss, off_frame) = measure(
-        scene,
-        &k,
-        &RenderParams {
-            skip_empty: false,
-            ..params
-        },
-    )?;
-    let frame = gpu::Renderer::new(gpu).render(
-        gpu,
-        scene,
-        Scatter::None,
-        &RenderParams {
-            width: 192,
-            height: 108,
-            ..params
-        },
-    )?;
-    let sss_share =
-        frame.geometry.iter().filter(|g| g[1] > 0.0).count() as f64 / frame.geometry.len() as f64;
-    // Sub-pixel kernels: the scene seen from so far that the kernel reaches 0.8 of the
-    // threshold (a far-away object; it covers fewer pixels too).
-    let near_px = gpu::kernel_footprint_px(scene, 0, &k, &params);
-    let factor = (near_px / (0.8 * gpu::SUBPIXEL_PX)).max(1.0);
-    let mut far = scene.clone();
-    far.camera.position = far.camera.target + factor * (far.camera.position - far.camera.target);
-    let far_px = gpu::kernel_footprint_px(&far, 0, &k, &params);
-    let (far_on_sss, far_on_frame) = measure(&far, &k, &params)?;
-    let (far_off_sss, far_off_frame) = measure(
-        &far,
-        &k,
-        &RenderParams {
-            skip_subpixel: false,
-            ..params
-        },
-    )?;
-    let saving = |on: Option<f64>, off: Option<f64>, on_frame: f64, off_frame: f64| {
-        json!({"gpu_ms_on": on, "gpu_ms_off": off,
-            "gpu_saved_fraction": on.zip(off).map(|(a, b)| 1.0 - a / b),
-            "frame_ms_on": on_frame, "frame_ms_off": off_frame,
-            "frame_saved_fraction": 1.0 - on_frame / off_frame})
-    };
-    let mut empty = saving(on_sss, off_sss, on_frame, off_frame);
-    empty["sss_pixel_fraction"] = json!(sss_share);
-    let mut subpixel = saving(far_on_sss, far_off_sss, far_on_frame, far_off_frame);
-    subpixel["distance_factor"] = json!(factor);
-    subpixel["footprint_px"] = json!(far_px);
-    // Ranks beyond an image-error target (--error-target): with the target at 1.05 × the best
-    // image RMS of ranks 1–3 at 17 taps, the smallest rank that meets it against always rank 3.
-    let judge = fit::select::Judge::new(p);
-    let errors = (1..=3)
-        .map(|r| Ok(judge.fit_and_score(rank_model(r), slug, 17)?.error()))
-        .collect::<Result<Vec<f64>>>()?;
-    let target = 1.05 * errors.iter().copied().fold(f64::MAX, f64::min);
-    let chosen = errors
-        .iter()
-        .position(|&e| e <= target)
-        .expect("the best rank meets 1.05 × its own error")
-        + 1;
-    let timed = |rank: usize, key: &str| {
-        configs
-            .iter()
-            .find(|c| {
-                c["taps"] == 17
-                    && c["rank"] == rank
-                    && c["resolution"] == "full"
-                    && c["path"] == "exact"
-            })
-            .and_then(|c| c[key].as_f64())
-    };
-    let nan = f64::NAN;
-    let mut ranks = saving(
-        timed(chosen, "gpu_ms"),
-        timed(3, "gpu_ms"),
-        timed(chosen, "frame_ms").unwrap_or(nan),
-        timed(3, "frame_ms").unwrap_or(nan),
-    );
-    ranks["target_image_rms"] = json!(target);
-    ranks["image_rms_by_rank"] = json!(errors);
-    ranks["rank_chosen"] = json!(chosen);
-    table!("skips (preint, 17 taps; SSS GPU ms on / off, frame ms on / off):");
-    table!(
-        "  pixels without SSS ({:.0} % of the image has SSS): {} / {}, {on_frame:.1} / {off_frame:.1}",
-        100.0 * sss_share,
-        ms(on_sss),
-        ms(off_sss)
-    );
-    table!(
-        "  sub-pixel kernels (the scene {factor:.1}× as far, footprint {near_px:.1} → {far_px:.2} px): {} / {}, {far_on_frame:.1} / {far_off_frame:.1}",
-        ms(far_on_sss),
-        ms(far_off_sss)
-    );
-    table!(
-        "  ranks beyond an image-error target ({target:.5}, 1.05 × the best of ranks 1–3): rank {chosen} chosen, frame ms {:.1} / {:.1} (rank 3)",
-        timed(chosen, "frame_ms").unwrap_or(nan),
-        timed(3, "frame_ms").unwrap_or(nan)
-    );
+    let s = &b.skips;
+    let (e, f, r) = (&s.empty_pixels, &s.subpixel_kernels, &s.rank_target);
+    table("skips (preint, 17 taps; SSS GPU ms on / off, frame ms on / off):".into());
+    table(format!(
+        "  pixels without SSS ({:.0} % of the image has SSS): {} / {}, {:.1} / {:.1}",
+        100.0 * e.sss_pixel_fraction,
+        ms(e.saving.gpu_ms_on),
+        ms(e.saving.gpu_ms_off),
+        e.saving.frame_ms_on,
+        e.saving.frame_ms_off
+    ));
+    table(format!(
+        "  sub-pixel kernels (the scene {:.1}× as far, footprint {:.1} → {:.2} px): {} / {}, {:.1} / {:.1}",
+        f.distance_factor,
+        f.near_footprint_px,
+        f.footprint_px,
+        ms(f.saving.gpu_ms_on),
+        ms(f.saving.gpu_ms_off),
+        f.saving.frame_ms_on,
+        f.saving.frame_ms_off
+    ));
+    table(format!(
+        "  ranks beyond an image-error target ({:.5}, 1.05 × the best of ranks 1–3): rank {} chosen, frame ms {:.1} / {:.1} (rank 3)",
+        r.target_image_rms, r.rank_chosen, r.saving.frame_ms_on, r.saving.frame_ms_off
+    ));
     if a.json {
         println!(
             "{}",
             serde_json::to_string_pretty(&json!({
-                "adapter": gpu.adapter_name, "width": params.width, "height": params.height,
+                "adapter": gpu.adapter_name, "width": a.width, "height": a.height,
                 "scene": a.scene, "material": slug, "timestamps": gpu.timestamps,
-                "cpu_adapter": cpu_adapter,
-                "configs": configs,
-                "skips": {"empty_pixels": empty, "subpixel_kernels": subpixel, "rank_target": ranks},
+                "cpu_adapter": cpu_adapter, "configs": b.configs, "skips": b.skips,
             }))?
         );
     }

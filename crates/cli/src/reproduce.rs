@@ -45,7 +45,9 @@ pub struct ReproduceArgs {
 
     /// Include the rendered-scene comparisons against Mitsuba 3: an images.json that
     /// `python3 scripts/references/images.py` wrote, or the summary.json of `run.py` (every scene
-    /// and material it ran, the long-mean-free-path ones included); repeatable
+    /// and material it ran, the long-mean-free-path ones included); repeatable. Each entry must
+    /// have the fields the page shows (a file missing one is refused, naming it); report.json
+    /// keeps every field
     #[arg(long, value_name = "JSON")]
     references: Vec<PathBuf>,
 

@@ -155,19 +155,24 @@ impl Judge {
         })
     }
 
-    /// Fits, samples and scores one model.
-    pub fn fit_and_score(&self, model: KernelModel, material: &str, taps: usize) -> Result<Scored> {
+    /// Fits one model and samples it into `taps` taps per pass.
+    pub fn kernel(&self, model: KernelModel, material: &str, taps: usize) -> Result<ShaderKernel> {
         let fitted = model.fit_truths(&self.truths, material)?;
-        let kernel = ShaderKernel::from_fitted(
+        ShaderKernel::from_fitted(
             &fitted,
             material,
             TapSpec {
                 taps,
                 ..TapSpec::default()
             },
-        )?;
+        )
+    }
+
+    /// Fits, samples and scores one model.
+    pub fn fit_and_score(&self, model: KernelModel, material: &str, taps: usize) -> Result<Scored> {
+        let kernel = self.kernel(model, material, taps)?;
         Ok(Scored {
-            model: fitted.model,
+            model: kernel.model,
             image_rms: self.score(&kernel),
             kernel,
         })

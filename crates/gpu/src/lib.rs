@@ -24,6 +24,7 @@
 #![warn(missing_docs)]
 
 pub mod area_gather;
+pub mod bench;
 mod blur;
 mod combine;
 pub mod compare;

@@ -18,11 +18,20 @@ fn h(w: f64, mu: f64) -> f64 {
     (-mu / std::f64::consts::PI * integral).exp()
 }
 
-/// The H-function's known value H(1) = 2.9078 for a conservative medium (Chandrasekhar 1960).
+/// The H-function's known value H(1) = 2.9078 for a conservative medium, and its zeroth
+/// moment ∫₀¹ H(μ) dμ = 2(1 − √(1 − w))/w (Chandrasekhar 1960).
 #[test]
-fn h_function_has_its_tabulated_value() {
+fn h_function_has_its_known_values() {
     assert!((h(1.0, 1.0) - 2.9078).abs() < 1e-3, "{}", h(1.0, 1.0));
-    assert!((h(0.5, 0.0) - 1.0).abs() < 1e-12);
+    for w in [0.5, 0.9, 0.99] {
+        let n = 400;
+        let moment: f64 = (0..n)
+            .map(|k| h(w, (k as f64 + 0.5) / n as f64))
+            .sum::<f64>()
+            / n as f64;
+        let want = 2.0 * (1.0 - (1.0 - w).sqrt()) / w;
+        assert!((moment - want).abs() < 1e-3, "w {w}: {moment} vs {want}");
+    }
 }
 
 /// Three channels of albedo 0.99, 0.9 and 0.5, η = 1, g = 0, a half-space. The total diffuse

@@ -222,25 +222,28 @@ pub struct MitsubaImages {
     /// Silhouette blocks excluded, as a fraction of the lit blocks.
     pub silhouette_fraction: f64,
     /// Whether the calibration passed (absent: no calibration).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration_pass: Option<bool>,
     /// The calibration's noise-corrected RMSE, relative.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration_rmse_rel: Option<f64>,
     /// Its standard error.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration_rmse_se: Option<f64>,
     /// The calibration's energy ratio per channel.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration_energy_ratio: Option<[f64; 3]>,
     /// The deliberately wrong render (albedo × 0.8).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub negative_control: Option<NegativeControl>,
     /// Each model's errors.
     pub models: Vec<MitsubaModel>,
     /// Paired rankings: Some(true/false) when resolved at 3 standard errors, None undecided.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub rankings: BTreeMap<String, Option<bool>>,
+    /// Every other field `images.py` wrote, kept as it was.
+    #[serde(flatten)]
+    pub extra: serde_json::Map<String, serde_json::Value>,
 }
 
 fn default_scene() -> String {
@@ -256,6 +259,9 @@ fn default_material() -> String {
 pub struct NegativeControl {
     /// Whether the calibration test rejected it, as it must.
     pub rejected: bool,
+    /// Every other field, kept as it was.
+    #[serde(flatten)]
+    pub extra: serde_json::Map<String, serde_json::Value>,
 }
 
 /// One model's errors against Mitsuba, relative to the reference's mean.
@@ -275,19 +281,34 @@ pub struct MitsubaModel {
     pub ssim: f64,
     /// Energy ratio per channel, ours over Mitsuba's.
     pub energy_ratio: [f64; 3],
+    /// Every other field, kept as it was.
+    #[serde(flatten)]
+    pub extra: serde_json::Map<String, serde_json::Value>,
 }
 
 impl MitsubaImages {
     /// The comparisons in a JSON text: `images.py`'s one, or every entry of `run.py`'s summary
-    /// (its `images` list). The error says what is missing.
+    /// (its `images` list). Fields the page shows are required (scene and material default to
+    /// the sphere and Skin1); every other field is kept. The error names the entry and what is
+    /// missing.
     pub fn parse(text: &str) -> std::result::Result<Vec<MitsubaImages>, String> {
         let v: serde_json::Value = serde_json::from_str(text).map_err(|e| e.to_string())?;
         let list = match v.get("images") {
-            Some(images) => images.clone(),
-            None => serde_json::Value::Array(vec![v]),
+            Some(serde_json::Value::Array(images)) => images.clone(),
+            Some(_) => return Err("\"images\" is not a list".into()),
+            None => vec![v],
         };
-        serde_json::from_value(list)
-            .map_err(|e| format!("{e} (expected images.py's images.json or run.py's summary.json)"))
+        list.into_iter()
+            .enumerate()
+            .map(|(i, entry)| {
+                serde_json::from_value(entry).map_err(|e| {
+                    format!(
+                        "entry {}: {e} (expected images.py's images.json or run.py's summary.json; rerun images.py)",
+                        i + 1
+                    )
+                })
+            })
+            .collect()
     }
 }
 
@@ -350,6 +371,32 @@ impl Report {
 mod tests {
     use super::*;
 
+    /// The published rows are read in the order of `RANK1`: SVD rank-1, pre-integration,
+    /// guided k = 1, manual.
+    #[test]
+    fn published_rows_follow_rank1() {
+        use crate::evaluate::RANK1;
+        assert!(matches!(
+            RANK1,
+            [
+                KernelModel::Svd {
+                    rank: 1,
+                    renormalize: false
+                },
+                KernelModel::Preint,
+                KernelModel::Guided { k: 1.0, b: 0.0 },
+                KernelModel::Manual(_)
+            ]
+        ));
+        let p = PublishedRank1 {
+            svd1: [1.0; 3],
+            preint: [2.0; 3],
+            guided_k1: [3.0; 3],
+            manual: [4.0; 3],
+        };
+        assert_eq!(p.rows().map(|r| r[0]), [1.0, 2.0, 3.0, 4.0]);
+    }
+
     /// The published tables have every main material, the six thesis scenes and N = 1…6.
     #[test]
     fn published_tables_are_complete() {
@@ -378,6 +425,12 @@ mod tests {
         let summary = format!(r#"{{"failed": [], "images": [{one}, {one}]}}"#);
         assert_eq!(MitsubaImages::parse(&summary).unwrap().len(), 2);
         let e = MitsubaImages::parse(r#"{"models": [{"model": "x"}]}"#).unwrap_err();
-        assert!(e.contains("missing field"), "{e}");
+        assert!(e.contains("entry 1") && e.contains("missing field"), "{e}");
+        // Fields the page does not show survive a round trip; absent options stay absent.
+        let with_extra = one.replacen("{", r#"{"checks": 13, "#, 1);
+        let v = &MitsubaImages::parse(&with_extra).unwrap()[0];
+        let back = serde_json::to_value(v).unwrap();
+        assert_eq!(back["checks"], 13);
+        assert!(back.get("calibration_pass").is_none());
     }
 }

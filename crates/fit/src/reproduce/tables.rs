@@ -116,7 +116,8 @@ fn image_rms(r: &Row) -> f64 {
 }
 
 /// The tables from `materials` (slug and coefficients, every material of Table 6.2) and `evals`,
-/// the evaluations of the [`MAIN`] materials in that order.
+/// the evaluations of the [`MAIN`] materials in that order (panics on another count: a caller's
+/// bug).
 pub fn tables(
     materials: &[(&str, &mc::Material)],
     evals: &[Evaluation],
@@ -287,7 +288,7 @@ fn claims(
     kernel_wins: usize,
     published: &Published,
 ) -> Vec<Claim> {
-    let (svd, deon) = (&t65.svd, &t65.deon);
+    let (svd, deon) = (&t65.svd_raw, &t65.deon_raw);
     let cases = |rows: &[Vec<[f64; 3]>], f: &dyn Fn(&[[f64; 3]]) -> [bool; 3]| -> usize {
         rows.iter()
             .map(|m| f(m).iter().filter(|&&b| b).count())
