@@ -25,7 +25,8 @@ The reference is the mean of two independent Mitsuba renders at half the sample 
 their difference measures its noise. Reported per model on 2×2 blocks, relative to the
 reference's mean: RMSE, the noise-corrected RMSE (√(MSE − var(reference))) with its standard
 error, the spatial part (what remains once each channel is scaled by its best global factor),
-SSIM on luminance, the energy ratio per channel, and difference images. Rankings compare two
+SSIM on luminance, the energy ratio per channel, and `sheet.png`: every render beside its
+difference from Mitsuba on one labelled colour scale (±20 % of the mean). Rankings compare two
 models block by block (paired) and are resolved only when the difference of their
 noise-corrected MSEs exceeds 3 standard errors; otherwise they are reported as undecided. What
 must hold: no ranking is resolved the wrong way round (every kernel model closer to Mitsuba than
@@ -364,6 +365,39 @@ def write_png(path, rgb):
         f.write(png)
 
 
+def sheet(path, title, panels, diff_range):
+    """One labelled figure of the comparison: `panels` is a list of (label, image, kind), kind
+    "rgb" (8-bit RGB, shown as is) or "diff" (ours − reference, mean of R, G, B, as a fraction of
+    the reference's mean), four panels per row under `title`; every difference on one diverging
+    scale of ±`diff_range` with its colour bar."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    cols = 4
+    rows = (len(panels) + cols - 1) // cols
+    h, w = panels[0][1].shape[:2]
+    fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 3.2 * h / w * rows + 1.6),
+                             squeeze=False, layout="constrained")
+    shown = None
+    for ax, (label, img, kind) in zip(axes.flat, panels):
+        if kind == "diff":
+            shown = ax.imshow(100 * img, cmap="RdBu_r", vmin=-100 * diff_range, vmax=100 * diff_range)
+        else:
+            ax.imshow(img)
+        ax.set_title(label, fontsize=9)
+    for ax in axes.flat:
+        ax.set_xticks([])
+        ax.set_yticks([])
+        if not ax.images:
+            ax.axis("off")
+    if shown is not None:
+        fig.colorbar(shown, ax=axes, orientation="horizontal", shrink=0.5, aspect=40,
+                     label="ours − Mitsuba, mean of R, G, B [% of the reference's mean]; red: ours brighter")
+    fig.suptitle(title)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
 def tonemap(img, exposure):
     x = np.clip(img * exposure, 0, None)
     t = np.clip((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), 0, 1)
@@ -558,7 +592,7 @@ def main():
           + ("rejected" if control_rejected else "NOT REJECTED"))
     print("  interreflections (all bounces / direct, Lambertian): " + "/".join(f"{e:.4f}" for e in interreflection))
     lum = lambda x: x @ np.array([0.2126, 0.7152, 0.0722])
-    rows, per = [], {}
+    rows, per, panels = [], {}, []
     for label, o2 in o2s.items():
         ours = images[label]
         per[label], row = measure(o2, r2, d2, mask, mean)
@@ -577,22 +611,28 @@ def main():
         # Structural dissimilarity, as Maisch & Ropinski report: (1 − SSIM)/2.
         row["dssim"] = (1 - row["ssim"]) / 2
         rows.append({"model": label, **row})
-        diff = np.clip((ours - ref).mean(2) / mean * 5, -1, 1)
-        dimg = np.stack([255 * (1 - np.clip(-diff, 0, 1)), 255 * (1 - np.abs(diff)), 255 * (1 - np.clip(diff, 0, 1))], 2)
-        write_png(os.path.join(out, f"{label}.png"), tonemap(ours, 1.0 / mean / 4))
-        write_png(os.path.join(out, f"{label}_diff.png"), dimg)
+        shown = tonemap(ours, 1.0 / mean / 4)
+        write_png(os.path.join(out, f"{label}.png"), shown)
+        panels += [(f"{label}: {100 * row['rmse_noise_corrected']:.1f} ± "
+                    f"{100 * row['rmse_noise_corrected_se']:.1f} %", shown, "rgb"),
+                   (f"{label} − Mitsuba", (ours - ref).mean(2) / mean, "diff")]
         e = row["energy_ratio"]
         print(f"  {label:<29} noise-corrected RMSE {100 * row['rmse_noise_corrected']:5.2f} ± "
               f"{100 * row['rmse_noise_corrected_se']:4.2f}% (raw {100 * row['rmse_rel']:5.2f}%; "
               f"{100 * row['rmse_spatial']:5.2f}% with the best factor per channel), "
               f"DSSIM {row['dssim']:.4f}, energy {e[0]:.3f}/{e[1]:.3f}/{e[2]:.3f}", flush=True)
-    write_png(os.path.join(out, "mitsuba.png"), tonemap(ref, 1.0 / ref[(ref.sum(2) > 0)].mean() / 4))
+    write_png(os.path.join(out, "mitsuba.png"), tonemap(ref, 1.0 / mean / 4))
     write_png(os.path.join(out, "mitsuba_lambert.png"), tonemap(gi, 1.0 / mean / 4))
-    cal_diff = np.clip((lambertian - 0.5 * (cal_a + cal_b)).mean(2) / cal_mean * 5, -1, 1)
-    write_png(os.path.join(out, "calibration_diff.png"), np.stack(
-        [255 * (1 - np.clip(-cal_diff, 0, 1)), 255 * (1 - np.abs(cal_diff)), 255 * (1 - np.clip(cal_diff, 0, 1))], 2))
-    write_png(os.path.join(out, "silhouettes.png"),
-              np.repeat((255 * (1 - edge))[:, :, None], 3, 2).astype(np.uint8))
+    excluded = np.repeat((255 * (1 - edge))[:, :, None], 3, 2).astype(np.uint8)
+    write_png(os.path.join(out, "silhouettes.png"), excluded)
+    head = [("Mitsuba (path-traced reference)", tonemap(ref, 1.0 / mean / 4), "rgb"),
+            ("silhouettes and creases (black: excluded)", excluded, "rgb"),
+            ("calibration: --no-sss, Lambertian surfaces", tonemap(lambertian, 1.0 / cal_mean / 4), "rgb"),
+            ("calibration − Mitsuba's direct light", (lambertian - 0.5 * (cal_a + cal_b)).mean(2) / cal_mean, "diff")]
+    sheet(os.path.join(out, "sheet.png"),
+          f"{a.scene} / {a.material}, {width}×{height}, Mitsuba {spp} spp (noise {100 * noise:.1f} % per 2×2 block); "
+          f"each model's noise-corrected RMSE ± SE (% of the reference's mean)",
+          head + panels, 0.2)
 
     def closer(a, b):
         """Is model a closer to the truth than b? Paired over blocks: True/False where the
