@@ -48,6 +48,9 @@ fn mitsuba_references_agree() {
     // mean, energy within 1 % per channel, silhouettes masked on both sides), and a deliberately
     // wrong render (albedo × 0.8) is rejected by the same test: the instrument can fail.
     for scene in ["images", "images-fin", "images-bust", "images-dielectric"] {
+        // The labelled sheet of renders and difference images.
+        let sheet = std::fs::read(out.path().join(scene).join("sheet.png")).unwrap();
+        assert_eq!(&sheet[..4], b"\x89PNG", "{scene}");
         let v = read(scene);
         assert_eq!(v["calibration_pass"], true, "{scene}: {v}");
         for e in v["calibration_energy_ratio"].as_array().unwrap() {
