@@ -7,8 +7,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use fit::analytic::{Medium, Model, total_at};
-use fit::plot::IncidenceCurve;
+use fit::analytic::Medium;
+use fit::incidence::IncidenceComparison;
 use mc::incidence::IncidenceRow;
 use mc::shard::{self, Shard};
 use mc::{BatchSpec, CHANNELS, ChannelSpec, Output};
@@ -345,19 +345,11 @@ fn finish(
                 format!("{slug}.incidence.csv"),
                 format!("{slug}.incidence.png"),
             );
-            let media = [0, 1, 2].map(|c| {
-                let l = specs[c].layer;
-                Medium {
-                    sigma_a: l.mu_a,
-                    sigma_s: l.mu_s,
-                    g: l.g,
-                    eta: l.n / spec.n_above,
-                }
-            });
-            let models = incidence_models(&media, rows);
-            files.add(out.join(&csv), incidence_csv(rows, &models));
-            files.add(out.join(&png), incidence_png(rows, &models, &slug)?);
-            summary["incidence"] = incidence_json(rows, &models);
+            let media = [0, 1, 2].map(|c| Medium::of_layer(&specs[c].layer, spec.n_above));
+            let table = IncidenceComparison::new(&media, rows.clone());
+            files.add(out.join(&csv), table.csv());
+            files.add(out.join(&png), table.png(&slug)?);
+            summary["incidence"] = table.json();
             summary["files"]["incidence"] = json!(csv);
             summary["files"]["incidence_plot"] = json!(png);
         }
@@ -424,98 +416,6 @@ fn summary_json(
         "walk_groups": spec.groups().len(),
         "files": { "profile": format!("{slug}.profile.csv"), "provenance": format!("{slug}.profile.json"), "mco": mco },
     })
-}
-
-/// The analytic models drawn and tabulated beside Monte Carlo's Rd(θ).
-const INCIDENCE_MODELS: [Model; 3] = [Model::DirectionalDipole, Model::Dipole, Model::BetterDipole];
-
-/// Each of [`INCIDENCE_MODELS`]' total Rd at every angle of `rows`, per channel; a model is left
-/// out where a channel is outside its domain (e.g. does not interact with light).
-fn incidence_models(media: &[Medium; 3], rows: &[IncidenceRow]) -> Vec<IncidenceCurve> {
-    INCIDENCE_MODELS
-        .iter()
-        .filter_map(|&model| {
-            let points = rows
-                .iter()
-                .map(|r| {
-                    let v: Option<Vec<f64>> = (0..3)
-                        .map(|c| total_at(model, &media[c], r.theta_deg).ok())
-                        .collect();
-                    v.map(|v| (r.theta_deg, [v[0], v[1], v[2]]))
-                })
-                .collect::<Option<Vec<_>>>()?;
-            Some(IncidenceCurve {
-                name: model.name().to_string(),
-                points,
-            })
-        })
-        .collect()
-}
-
-/// `theta_deg,R,G,B,R_se,G_se,B_se,R_rsp,G_rsp,B_rsp`, then `MODEL_R,MODEL_G,MODEL_B` per model:
-/// total Rd per unit incident power (without Rsp) with standard errors, the specular reflectance
-/// Rsp, and the analytic models' totals, per angle [degrees].
-fn incidence_csv(rows: &[IncidenceRow], models: &[IncidenceCurve]) -> String {
-    let mut s = String::from("theta_deg,R,G,B,R_se,G_se,B_se,R_rsp,G_rsp,B_rsp");
-    for m in models {
-        for c in ["R", "G", "B"] {
-            s += &format!(",{}_{c}", m.name);
-        }
-    }
-    s += "\n";
-    for (i, r) in rows.iter().enumerate() {
-        s += &format!(
-            "{},{},{},{},{},{},{},{},{},{}",
-            r.theta_deg,
-            r.rd[0].value,
-            r.rd[1].value,
-            r.rd[2].value,
-            r.rd[0].se,
-            r.rd[1].se,
-            r.rd[2].se,
-            r.rsp[0],
-            r.rsp[1],
-            r.rsp[2]
-        );
-        for m in models {
-            let v = m.points[i].1;
-            s += &format!(",{},{},{}", v[0], v[1], v[2]);
-        }
-        s += "\n";
-    }
-    s
-}
-
-fn incidence_json(rows: &[IncidenceRow], models: &[IncidenceCurve]) -> Value {
-    let rgb = |v: [f64; 3]| json!({ "R": v[0], "G": v[1], "B": v[2] });
-    rows.iter()
-        .enumerate()
-        .map(|(i, r)| {
-            let analytic: serde_json::Map<String, Value> = models
-                .iter()
-                .map(|m| (m.name.clone(), rgb(m.points[i].1)))
-                .collect();
-            json!({
-                "theta_deg": r.theta_deg,
-                "rd": rgb([0, 1, 2].map(|c| r.rd[c].value)),
-                "rd_se": rgb([0, 1, 2].map(|c| r.rd[c].se)),
-                "rsp": rgb([0, 1, 2].map(|c| r.rsp[c])),
-                "models": analytic,
-            })
-        })
-        .collect()
-}
-
-fn incidence_png(rows: &[IncidenceRow], models: &[IncidenceCurve], slug: &str) -> Result<Vec<u8>> {
-    let points: Vec<fit::plot::IncidencePoint> = rows
-        .iter()
-        .map(|r| fit::plot::IncidencePoint {
-            theta_deg: r.theta_deg,
-            rd: [0, 1, 2].map(|c| r.rd[c].value),
-            se: [0, 1, 2].map(|c| r.rd[c].se),
-        })
-        .collect();
-    Ok(fit::plot::incidence(&points, models, slug)?)
 }
 
 /// The summary's Rd(θ) table on stderr, with the ratio to normal incidence when 0° was run.

@@ -36,6 +36,7 @@ pub mod export;
 mod gaussians;
 mod guided;
 pub mod imitation;
+pub mod incidence;
 mod kernel2d;
 mod manual;
 pub mod metrics;

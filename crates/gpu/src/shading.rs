@@ -153,15 +153,8 @@ impl Translucency {
                 "must be positive in every channel",
             ));
         }
-        let media = [0, 1, 2].map(|c| {
-            let l = &spec.channels[c].layer;
-            fit::analytic::Medium {
-                sigma_a: l.mu_a,
-                sigma_s: l.mu_s,
-                g: l.g,
-                eta: l.n / spec.n_above,
-            }
-        });
+        let media = [0, 1, 2]
+            .map(|c| fit::analytic::Medium::of_layer(&spec.channels[c].layer, spec.n_above));
         let (first, last) = Translucency::thickness_range(&media);
         let d = Translucency::thicknesses(first, last);
         let rows = mc::slab::transmittance_table(spec, &d, progress)?;

@@ -48,6 +48,16 @@ impl Medium {
         }
     }
 
+    /// The medium of an `mc` layer under a medium of index `n_above` (η relative to it).
+    pub fn of_layer(layer: &mc::Layer, n_above: f64) -> Self {
+        Medium {
+            sigma_a: layer.mu_a,
+            sigma_s: layer.mu_s,
+            g: layer.g,
+            eta: layer.n / n_above,
+        }
+    }
+
     /// Checks the coefficients; the error names the field.
     pub fn validate(&self) -> Result<()> {
         for (field, v) in [("sigma_a", self.sigma_a), ("sigma_s", self.sigma_s)] {
