@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use fit::reproduce::{Claim, Published, Rendered, Rendered64Row, Rendered65};
+use fit::reproduce::{Claim, Published, Rendered, Rendered64Row, Rendered65, Table65};
 use fit::taps::TapSpec;
 use fit::{KernelModel, ManualParams, Profile};
 
@@ -140,17 +140,19 @@ pub fn rendered_tables(
         scene: SCENES[0].1.into(),
         material: SCENES[0].2.into(),
         n: (1..=ranks).collect(),
-        svd: norm(&svd_raw, max65),
-        deon: norm(&deon_raw, max65),
-        svd_raw,
-        deon_raw,
-        published_svd: published.table_6_5.svd[..ranks].to_vec(),
-        published_deon: published.table_6_5.deon[..ranks].to_vec(),
+        rows: Table65 {
+            svd: norm(&svd_raw, max65),
+            deon: norm(&deon_raw, max65),
+            svd_raw,
+            deon_raw,
+            published_svd: published.table_6_5.svd[..ranks].to_vec(),
+            published_deon: published.table_6_5.deon[..ranks].to_vec(),
+        },
     };
     let claims = claims(
         &sums,
         &pub_sums,
-        (&table_6_5.svd, &table_6_5.deon),
+        (&table_6_5.rows.svd, &table_6_5.rows.deon),
         (&published.table_6_5.svd, &published.table_6_5.deon),
     );
     Ok(Rendered {

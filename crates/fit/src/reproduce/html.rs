@@ -17,6 +17,18 @@ fn cells_with_sum(ours: [f64; 3], published: [f64; 3]) -> String {
     h
 }
 
+/// Table 6.5's rows N = 1, 2, …: SVD then d'Eon, ours above the thesis's, with sums; then the
+/// table's end.
+fn table65_rows(t: &super::Table65, h: &mut String) {
+    for n in 0..t.svd.len() {
+        let _ = write!(h, "<tr><td>{}</td>", n + 1);
+        *h += &cells_with_sum(t.svd[n], t.published_svd[n]);
+        *h += &cells_with_sum(t.deon[n], t.published_deon[n]);
+        *h += "</tr>";
+    }
+    *h += "</table>";
+}
+
 /// Values joined by " / " with `digits` decimals.
 fn joined(v: &[f64], digits: usize) -> String {
     v.iter()
@@ -118,13 +130,7 @@ impl Report {
 
         *h += "<h2>Table 6.5 — image-space RMS, Skin1, SVD rank-N vs d'Eon N Gaussians (normalized: max = 1)</h2><p>Ours: RMS over our five test signals; published: the Head scene.</p><table><tr><th>N</th><th colspan=3>SVD R G B</th><th>Σ</th><th colspan=3>d'Eon R G B</th><th>Σ</th></tr>";
         let t65 = &t.table_6_5;
-        for n in 0..t65.svd.len() {
-            let _ = write!(h, "<tr><td>{}</td>", n + 1);
-            *h += &cells_with_sum(t65.svd[n], t65.published_svd[n]);
-            *h += &cells_with_sum(t65.deon[n], t65.published_deon[n]);
-            *h += "</tr>";
-        }
-        *h += "</table>";
+        table65_rows(t65, h);
 
         *h += "<h2>Table 5.1 — model properties, with our measured fit time</h2><table><tr><th>model</th><th>visual quality (thesis)</th><th>1D convolutions</th><th>separable</th><th>closed form</th><th>our fit time per channel [s]</th></tr>";
         for m in &t.table_5_1 {
@@ -242,13 +248,7 @@ fn rendered_tables_html(t: &RenderedTables, h: &mut String) {
         "<p>Table 6.5 rendered: {} on the {} scene, SVD rank-N (renormalized) against d'Eon's N Gaussians, image RMS as above, normalized so that the highest entry is 1. The published values (grey) are the thesis's Head.</p><table><tr><th>N</th><th colspan=3>SVD R G B</th><th>Σ</th><th colspan=3>d'Eon R G B</th><th>Σ</th></tr>",
         t.material, t.scene
     );
-    for (k, n) in t.n.iter().enumerate() {
-        let _ = write!(h, "<tr><td>{n}</td>");
-        *h += &cells_with_sum(t.svd[k], t.published_svd[k]);
-        *h += &cells_with_sum(t.deon[k], t.published_deon[k]);
-        *h += "</tr>";
-    }
-    *h += "</table>";
+    table65_rows(&t.rows, h);
 }
 
 /// The rendered-scene section: `images.py`'s comparisons against Mitsuba 3, one per scene and

@@ -187,18 +187,9 @@ pub struct Rendered65 {
     pub material: String,
     /// The N of each row.
     pub n: Vec<usize>,
-    /// SVD rank-N, normalized (highest entry of the table = 1).
-    pub svd: Vec<[f64; 3]>,
-    /// d'Eon N, normalized.
-    pub deon: Vec<[f64; 3]>,
-    /// SVD rank-N, raw.
-    pub svd_raw: Vec<[f64; 3]>,
-    /// d'Eon N, raw.
-    pub deon_raw: Vec<[f64; 3]>,
-    /// The thesis's SVD rows (Head, Skin1).
-    pub published_svd: Vec<[f64; 3]>,
-    /// The thesis's d'Eon rows.
-    pub published_deon: Vec<[f64; 3]>,
+    /// The rows, ours (image RMS of the rendered scene) beside the thesis's (Head, Skin1).
+    #[serde(flatten)]
+    pub rows: Table65,
 }
 
 /// One scene and material compared against Mitsuba 3, as `scripts/references/images.py` writes
