@@ -243,7 +243,7 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
                 .collect();
             let r = gpu::reproduce::rendered_tables(&gpu, &with, a.quick, &published)?;
             eprintln!("rendered Tables 6.4 and 6.5 in {:.1} s", r.seconds);
-            RenderedTables::Rendered(r)
+            RenderedTables::Rendered(Box::new(r))
         }
     };
 

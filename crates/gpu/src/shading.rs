@@ -291,8 +291,7 @@ impl AngleTables {
         }
         if incidence {
             for (k, row) in rows.iter().enumerate().skip(1) {
-                for c in 0..3 {
-                    let (r, r0) = (&row.rd[c], &rd0[c]);
+                for (c, (r, r0)) in row.rd.iter().zip(rd0).enumerate() {
                     let ratio = r.value / r0.value;
                     tables.incidence[k][c] = ratio as f32;
                     // (0 where nothing came back: NaN.max(0) is 0.)
@@ -305,8 +304,8 @@ impl AngleTables {
             let bins = &rows[0].exit;
             for k in 0..INCIDENCE_STEPS {
                 let (lo, hi) = (k.saturating_sub(1), k);
-                for c in 0..3 {
-                    let (a, b) = (&bins[c][lo].h, &bins[c][hi].h);
+                for (c, channel) in bins.iter().enumerate() {
+                    let (a, b) = (&channel[lo].h, &channel[hi].h);
                     tables.exit[k][c] = (0.5 * (a.value + b.value)) as f32;
                     tables.exit_se[k][c] = (0.5 * (a.se.powi(2) + b.se.powi(2)).sqrt()) as f32;
                 }

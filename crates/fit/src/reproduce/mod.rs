@@ -110,7 +110,7 @@ pub enum RenderedTables {
         reason: String,
     },
     /// Rendered.
-    Rendered(Rendered),
+    Rendered(Box<Rendered>),
 }
 
 /// The rendered tables' numbers (the `gpu` crate measures them).
