@@ -4,7 +4,6 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use fit::metrics::ImageEval;
 use fit::skin::Skin;
 use fit::taps::{ShaderKernel, TapSpec};
 use fit::{FittedKernel, KernelModel, Manual, ManualParams, Profile, SkinParams, ground_truth};
@@ -227,29 +226,6 @@ pub fn plain(model: KernelModel) -> ModelArgs {
     }
 }
 
-/// How far the sparse taps are from the full-resolution kernel: the worst image RMS over the
-/// test signals, per channel (images in [0, 1]).
-pub fn taps_vs_full(p: &Profile, kernel: &ShaderKernel, fitted: &FittedKernel) -> Vec<f64> {
-    fitted
-        .channels
-        .iter()
-        .enumerate()
-        .map(|(c, full)| {
-            let gt = ground_truth(p, c, None);
-            let eval = ImageEval::new(&gt, 256, 128);
-            let sparse = kernel.to_separable(c, gt.h, gt.half);
-            fit::signals::Signal::ALL
-                .iter()
-                .map(|&s| {
-                    let (_, _, f) = eval.images(s, full);
-                    let (_, _, t) = eval.images(s, &sparse);
-                    f.rms_diff(&t)
-                })
-                .fold(0.0, f64::max)
-        })
-        .collect()
-}
-
 pub fn run(a: FitArgs) -> Result<()> {
     let text = std::fs::read_to_string(&a.profile)
         .with_context(|| format!("cannot read profile {}", a.profile.display()))?;
@@ -264,7 +240,7 @@ pub fn run(a: FitArgs) -> Result<()> {
     });
     let start = std::time::Instant::now();
     let (kernel, fitted) = build_kernel(&p, &a.model, &material, a.taps.spec())?;
-    let tap_rms = taps_vs_full(&p, &kernel, &fitted);
+    let tap_rms = kernel.tap_error(&p, &fitted);
     eprintln!(
         "taps vs full-resolution kernel, worst image RMS over the test signals: R {:.2e}  G {:.2e}  B {:.2e} (images in [0, 1])",
         tap_rms[0], tap_rms[1], tap_rms[2]

@@ -145,6 +145,30 @@ impl TapSpec {
 }
 
 impl ShaderKernel {
+    /// How far these taps are from the full-resolution kernel `fitted` they were sampled from,
+    /// on the ground truth's grid of `p`: per channel, the worst image RMS over the test signals
+    /// (images in [0, 1]) between the two kernels' convolutions.
+    pub fn tap_error(&self, p: &crate::Profile, fitted: &FittedKernel) -> Vec<f64> {
+        fitted
+            .channels
+            .iter()
+            .enumerate()
+            .map(|(c, full)| {
+                let gt = crate::ground_truth(p, c, None);
+                let eval = crate::metrics::ImageEval::new(&gt, 256, 128);
+                let sparse = self.to_separable(c, gt.h, gt.half);
+                crate::signals::Signal::ALL
+                    .iter()
+                    .map(|&s| {
+                        let (_, _, f) = eval.images(s, full);
+                        let (_, _, t) = eval.images(s, &sparse);
+                        f.rms_diff(&t)
+                    })
+                    .fold(0.0, f64::max)
+            })
+            .collect()
+    }
+
     /// The shader kernel of a fitted model. The SSSS skin model keeps the demo's own taps (fixed
     /// range 2 or 3 mm times its width, converted to cm) so that engines shipping SSSS get the
     /// numbers they expect; every other model is sampled by [`ShaderKernel::from_separable`].
