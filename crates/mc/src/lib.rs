@@ -30,6 +30,7 @@
 
 pub mod artist;
 mod batch;
+pub mod bench;
 mod cfmt;
 mod config;
 mod error;
