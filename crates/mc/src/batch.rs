@@ -23,9 +23,10 @@ use crate::rng::{Rng, stream_seed};
 use crate::error::{McError, Result};
 use crate::grid::{Grid, GridIndex};
 use crate::incidence::Incidence;
+use crate::lanes::trace_photons;
 use crate::layer::{Layer, Sample};
 use crate::output::Output;
-use crate::photon::{Medium, Photon, Scorer, trace};
+use crate::photon::{Medium, Photon, Scorer};
 use crate::simulate::Job;
 use crate::tally::{Layout, Tally, TallySet};
 
@@ -266,9 +267,7 @@ impl Job for GroupJob {
 
     fn trace_chunk(&self, tally: &mut Tally, rng: &mut Rng, photons: u64) {
         let mut scorer = BatchScorer::new(self, tally);
-        for _ in 0..photons {
-            trace(&self.medium, rng, &mut scorer);
-        }
+        trace_photons(&self.medium, rng, &mut scorer, photons);
     }
 }
 
@@ -309,6 +308,10 @@ impl<'a> BatchScorer<'a> {
 }
 
 impl Scorer for BatchScorer<'_> {
+    fn deposits_by_position(&self) -> bool {
+        self.job.layout.rz
+    }
+
     #[inline]
     fn absorb(&mut self, p: &Photon, dw: f64) {
         if dw == 0.0 {
@@ -336,8 +339,6 @@ impl Scorer for BatchScorer<'_> {
             self.z[j] += dw;
         }
     }
-
-    fn roulette(&mut self, _: &Photon, _: f64) {}
 
     #[inline]
     fn escape(&mut self, p: &Photon, top: bool, cos_exit: f64) {

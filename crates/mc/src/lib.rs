@@ -38,6 +38,7 @@ pub mod exitance;
 mod fresnel;
 mod grid;
 pub mod incidence;
+mod lanes;
 mod layer;
 mod material;
 pub mod mci;

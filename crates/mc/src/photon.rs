@@ -70,8 +70,9 @@ pub(crate) struct Medium {
     pub launch_uz: f64,
     /// ∫ μ_eff dz over the whole sample [-].
     pub tau_total: f64,
-    /// Whether photons play the importance roulette ([`importance`]): only when nothing below
-    /// the surfaces is tallied.
+    /// Whether nothing below the surfaces is tallied: photons then play the importance roulette
+    /// ([`importance`]) and may be traced in lanes (`lanes`), which hand a history's deposits to
+    /// the scorer in one sum when it ends.
     pub importance: bool,
 }
 
@@ -180,10 +181,13 @@ impl Photon {
 
 /// What the walk reports. All methods are called with the photon's state at that moment.
 pub(crate) trait Scorer {
+    /// Whether deposits are tallied where they happen (A(r, z)). When not, a walk may hand a
+    /// history's deposits to [`Scorer::absorb`] as one sum right before [`Scorer::finish`], and
+    /// several photons may be in flight at once (`lanes`): the scorer's per-photon state lives
+    /// only between that call and `finish`.
+    fn deposits_by_position(&self) -> bool;
     /// Weight `dw` deposited at the photon's position (an interaction in an absorbing layer).
     fn absorb(&mut self, p: &Photon, dw: f64);
-    /// A roulette was played; the weight is about to be multiplied by `factor` (0 = killed).
-    fn roulette(&mut self, p: &Photon, factor: f64);
     /// The photon leaves through the top (`top`) or bottom surface with its weight `p.w`;
     /// `cos_exit` is |cos| of its direction in the ambient medium.
     fn escape(&mut self, p: &Photon, top: bool, cos_exit: f64);
@@ -201,7 +205,7 @@ pub(crate) fn trace<S: Scorer>(m: &Medium, rng: &mut Rng, scorer: &mut S) {
             hop_drop_spin(m, &mut p, rng, scorer);
         }
         if p.alive && p.w < ROULETTE_THRESHOLD {
-            roulette(&mut p, rng, scorer, ROULETTE_SURVIVAL);
+            roulette(&mut p, rng, ROULETTE_SURVIVAL);
         }
     }
     scorer.finish(&p);
@@ -209,7 +213,7 @@ pub(crate) fn trace<S: Scorer>(m: &Medium, rng: &mut Rng, scorer: &mut S) {
 
 /// Pencil beam at the origin, weight 1 − Rsp (MCML's `LaunchPhoton`), along the refracted
 /// direction (+z at normal incidence).
-fn launch(m: &Medium) -> Photon {
+pub(crate) fn launch(m: &Medium) -> Photon {
     Photon {
         x: 0.0,
         y: 0.0,
@@ -241,10 +245,10 @@ fn hop_drop_spin<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Rng, scorer: &
             drop(p, slab.absorb, scorer);
             spin(p, slab.g, rng);
             if p.interactions.is_multiple_of(PATH_ROULETTE_INTERVAL) {
-                roulette(p, rng, scorer, 0.5);
+                roulette(p, rng, 0.5);
             }
             if m.importance && p.alive && p.interactions.is_multiple_of(IMPORTANCE_INTERVAL) {
-                importance(m, p, rng, scorer);
+                importance(m, p, rng);
             }
         }
     }
@@ -296,7 +300,7 @@ fn hit_boundary(p: &Photon, slab: &Slab, s: f64) -> Option<f64> {
 }
 
 #[inline]
-fn hop(p: &mut Photon, s: f64) {
+pub(crate) fn hop(p: &mut Photon, s: f64) {
     p.x += s * p.ux;
     p.y += s * p.uy;
     p.z += s * p.uz;
@@ -314,7 +318,7 @@ fn drop<S: Scorer>(p: &mut Photon, absorb: f64, scorer: &mut S) {
 /// New direction after a Henyey–Greenstein scattering (MCML's `Spin`). Isotropic scattering
 /// (g = 0) forgets the old direction, so the new one is drawn directly on the sphere; otherwise
 /// the sampled (θ, ψ) are applied in the frame of the old direction.
-#[inline]
+#[inline(always)]
 fn spin(p: &mut Photon, g: f64, rng: &mut Rng) {
     if g == 0.0 {
         // Marsaglia (1972): for (u, v) uniform in the unit disk and s = u² + v²,
@@ -368,7 +372,7 @@ fn disk_point(rng: &mut Rng) -> (f64, f64, f64) {
 /// At a boundary: reflect with the Fresnel probability, otherwise refract into the next layer or
 /// escape into the ambient medium (MCML's `CrossUpOrNot` / `CrossDnOrNot`, statistical mode).
 #[inline]
-fn cross_or_not<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Rng, scorer: &mut S) {
+pub(crate) fn cross_or_not<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Rng, scorer: &mut S) {
     let slab = m.slabs[p.layer];
     let up = p.uz < 0.0;
     let (n_t, cos_crit) = if up {
@@ -416,25 +420,25 @@ fn cross_or_not<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Rng, scorer: &m
 /// photons that go deeper than 3/μ_eff, which bring back 0.1 % of the reflected weight). The cap
 /// on the survivor's weight bounds what one deep photon adds to the absorption tallies' variance.
 /// Off when absorption is tallied in depth, where every deposit matters.
-fn importance<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Rng, scorer: &mut S) {
+pub(crate) fn importance(m: &Medium, p: &mut Photon, rng: &mut Rng) {
     let slab = &m.slabs[p.layer];
     let tau = slab.tau0 + slab.mu_eff * (p.z - slab.z0).clamp(0.0, slab.z1 - slab.z0);
-    let weighted = p.w * (-tau).exp().max((tau - m.tau_total).exp());
+    // One exponential of the larger exponent: the other would underflow in a half-space.
+    let weighted = p.w * (-tau).max(tau - m.tau_total).exp();
     let survival = (weighted / IMPORTANCE_TARGET).max(p.w);
     if weighted < IMPORTANCE_THRESHOLD && survival < 1.0 {
-        roulette(p, rng, scorer, survival);
+        roulette(p, rng, survival);
     }
 }
 
 /// Russian roulette: survive with probability `survival` and weight / `survival`, else die.
-fn roulette<S: Scorer>(p: &mut Photon, rng: &mut Rng, scorer: &mut S, survival: f64) {
+pub(crate) fn roulette(p: &mut Photon, rng: &mut Rng, survival: f64) {
     let xi_roulette: f64 = rng.random();
     let factor = if xi_roulette < survival {
         1.0 / survival
     } else {
         0.0
     };
-    scorer.roulette(p, factor);
     p.w *= factor;
     if factor == 0.0 {
         p.alive = false;

@@ -19,9 +19,10 @@ use crate::batch::{BatchSpec, GroupJob};
 use crate::error::{McError, Result};
 use crate::grid::Grid;
 use crate::incidence::Incidence;
+use crate::lanes::trace_photons;
 use crate::layer::Sample;
 use crate::output::Output;
-use crate::photon::{Medium, trace};
+use crate::photon::Medium;
 use crate::rng::{CHUNK_PHOTONS, chunk_rng};
 use crate::tally::{Accumulator, Layout, McmlScorer, Tally, TallySet};
 
@@ -87,9 +88,7 @@ impl Job for McmlJob<'_> {
 
     fn trace_chunk(&self, tally: &mut Tally, rng: &mut Rng, photons: u64) {
         let mut scorer = McmlScorer::new(tally, self.spec.grid);
-        for _ in 0..photons {
-            trace(&self.medium, rng, &mut scorer);
-        }
+        trace_photons(&self.medium, rng, &mut scorer, photons);
     }
 }
 

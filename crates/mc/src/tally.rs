@@ -277,6 +277,10 @@ impl<'a> McmlScorer<'a> {
 }
 
 impl Scorer for McmlScorer<'_> {
+    fn deposits_by_position(&self) -> bool {
+        self.rz.is_some()
+    }
+
     #[inline]
     fn absorb(&mut self, p: &Photon, dw: f64) {
         if dw == 0.0 {
@@ -289,8 +293,6 @@ impl Scorer for McmlScorer<'_> {
             a_z.add(iz, dw);
         }
     }
-
-    fn roulette(&mut self, _: &Photon, _: f64) {}
 
     #[inline]
     fn escape(&mut self, p: &Photon, top: bool, cos_exit: f64) {

@@ -21,14 +21,20 @@ pub fn chi2(a: &[Estimate], b: &[Estimate]) -> (f64, usize) {
 /// deviations of its mean (χ² with n degrees of freedom: mean n, sd √(2n); a p ≈ 10⁻⁶ tail), and
 /// total Rd and A within 4 standard errors.
 pub fn assert_agree(name: &str, x: &Output, y: &Output, min_bins: usize) {
-    let (chi, dof) = chi2(&x.rd_r, &y.rd_r);
+    assert_profiles_agree(name, &x.rd_r, &y.rd_r, min_bins);
+    for (what, p, q) in [("Rd", x.rd, y.rd), ("A", x.a, y.a)] {
+        let z = (p.value - q.value) / (p.se * p.se + q.se * q.se).sqrt();
+        assert!(z.abs() < 4.0, "{name} {what}: {p:?} vs {q:?} (z = {z:.2})");
+    }
+}
+
+/// Two profiles agree: χ² over at least `min_bins` well-sampled bins within 5 standard deviations
+/// of its mean (as in [`assert_agree`]).
+pub fn assert_profiles_agree(name: &str, a: &[Estimate], b: &[Estimate], min_bins: usize) {
+    let (chi, dof) = chi2(a, b);
     assert!(dof >= min_bins, "{name}: only {dof} bins to compare");
     assert!(
         chi < dof as f64 + 5.0 * (2.0 * dof as f64).sqrt(),
         "{name}: χ² = {chi:.1} over {dof} bins"
     );
-    for (what, p, q) in [("Rd", x.rd, y.rd), ("A", x.a, y.a)] {
-        let z = (p.value - q.value) / (p.se * p.se + q.se * q.se).sqrt();
-        assert!(z.abs() < 4.0, "{name} {what}: {p:?} vs {q:?} (z = {z:.2})");
-    }
 }

@@ -1,0 +1,363 @@
+//! Several photons in flight per core: the walk of [`crate::photon`] traced four photons at a
+//! time in SIMD lanes (`wide::f64x4`), for the runs that tally only what leaves through the
+//! surfaces of one interacting layer (every profile of the library, `eval`, `render`, `reproduce`,
+//! `simulate` without `--full`).
+//!
+//! One interaction of a lane is MCML's hop–drop–spin without a branch: the free path
+//! s = −ln ξ / μt, the move, the implicit-capture deposit w·μa/μt, and the new direction are
+//! computed for all four lanes at once, and a lane whose step would cross a surface keeps its
+//! state. Such a lane (a boundary hit: MCML's `CrossUpOrNot`/`CrossDnOrNot`, with Fresnel's
+//! reflectance), a lane whose weight fell below the roulette threshold, and the periodic
+//! importance and path-length roulettes are handled one lane at a time by the scalar walk's own
+//! functions. A lane whose photon has ended launches the chunk's next photon. The physics is the
+//! scalar walk's with two exact rewritings:
+//! - a step cut at a boundary is not resumed with its leftover optical depth: a reflected photon
+//!   draws a fresh exponential free path, which has the same distribution (the exponential is
+//!   memoryless: given s > d, s − d is again exponential with rate μt);
+//! - the deposits of a history are summed in the lane and handed to the scorer when the history
+//!   ends, which is all a scorer without depth tallies records of them (A and A_l per photon);
+//! - the periodic roulettes come after every [`IMPORTANCE_INTERVAL`]-th interaction of a photon,
+//!   as in the scalar walk, but before MCML's weight roulette of the same step (each is unbiased
+//!   on its own, in any order).
+//!
+//! The lanes' arithmetic is compiled for the machine's vector width (`.cargo/config.toml`).
+//!
+//! Random numbers: each lane has its own PCG-64 stream, seeded from the chunk's stream, so a
+//! chunk's result depends on (seed, chunk) alone, never on threads or shards. A lane draws two
+//! 64-bit words per interaction: ξ of the free path from the first (52 bits, ξ ∈ (0, 1], so
+//! s ≤ 36 mean free paths: P(s > 36/μt) = e⁻³⁶ ≈ 2·10⁻¹⁶), the scattering angle and the azimuth
+//! from the two halves of the second (32 bits each, as the scalar walk's azimuth).
+
+use rand::{RngExt, SeedableRng};
+use wide::bytemuck::cast;
+use wide::{f64x4, u64x4};
+
+use crate::fresnel::COS_ZERO;
+use crate::photon::{
+    IMPORTANCE_INTERVAL, IMPORTANCE_TARGET, IMPORTANCE_THRESHOLD, Medium, PATH_ROULETTE_INTERVAL,
+    Photon, ROULETTE_SURVIVAL, ROULETTE_THRESHOLD, Scorer, cross_or_not, hop, importance, launch,
+    roulette, trace,
+};
+use crate::rng::Rng;
+
+/// Photons in flight per core.
+const LANES: usize = 4;
+
+/// Bits of 1.0: a 52-bit mantissa under this exponent is uniform in [1, 2).
+const ONE_BITS: u64 = 0x3FF0_0000_0000_0000;
+
+/// Traces `photons` photon histories from `rng`'s stream: in lanes where the medium is one
+/// interacting layer and the scorer does not tally deposits by position, else one after another
+/// with [`trace`]. (Lanes do not pay where A(r, z) is tallied: that work is bound by memory, and
+/// measured 1.4× slower in lanes, each with a per-photon scratch of its own.)
+pub(crate) fn trace_photons<S: Scorer>(m: &Medium, rng: &mut Rng, scorer: &mut S, photons: u64) {
+    if m.slabs.len() == 1 && m.slabs[0].mu_t > 0.0 && !scorer.deposits_by_position() {
+        Walk::new(m, rng, scorer, photons).run();
+    } else {
+        for _ in 0..photons {
+            trace(m, rng, scorer);
+        }
+    }
+}
+
+/// Four photons' states, one per lane. Plain `Copy` data: the walk keeps it in registers and
+/// hands it by reference only to the scalar work, which is rare.
+#[derive(Clone, Copy)]
+struct Lanes {
+    x: f64x4,
+    y: f64x4,
+    z: f64x4,
+    ux: f64x4,
+    uy: f64x4,
+    uz: f64x4,
+    w: f64x4,
+    /// Weight deposited so far in each lane's history.
+    absorbed: f64x4,
+    /// Interactions of each lane's history.
+    interactions: u64x4,
+    /// All ones in the lanes that hold a photon (none once the chunk has no photon left).
+    busy: f64x4,
+}
+
+/// Lane `k` of `v`.
+#[inline(always)]
+fn lane(v: f64x4, k: usize) -> f64 {
+    v.as_array()[k]
+}
+
+/// `v` with lane `k` set to `x`.
+#[inline(always)]
+fn with_lane(v: f64x4, k: usize, x: f64) -> f64x4 {
+    let mut a = v.to_array();
+    a[k] = x;
+    f64x4::from(a)
+}
+
+impl Lanes {
+    /// Lane `k` as a scalar photon.
+    fn photon(&self, k: usize) -> Photon {
+        Photon {
+            x: lane(self.x, k),
+            y: lane(self.y, k),
+            z: lane(self.z, k),
+            ux: lane(self.ux, k),
+            uy: lane(self.uy, k),
+            uz: lane(self.uz, k),
+            w: lane(self.w, k),
+            layer: 0,
+            s_left: 0.0,
+            interactions: self.interactions.as_array()[k],
+            alive: true,
+        }
+    }
+
+    /// Writes a scalar photon into lane `k`.
+    fn set(&mut self, k: usize, p: &Photon) {
+        self.x = with_lane(self.x, k, p.x);
+        self.y = with_lane(self.y, k, p.y);
+        self.z = with_lane(self.z, k, p.z);
+        self.ux = with_lane(self.ux, k, p.ux);
+        self.uy = with_lane(self.uy, k, p.uy);
+        self.uz = with_lane(self.uz, k, p.uz);
+        self.w = with_lane(self.w, k, p.w);
+        let mut n = self.interactions.to_array();
+        n[k] = p.interactions;
+        self.interactions = u64x4::from(n);
+    }
+
+    fn busy(&self, k: usize) -> bool {
+        self.busy.to_bitmask() & (1 << k) != 0
+    }
+}
+
+/// The walk of one chunk in lanes: the state, the chunk's progress and each lane's stream.
+struct Walk<'a, S> {
+    m: &'a Medium,
+    scorer: &'a mut S,
+    rng: [Rng; LANES],
+    /// Photons launched so far, and the chunk's total.
+    launched: u64,
+    photons: u64,
+}
+
+impl<'a, S: Scorer> Walk<'a, S> {
+    fn new(m: &'a Medium, rng: &mut Rng, scorer: &'a mut S, photons: u64) -> Self {
+        Walk {
+            m,
+            scorer,
+            rng: std::array::from_fn(|_| Rng::from_rng(rng)),
+            launched: 0,
+            photons,
+        }
+    }
+
+    /// Launches the chunk's next photon in lane `k`, or idles the lane when all are launched.
+    fn start(&mut self, v: &mut Lanes, k: usize) {
+        v.absorbed = with_lane(v.absorbed, k, 0.0);
+        v.set(k, &launch(self.m));
+        let busy = self.launched < self.photons;
+        self.launched += u64::from(busy);
+        v.busy = with_lane(v.busy, k, if busy { f64::from_bits(u64::MAX) } else { 0.0 });
+    }
+
+    /// After scalar work on lane `k`: the photon goes back into its lane, or its history ends
+    /// (its deposits go to the scorer in one sum) and the lane launches the next one.
+    fn settle(&mut self, v: &mut Lanes, k: usize, p: Photon) {
+        if p.alive {
+            v.set(k, &p);
+        } else {
+            self.scorer.absorb(&p, lane(v.absorbed, k));
+            self.scorer.finish(&p);
+            self.start(v, k);
+        }
+    }
+
+    /// The scalar work of one step: boundary hits (the lanes in `hits`: the photon moves to the
+    /// surface and is reflected or escapes) and MCML's weight roulette (the lanes in `light`).
+    #[inline(never)]
+    fn events(&mut self, v: &mut Lanes, hits: u32, light: u32) {
+        let slab = self.m.slabs[0];
+        for k in 0..LANES {
+            if !v.busy(k) {
+                continue;
+            }
+            if hits & (1 << k) != 0 {
+                let mut p = v.photon(k);
+                let bound = if p.uz > 0.0 { slab.z1 } else { slab.z0 };
+                let d = (bound - p.z) / p.uz;
+                hop(&mut p, d);
+                cross_or_not(self.m, &mut p, &mut self.rng[k], self.scorer);
+                self.settle(v, k, p);
+            }
+            if light & (1 << k) != 0 && v.busy(k) {
+                let mut p = v.photon(k);
+                if p.w < ROULETTE_THRESHOLD {
+                    roulette(&mut p, &mut self.rng[k], ROULETTE_SURVIVAL);
+                }
+                self.settle(v, k, p);
+            }
+        }
+    }
+
+    /// The periodic roulettes of the scalar walk (`hop_drop_spin`) for the lanes in `due`, whose
+    /// photons have just had an interaction whose count is a multiple of [`IMPORTANCE_INTERVAL`]
+    /// and which may play one: the path-length roulette every [`PATH_ROULETTE_INTERVAL`]
+    /// interactions, then the importance roulette (which decides again, in scalar arithmetic).
+    #[inline(never)]
+    fn checks(&mut self, v: &mut Lanes, due: u32) {
+        for k in (0..LANES).filter(|k| due & (1 << k) != 0) {
+            let mut p = v.photon(k);
+            let w = p.w;
+            if p.interactions.is_multiple_of(PATH_ROULETTE_INTERVAL) {
+                roulette(&mut p, &mut self.rng[k], 0.5);
+            }
+            if p.alive && self.m.importance {
+                importance(self.m, &mut p, &mut self.rng[k]);
+            }
+            if p.w != w || !p.alive {
+                self.settle(v, k, p);
+            }
+        }
+    }
+
+    fn run(mut self) {
+        let m = self.m;
+        let slab = m.slabs[0];
+        let splat = f64x4::splat;
+        let (z0, z1) = (splat(slab.z0), splat(slab.z1));
+        let inv_mu_t = splat(1.0 / slab.mu_t);
+        let absorb = splat(slab.absorb);
+        let threshold = splat(ROULETTE_THRESHOLD);
+        let (tau0, mu_eff) = (splat(slab.tau0), splat(slab.mu_eff));
+        let (depth, tau_total) = (splat(slab.z1 - slab.z0), splat(m.tau_total));
+        let importance_threshold = splat(IMPORTANCE_THRESHOLD);
+        let importance_target = splat(IMPORTANCE_TARGET);
+        let p = launch(m);
+        let mut v = Lanes {
+            x: splat(p.x),
+            y: splat(p.y),
+            z: splat(p.z),
+            ux: splat(p.ux),
+            uy: splat(p.uy),
+            uz: splat(p.uz),
+            w: splat(p.w),
+            absorbed: f64x4::ZERO,
+            interactions: u64x4::ZERO,
+            busy: f64x4::ZERO,
+        };
+        for k in 0..LANES {
+            self.start(&mut v, k);
+        }
+        while v.busy.any() {
+            let mut xi_s = [0.0; LANES];
+            let mut xi_theta = [0.0; LANES];
+            let mut xi_psi = [0.0; LANES];
+            for k in 0..LANES {
+                let (a, b): (u64, u64) = (self.rng[k].random(), self.rng[k].random());
+                xi_s[k] = 2.0 - f64::from_bits((a >> 12) | ONE_BITS);
+                xi_theta[k] = f64::from_bits(((b >> 32) << 20) | ONE_BITS) - 1.0;
+                xi_psi[k] = f64::from_bits(((b & 0xFFFF_FFFF) << 20) | ONE_BITS) - 1.0;
+            }
+            // Hop: s = −ln ξ / μt; lanes whose step ends beyond a surface are boundary hits.
+            let s = -f64x4::from(xi_s).ln() * inv_mu_t;
+            let z_end = v.z + s * v.uz;
+            let hit = z_end.simd_lt(z0) | z_end.simd_gt(z1);
+            // Drop and spin on every lane; boundary hits keep their state.
+            let (ux, uy, uz) = scatter(
+                slab.g,
+                v.ux,
+                v.uy,
+                v.uz,
+                f64x4::from(xi_theta),
+                f64x4::from(xi_psi),
+            );
+            let dw = v.w * absorb;
+            v.x = hit.select(v.x, v.x + s * v.ux);
+            v.y = hit.select(v.y, v.y + s * v.uy);
+            v.z = hit.select(v.z, z_end);
+            v.ux = hit.select(v.ux, ux);
+            v.uy = hit.select(v.uy, uy);
+            v.uz = hit.select(v.uz, uz);
+            v.w = hit.select(v.w, v.w - dw);
+            v.absorbed = hit.select(v.absorbed, v.absorbed + dw);
+            // All ones (−1) where an interaction took place.
+            v.interactions -= cast::<f64x4, u64x4>(!hit);
+
+            // The periodic roulettes, after every IMPORTANCE_INTERVAL-th interaction of a photon.
+            let every = u64x4::splat(IMPORTANCE_INTERVAL - 1);
+            let due = (v.interactions & every).simd_eq(u64x4::ZERO).to_bitmask()
+                & (!hit & v.busy).to_bitmask();
+            if due != 0 {
+                // Of those, the lanes that may play a roulette: a path-length interval is over,
+                // or (`importance`) w·I(z) is below the threshold with a survival below 1.
+                let n = v.interactions.as_array();
+                let path = (0..LANES)
+                    .filter(|&k| n[k].is_multiple_of(PATH_ROULETTE_INTERVAL))
+                    .fold(0, |bits, k| bits | 1 << k);
+                let low = if m.importance {
+                    let tau = tau0 + mu_eff * (v.z - z0).clamp(f64x4::ZERO, depth);
+                    let weighted = v.w * (-tau).max(tau - tau_total).exp();
+                    let survival = (weighted / importance_target).max(v.w);
+                    (weighted.simd_lt(importance_threshold) & survival.simd_lt(f64x4::ONE))
+                        .to_bitmask()
+                } else {
+                    0
+                };
+                if due & (path | low) != 0 {
+                    self.checks(&mut v, due & (path | low));
+                }
+            }
+            let hits = (hit & v.busy).to_bitmask();
+            let light = (v.w.simd_lt(threshold) & v.busy).to_bitmask();
+            if hits | light != 0 {
+                self.events(&mut v, hits, light);
+            }
+        }
+    }
+}
+
+/// New directions after a Henyey–Greenstein scattering of four lanes (the scalar walk's `spin`,
+/// without its branches): cos θ by inversion of the CDF from `xi_theta`, the azimuth
+/// ψ = π(2ξ − 1) from `xi_psi`, applied in the frame of the old direction (u_x, u_y, u_z), or
+/// about the z axis where |u_z| > [`COS_ZERO`] (MCML's `Spin`). Isotropic scattering (g = 0)
+/// draws cos θ = 1 − 2ξ directly in the fixed frame.
+#[inline(always)]
+fn scatter(
+    g: f64,
+    ux: f64x4,
+    uy: f64x4,
+    uz: f64x4,
+    xi_theta: f64x4,
+    xi_psi: f64x4,
+) -> (f64x4, f64x4, f64x4) {
+    let one = f64x4::ONE;
+    let (sin_psi, cos_psi) = ((xi_psi + xi_psi - one) * f64x4::PI).sin_cos();
+    if g == 0.0 {
+        let cos_t = one - (xi_theta + xi_theta);
+        // sin θ = √(1 − cos²θ) = 2√(ξ(1 − ξ)), exact near the poles.
+        let sin_t = (xi_theta * (one - xi_theta)).sqrt() * f64x4::splat(2.0);
+        return (sin_t * cos_psi, sin_t * sin_psi, cos_t);
+    }
+    let cos_t = if g.abs() == 1.0 {
+        f64x4::splat(g)
+    } else {
+        // (phase.rs) cos θ = (1 + g² − t²)/(2g), t = (1 − g²)/(1 − g + 2gξ).
+        let gv = f64x4::splat(g);
+        let t = f64x4::splat(1.0 - g * g) / (f64x4::splat(1.0 - g) + gv * (xi_theta + xi_theta));
+        ((f64x4::splat(1.0 + g * g) - t * t) / f64x4::splat(2.0 * g)).clamp(-one, one)
+    };
+    let sin_t = (one - cos_t * cos_t).max(f64x4::ZERO).sqrt();
+    let (sx, sy) = (sin_t * cos_psi, sin_t * sin_psi);
+    // Near the axis the old frame is degenerate: rotate about z.
+    let on_axis = uz.abs().simd_gt(f64x4::splat(COS_ZERO));
+    let axis_uz = uz.simd_lt(f64x4::ZERO).select(-cos_t, cos_t);
+    let t = (one - uz * uz).max(f64x4::splat(1.0e-300)).sqrt();
+    let gen_ux = (ux * uz * sx - uy * sy) / t + ux * cos_t;
+    let gen_uy = (uy * uz * sx + ux * sy) / t + uy * cos_t;
+    let gen_uz = uz * cos_t - sx * t;
+    (
+        on_axis.select(sx, gen_ux),
+        on_axis.select(sy, gen_uy),
+        on_axis.select(axis_uz, gen_uz),
+    )
+}
