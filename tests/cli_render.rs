@@ -595,6 +595,7 @@ fn render_translucency_lights_the_fins_from_behind_with_the_materials_table() {
         seed: 77,
         tallies: mc::TallySet {
             absorption_rz: false,
+            absorption_rz_se: true,
             surface_xy: 0,
         },
     };

@@ -25,6 +25,7 @@ const TALLIES: [(&str, TallySet); 2] = [
         "profile-only",
         TallySet {
             absorption_rz: false,
+            absorption_rz_se: false,
             surface_xy: 0,
         },
     ),
@@ -32,6 +33,7 @@ const TALLIES: [(&str, TallySet); 2] = [
         "full",
         TallySet {
             absorption_rz: true,
+            absorption_rz_se: false,
             surface_xy: 0,
         },
     ),

@@ -234,6 +234,7 @@ fn mc_profile(m: &Material, photons: u64) -> (Profile, [(f64, f64); 3]) {
         seed: 11,
         tallies: TallySet {
             absorption_rz: false,
+            absorption_rz_se: true,
             surface_xy: 0,
         },
     };
@@ -356,6 +357,7 @@ fn directional_dipole_follows_monte_carlo_at_oblique_incidence() {
             seed: 5,
             tallies: TallySet {
                 absorption_rz: false,
+                absorption_rz_se: true,
                 surface_xy: 0,
             },
         };

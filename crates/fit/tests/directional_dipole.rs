@@ -203,6 +203,7 @@ fn backlit_branch_against_monte_carlo_slab_transmittance() {
             seed: 3,
             tallies: TallySet {
                 absorption_rz: false,
+                absorption_rz_se: true,
                 surface_xy: 0,
             },
         };
@@ -313,6 +314,7 @@ fn oblique_profile_against_the_monte_carlo_surface_tally() {
         seed: 11,
         tallies: TallySet {
             absorption_rz: false,
+            absorption_rz_se: true,
             surface_xy: n,
         },
     };

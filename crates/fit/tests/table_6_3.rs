@@ -54,6 +54,7 @@ fn svd_rank_1_has_the_lowest_kernel_rms_of_the_rank_1_models() {
         seed: 7,
         tallies: TallySet {
             absorption_rz: false,
+            absorption_rz_se: true,
             surface_xy: 0,
         },
     };

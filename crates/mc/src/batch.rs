@@ -26,9 +26,9 @@ use crate::incidence::Incidence;
 use crate::lanes::trace_photons;
 use crate::layer::{Layer, Sample};
 use crate::output::Output;
-use crate::photon::{Medium, Photon, Scorer};
+use crate::photon::{Depth, Medium, Photon, Scorer};
 use crate::simulate::Job;
-use crate::tally::{Layout, Tally, TallySet};
+use crate::tally::{Layout, Scratch, Tally, TallySet, depth_of};
 
 /// Optical thickness [mean free paths 1/μt] from which slabs count as half-spaces: they are
 /// walked as exactly this thick.
@@ -161,6 +161,7 @@ impl BatchSpec {
             na: max(|g| g.na),
             layers: 1,
             rz: self.tallies.absorption_rz,
+            rz_se: self.tallies.absorption_rz_se,
             channels: group.len(),
             xy: self.tallies.surface_xy,
         }
@@ -279,37 +280,38 @@ struct BatchScorer<'a> {
     tally: &'a mut Tally,
     /// Weight absorbed so far in this photon's history.
     absorbed: f64,
-    /// Per-photon A(r,z) and A(z) deposits of every channel (when tallied): dense + touched list.
-    rz: Vec<f64>,
-    z: Vec<f64>,
-    touched_rz: Vec<u32>,
-    touched_z: Vec<u32>,
+    /// This history's A(r,z) and A(z) deposits of every channel, [k][ir][iz] and [k][iz] with the
+    /// layout's strides, when their per-photon moments are tallied.
+    rz: Option<(Scratch, Scratch)>,
 }
 
 impl<'a> BatchScorer<'a> {
     fn new(job: &'a GroupJob, tally: &'a mut Tally) -> Self {
         let l = job.layout;
         let k = l.channels;
-        let (rz, z) = if l.rz {
-            (vec![0.0; k * l.nr * l.nz], vec![0.0; k * l.nz])
-        } else {
-            (Vec::new(), Vec::new())
-        };
+        let rz = (l.rz && l.rz_se).then(|| (Scratch::new(k * l.nr * l.nz), Scratch::new(k * l.nz)));
         BatchScorer {
             job,
             tally,
             absorbed: 0.0,
             rz,
-            z,
-            touched_rz: Vec::new(),
-            touched_z: Vec::new(),
         }
+    }
+
+    /// Channel `k`'s (A(r,z) cell, A(z) cell) of a deposit at radius `r` and depth `z` [walk
+    /// units], counted from the channel's first cell.
+    #[inline]
+    fn cells(job: &GroupJob, k: usize, r: f64, z: f64) -> (usize, usize) {
+        let l = job.layout;
+        let g = &job.index[k];
+        let iz = g.iz(z * job.scale[k]);
+        (g.ir(r * job.scale[k]) * l.nz + iz, iz)
     }
 }
 
 impl Scorer for BatchScorer<'_> {
-    fn deposits_by_position(&self) -> bool {
-        self.job.layout.rz
+    fn depth(&self) -> Depth {
+        depth_of(&self.job.layout)
     }
 
     #[inline]
@@ -318,26 +320,32 @@ impl Scorer for BatchScorer<'_> {
             return;
         }
         self.absorbed += dw;
-        let job = self.job;
-        let l = job.layout;
-        if !l.rz {
-            return;
+        let l = self.job.layout;
+        if let Some((a_rz, a_z)) = &mut self.rz {
+            let r = p.r();
+            for k in 0..l.channels {
+                let (rz, z) = Self::cells(self.job, k, r, p.z);
+                a_rz.add(k * l.nr * l.nz + rz, dw);
+                a_z.add(k * l.nz + z, dw);
+            }
+        } else if l.rz {
+            self.deposit_summed(p.r(), p.z, dw);
         }
-        let r = p.r();
+    }
+
+    #[inline]
+    fn deposit_summed(&mut self, r: f64, z: f64, dw: f64) {
+        let l = self.job.layout;
         for k in 0..l.channels {
-            let g = &job.index[k];
-            let iz = g.iz(p.z * job.scale[k]);
-            let i = (k * l.nr + g.ir(r * job.scale[k])) * l.nz + iz; // [k][ir][iz], layout strides
-            if self.rz[i] == 0.0 {
-                self.touched_rz.push(i as u32);
-            }
-            self.rz[i] += dw;
-            let j = k * l.nz + iz;
-            if self.z[j] == 0.0 {
-                self.touched_z.push(j as u32);
-            }
-            self.z[j] += dw;
+            let (rz, z) = Self::cells(self.job, k, r, z);
+            self.tally.sum[l.a_rz(k) + rz] += dw;
+            self.tally.sum[l.a_z(k) + z] += dw;
         }
+    }
+
+    #[inline]
+    fn absorb_total(&mut self, _: &Photon, dw: f64) {
+        self.absorbed += dw;
     }
 
     #[inline]
@@ -371,24 +379,14 @@ impl Scorer for BatchScorer<'_> {
                 t.sum_sq[o] += a * a;
             }
         }
-        if l.rz {
+        if let Some((a_rz, a_z)) = &mut self.rz {
+            let mut add = |o: usize, v: f64| {
+                t.sum[o] += v;
+                t.sum_sq[o] += v * v;
+            };
             let per_rz = l.nr * l.nz;
-            for &i in &self.touched_rz {
-                let i = i as usize;
-                let (k, j) = (i / per_rz, i % per_rz);
-                let v = std::mem::take(&mut self.rz[i]);
-                t.sum[l.a_rz(k) + j] += v;
-                t.sum_sq[l.a_rz(k) + j] += v * v;
-            }
-            for &i in &self.touched_z {
-                let i = i as usize;
-                let (k, j) = (i / l.nz, i % l.nz);
-                let v = std::mem::take(&mut self.z[i]);
-                t.sum[l.a_z(k) + j] += v;
-                t.sum_sq[l.a_z(k) + j] += v * v;
-            }
-            self.touched_rz.clear();
-            self.touched_z.clear();
+            a_rz.drain(|i, v| add(l.a_rz(i / per_rz) + i % per_rz, v));
+            a_z.drain(|i, v| add(l.a_z(i / l.nz) + i % l.nz, v));
         }
         t.photons += 1;
         t.interactions += p.interactions;

@@ -23,7 +23,7 @@ pub struct Throughput {
     pub material: String,
     /// The channel (always R).
     pub channel: &'static str,
-    /// `full (MCML)` or `profile-only`.
+    /// `full (MCML, .mci)`, `full + A(r,z) SE` or `profile-only`.
     pub tallies: &'static str,
     /// Photon packets traced.
     pub photons: u64,
@@ -37,7 +37,36 @@ pub struct Throughput {
     pub events_per_photon: f64,
 }
 
-/// Channel R of each material on its thesis grid, with MCML's full tallies and profile-only,
+/// The tallies [`throughput`] compares: MCML's full set as `.mci` runs keep it (A(r, z) summed),
+/// the full set with per-photon standard errors of A(r, z), and profile-only.
+const THROUGHPUT_TALLIES: [(&str, TallySet); 3] = [
+    (
+        "full (MCML, .mci)",
+        TallySet {
+            absorption_rz: true,
+            absorption_rz_se: false,
+            surface_xy: 0,
+        },
+    ),
+    (
+        "full + A(r,z) SE",
+        TallySet {
+            absorption_rz: true,
+            absorption_rz_se: true,
+            surface_xy: 0,
+        },
+    ),
+    (
+        "profile-only",
+        TallySet {
+            absorption_rz: false,
+            absorption_rz_se: false,
+            surface_xy: 0,
+        },
+    ),
+];
+
+/// Channel R of each material on its thesis grid, with each of [`THROUGHPUT_TALLIES`],
 /// `photons` packets each.
 pub fn throughput(
     materials: &[(&str, &Material, u64)],
@@ -46,7 +75,7 @@ pub fn throughput(
     let mut rows = Vec::new();
     for &(name, m, photons) in materials {
         let grid = config.grid_for(m)?;
-        for full in [true, false] {
+        for (label, tallies) in THROUGHPUT_TALLIES {
             let spec = RunSpec {
                 sample: Sample {
                     n_above: config.n_above,
@@ -56,10 +85,7 @@ pub fn throughput(
                 grid,
                 photons,
                 seed: 1,
-                tallies: TallySet {
-                    absorption_rz: full,
-                    surface_xy: 0,
-                },
+                tallies,
             };
             let t = Instant::now();
             let o = run(&spec, &|_| {})?;
@@ -67,7 +93,7 @@ pub fn throughput(
             rows.push(Throughput {
                 material: name.into(),
                 channel: "R",
-                tallies: if full { "full (MCML)" } else { "profile-only" },
+                tallies: label,
                 photons,
                 seconds: s,
                 photons_per_s: photons as f64 / s,
@@ -205,7 +231,7 @@ mod tests {
             ..m.clone()
         };
         let t = throughput(&[("m", &m, 500)], &config).unwrap();
-        assert_eq!(t.len(), 2);
+        assert_eq!(t.len(), THROUGHPUT_TALLIES.len());
         assert!(
             t.iter()
                 .all(|r| r.photons_per_s > 0.0 && r.events_per_photon > 0.0)

@@ -158,6 +158,8 @@ impl SimConfig {
             seed,
             tallies: TallySet {
                 absorption_rz: !profile_only,
+                // What `simulate --full` writes of A(r, z) (the .mco files) has no standard errors.
+                absorption_rz_se: false,
                 surface_xy: 0,
             },
         };

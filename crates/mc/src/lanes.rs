@@ -1,7 +1,8 @@
 //! Several photons in flight per core: the walk of [`crate::photon`] traced four photons at a
-//! time in SIMD lanes (`wide::f64x4`), for the runs that tally only what leaves through the
-//! surfaces of one interacting layer (every profile of the library, `eval`, `render`, `reproduce`,
-//! `simulate` without `--full`).
+//! time in SIMD lanes (`wide::f64x4`), for runs of one interacting layer that keep no per-photon
+//! moments below the surface: those that tally only what leaves through the surfaces (every profile of the library, `eval`, `render`, `reproduce`,
+//! `simulate` without `--full`), and for MCML runs of one layer whose A(r, z) is summed as MCML
+//! sums it (`.mci`, `simulate --full`: `TallySet::absorption_rz_se` off).
 //!
 //! One interaction of a lane is MCML's hop–drop–spin without a branch: the free path
 //! s = −ln ξ / μt, the move, the implicit-capture deposit w·μa/μt, and the new direction are
@@ -15,7 +16,8 @@
 //!   draws a fresh exponential free path, which has the same distribution (the exponential is
 //!   memoryless: given s > d, s − d is again exponential with rate μt);
 //! - the deposits of a history are summed in the lane and handed to the scorer when the history
-//!   ends, which is all a scorer without depth tallies records of them (A and A_l per photon);
+//!   ends (A and A_l per photon); where A(r, z) is tallied without per-photon moments, each
+//!   deposit also goes to its cell as it happens;
 //! - the periodic roulettes come after every [`IMPORTANCE_INTERVAL`]-th interaction of a photon,
 //!   as in the scalar walk, but before MCML's weight roulette of the same step (each is unbiased
 //!   on its own, in any order).
@@ -34,9 +36,9 @@ use wide::{f64x4, u64x4};
 
 use crate::fresnel::COS_ZERO;
 use crate::photon::{
-    IMPORTANCE_INTERVAL, IMPORTANCE_TARGET, IMPORTANCE_THRESHOLD, Medium, PATH_ROULETTE_INTERVAL,
-    Photon, ROULETTE_SURVIVAL, ROULETTE_THRESHOLD, Scorer, cross_or_not, hop, importance, launch,
-    roulette, trace,
+    Depth, IMPORTANCE_INTERVAL, IMPORTANCE_TARGET, IMPORTANCE_THRESHOLD, Medium,
+    PATH_ROULETTE_INTERVAL, Photon, ROULETTE_SURVIVAL, ROULETTE_THRESHOLD, Scorer, cross_or_not,
+    hop, importance, launch, roulette, trace,
 };
 use crate::rng::Rng;
 
@@ -47,11 +49,11 @@ const LANES: usize = 4;
 const ONE_BITS: u64 = 0x3FF0_0000_0000_0000;
 
 /// Traces `photons` photon histories from `rng`'s stream: in lanes where the medium is one
-/// interacting layer and the scorer does not tally deposits by position, else one after another
-/// with [`trace`]. (Lanes do not pay where A(r, z) is tallied: that work is bound by memory, and
-/// measured 1.4× slower in lanes, each with a per-photon scratch of its own.)
+/// interacting layer and the scorer keeps no per-photon moments of A(r, z), else one after another
+/// with [`trace`]. (Per-photon A(r, z) scratches do not pay in lanes: that work is bound by
+/// memory, and measured 1.4× slower with a scratch per lane.)
 pub(crate) fn trace_photons<S: Scorer>(m: &Medium, rng: &mut Rng, scorer: &mut S, photons: u64) {
-    if m.slabs.len() == 1 && m.slabs[0].mu_t > 0.0 && !scorer.deposits_by_position() {
+    if m.slabs.len() == 1 && m.slabs[0].mu_t > 0.0 && scorer.depth() != Depth::PerPhoton {
         Walk::new(m, rng, scorer, photons).run();
     } else {
         for _ in 0..photons {
@@ -166,7 +168,7 @@ impl<'a, S: Scorer> Walk<'a, S> {
         if p.alive {
             v.set(k, &p);
         } else {
-            self.scorer.absorb(&p, lane(v.absorbed, k));
+            self.scorer.absorb_total(&p, lane(v.absorbed, k));
             self.scorer.finish(&p);
             self.start(v, k);
         }
@@ -228,6 +230,7 @@ impl<'a, S: Scorer> Walk<'a, S> {
         let inv_mu_t = splat(1.0 / slab.mu_t);
         let absorb = splat(slab.absorb);
         let threshold = splat(ROULETTE_THRESHOLD);
+        let summed = self.scorer.depth() == Depth::Summed;
         let (tau0, mu_eff) = (splat(slab.tau0), splat(slab.mu_eff));
         let (depth, tau_total) = (splat(slab.z1 - slab.z0), splat(m.tau_total));
         let importance_threshold = splat(IMPORTANCE_THRESHOLD);
@@ -282,6 +285,14 @@ impl<'a, S: Scorer> Walk<'a, S> {
             v.absorbed = hit.select(v.absorbed, v.absorbed + dw);
             // All ones (−1) where an interaction took place.
             v.interactions -= cast::<f64x4, u64x4>(!hit);
+            if summed {
+                let drops = (!hit & v.busy).to_bitmask();
+                let r = (v.x * v.x + v.y * v.y).sqrt();
+                for k in (0..LANES).filter(|k| drops & (1 << k) != 0) {
+                    self.scorer
+                        .deposit_summed(lane(r, k), lane(v.z, k), lane(dw, k));
+                }
+            }
 
             // The periodic roulettes, after every IMPORTANCE_INTERVAL-th interaction of a photon.
             let every = u64x4::splat(IMPORTANCE_INTERVAL - 1);
@@ -344,16 +355,20 @@ fn scatter(
         // (phase.rs) cos θ = (1 + g² − t²)/(2g), t = (1 − g²)/(1 − g + 2gξ).
         let gv = f64x4::splat(g);
         let t = f64x4::splat(1.0 - g * g) / (f64x4::splat(1.0 - g) + gv * (xi_theta + xi_theta));
-        ((f64x4::splat(1.0 + g * g) - t * t) / f64x4::splat(2.0 * g)).clamp(-one, one)
+        ((f64x4::splat(1.0 + g * g) - t * t) * f64x4::splat(0.5 / g))
+            .fast_max(-one)
+            .fast_min(one)
     };
-    let sin_t = (one - cos_t * cos_t).max(f64x4::ZERO).sqrt();
+    let sin_t = (one - cos_t * cos_t).fast_max(f64x4::ZERO).sqrt();
     let (sx, sy) = (sin_t * cos_psi, sin_t * sin_psi);
     // Near the axis the old frame is degenerate: rotate about z.
     let on_axis = uz.abs().simd_gt(f64x4::splat(COS_ZERO));
     let axis_uz = uz.simd_lt(f64x4::ZERO).select(-cos_t, cos_t);
-    let t = (one - uz * uz).max(f64x4::splat(1.0e-300)).sqrt();
-    let gen_ux = (ux * uz * sx - uy * sy) / t + ux * cos_t;
-    let gen_uy = (uy * uz * sx + ux * sy) / t + uy * cos_t;
+    let t = (one - uz * uz).fast_max(f64x4::splat(1.0e-300)).sqrt();
+    // sin θ / √(1 − u_z²), one division for both transverse components.
+    let k = sin_t / t;
+    let gen_ux = k * (ux * uz * cos_psi - uy * sin_psi) + ux * cos_t;
+    let gen_uy = k * (uy * uz * cos_psi + ux * sin_psi) + uy * cos_t;
     let gen_uz = uz * cos_t - sx * t;
     (
         on_axis.select(sx, gen_ux),

@@ -123,6 +123,8 @@ pub fn parse(text: &str, source_name: &str, seed: u64) -> Result<Vec<MciRun>> {
             seed,
             tallies: TallySet {
                 absorption_rz: true,
+                // MCML's .mco carries no standard errors of A(r, z): sum it as MCML does.
+                absorption_rz_se: false,
                 surface_xy: 0,
             },
         };

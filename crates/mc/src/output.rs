@@ -45,9 +45,11 @@ pub struct Output {
     pub tt: Estimate,
     /// Absorbed fraction per layer [-].
     pub a_l: Vec<Estimate>,
-    /// Absorption per unit depth [cm⁻¹]; empty when not tallied.
+    /// Absorption per unit depth [cm⁻¹]; empty when not tallied; standard errors NaN unless
+    /// `TallySet::absorption_rz_se`.
     pub a_z: Vec<Estimate>,
-    /// Absorption density [cm⁻³], [ir][iz] row-major; empty when not tallied.
+    /// Absorption density [cm⁻³], [ir][iz] row-major; empty when not tallied; standard errors
+    /// NaN unless `TallySet::absorption_rz_se`.
     pub a_rz: Vec<Estimate>,
     /// Diffuse reflectance per unit area [cm⁻²].
     pub rd_r: Vec<Estimate>,
@@ -139,17 +141,20 @@ impl Output {
             .collect();
         let a = estimate(acc.s(l.a_total(c)), acc.s2(l.a_total(c)), n, 1.0);
         let (a_rz, a_z) = if l.rz {
+            // Without per-photon moments the standard errors are not estimated.
+            let cell = |j: usize, scale: f64| {
+                let e = estimate(acc.s(j), acc.s2(j), n, scale);
+                Estimate {
+                    se: if l.rz_se { e.se } else { f64::NAN },
+                    ..e
+                }
+            };
             let o = l.a_rz(c);
             let a_rz = (0..nr * nz)
-                .map(|i| {
-                    let j = o + (i / nz) * sz + i % nz;
-                    estimate(acc.s(j), acc.s2(j), n, 1.0 / (area(i / nz) * grid.dz))
-                })
+                .map(|i| cell(o + (i / nz) * sz + i % nz, 1.0 / (area(i / nz) * grid.dz)))
                 .collect();
             let o = l.a_z(c);
-            let a_z = (0..nz)
-                .map(|i| estimate(acc.s(o + i), acc.s2(o + i), n, 1.0 / grid.dz))
-                .collect();
+            let a_z = (0..nz).map(|i| cell(o + i, 1.0 / grid.dz)).collect();
             (a_rz, a_z)
         } else {
             (Vec::new(), Vec::new())

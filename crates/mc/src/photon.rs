@@ -179,15 +179,33 @@ impl Photon {
     }
 }
 
+/// What a scorer keeps of the deposits, besides each history's total (A, A_l).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Depth {
+    /// Nothing: only the history's total counts.
+    None,
+    /// Deposits on the (r, z) grid, summed over all photons (no per-photon state).
+    Summed,
+    /// Deposits on the (r, z) grid gathered per history (per-photon second moments).
+    PerPhoton,
+}
+
 /// What the walk reports. All methods are called with the photon's state at that moment.
+/// A walk with several photons in flight (`lanes`, where [`Scorer::depth`] is not
+/// [`Depth::PerPhoton`]) hands each deposit to [`Scorer::deposit_summed`] (when
+/// [`Depth::Summed`]) and a history's deposits as one sum to [`Scorer::absorb_total`] right
+/// before [`Scorer::finish`]: the scorer's per-photon state lives only between those two calls.
 pub(crate) trait Scorer {
-    /// Whether deposits are tallied where they happen (A(r, z)). When not, a walk may hand a
-    /// history's deposits to [`Scorer::absorb`] as one sum right before [`Scorer::finish`], and
-    /// several photons may be in flight at once (`lanes`): the scorer's per-photon state lives
-    /// only between that call and `finish`.
-    fn deposits_by_position(&self) -> bool;
-    /// Weight `dw` deposited at the photon's position (an interaction in an absorbing layer).
+    /// What the scorer keeps of deposits.
+    fn depth(&self) -> Depth;
+    /// Weight `dw` deposited at the photon's position (an interaction in an absorbing layer):
+    /// the history's total and, where tallied, the (r, z) grid.
     fn absorb(&mut self, p: &Photon, dw: f64);
+    /// A deposit `dw` at radius `r` and depth `z` [cm] on the (r, z) grid alone, summed over
+    /// photons ([`Depth::Summed`]).
+    fn deposit_summed(&mut self, r: f64, z: f64, dw: f64);
+    /// Weight `dw` added to the history's total alone (no (r, z) grid).
+    fn absorb_total(&mut self, p: &Photon, dw: f64);
     /// The photon leaves through the top (`top`) or bottom surface with its weight `p.w`;
     /// `cos_exit` is |cos| of its direction in the ambient medium.
     fn escape(&mut self, p: &Photon, top: bool, cos_exit: f64);

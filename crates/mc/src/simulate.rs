@@ -81,6 +81,7 @@ impl Job for McmlJob<'_> {
             na: g.na,
             layers: self.spec.sample.layers.len(),
             rz: self.spec.tallies.absorption_rz,
+            rz_se: self.spec.tallies.absorption_rz_se,
             channels: 1,
             xy: self.spec.tallies.surface_xy,
         }

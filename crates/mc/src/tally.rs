@@ -10,14 +10,22 @@
 //! merge associative: results are bit-identical whatever the thread count, chunk order or shards.
 
 use crate::grid::{Grid, GridIndex};
-use crate::photon::{Photon, Scorer};
+use crate::photon::{Depth, Photon, Scorer};
 
 /// Which optional tallies to record. Exit tallies and total/per-layer absorption are always on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct TallySet {
-    /// Record absorption on the (r, z) grid (MCML's `A_rz` and `A_z`). Costs a scratch write per
+    /// Record absorption on the (r, z) grid (MCML's `A_rz` and `A_z`). Costs a write per
     /// interaction; turn it off when only profiles are needed.
     pub absorption_rz: bool,
+    /// With `absorption_rz`: estimate the standard errors of A(r, z) and A(z) from per-photon
+    /// second moments (each history's deposits gathered per cell before squaring: a scratch
+    /// write per interaction and a flush per photon, and the photon walk stays scalar). Off,
+    /// A(r, z) and A(z) are summed as MCML sums them (one write per interaction, several photons
+    /// in flight) and their standard errors are NaN: not estimated. Totals (A, A_l, Rd, Tt) and
+    /// every exit tally keep exact standard errors either way.
+    #[serde(default = "yes")]
+    pub absorption_rz_se: bool,
     /// Record diffuse reflectance on a square surface grid Rd(x, y) of 2n + 1 cells per side
     /// with the radial grid's spacing dr, centred on the beam (n = this value; 0 = off). Needed
     /// when the profile is not radially symmetric (oblique incidence).
@@ -25,10 +33,15 @@ pub struct TallySet {
     pub surface_xy: usize,
 }
 
+fn yes() -> bool {
+    true
+}
+
 impl Default for TallySet {
     fn default() -> Self {
         TallySet {
             absorption_rz: true,
+            absorption_rz_se: true,
             surface_xy: 0,
         }
     }
@@ -47,6 +60,10 @@ pub struct Layout {
     pub layers: usize,
     /// Whether A(r, z) and A(z) are recorded.
     pub rz: bool,
+    /// Whether A(r, z) and A(z) carry per-photon second moments (else only sums: their
+    /// standard errors are not estimated).
+    #[serde(default = "yes")]
+    pub rz_se: bool,
     /// Number of channels tallied side by side (1 except for batch runs).
     pub channels: usize,
     /// Half-width n of the surface grid Rd(x, y), (2n + 1)² cells; 0 = not recorded.
@@ -219,38 +236,61 @@ impl Accumulator {
 }
 
 /// Gathers one photon's deposits in a dense array with a list of touched cells, then flushes
-/// (Σw, (Σw)²) per cell. No allocation after the first photons.
+/// (Σw, (Σw)²) per cell. No allocation after construction. The list has room for every cell, so
+/// a deposit appends its cell unconditionally and counts it only if the cell was empty: no
+/// branch on the deposit's value (a cell once touched stays positive: deposits are > 0).
 #[derive(Clone, Debug)]
-struct Scratch {
+pub(crate) struct Scratch {
     value: Vec<f64>,
     touched: Vec<u32>,
+    /// Cells touched since the last flush (the first `len` entries of `touched`).
+    len: usize,
 }
 
 impl Scratch {
-    fn new(n: usize) -> Self {
+    pub fn new(n: usize) -> Self {
         Scratch {
             value: vec![0.0; n],
-            touched: Vec::new(),
+            // One slot beyond the cells: the unconditional append after all n are touched.
+            touched: vec![0; n + 1],
+            len: 0,
         }
     }
 
+    /// Adds `w` > 0 to cell `i`.
     #[inline]
-    fn add(&mut self, i: usize, w: f64) {
-        if self.value[i] == 0.0 {
-            self.touched.push(i as u32);
-        }
-        self.value[i] += w;
+    pub fn add(&mut self, i: usize, w: f64) {
+        let v = self.value[i];
+        self.touched[self.len] = i as u32;
+        self.len += usize::from(v == 0.0);
+        self.value[i] = v + w;
     }
 
-    fn flush(&mut self, offset: usize, sum: &mut [f64], sum_sq: &mut [f64]) {
-        for &i in &self.touched {
+    /// Σ of the deposits since the last flush.
+    pub fn total(&self) -> f64 {
+        self.touched[..self.len]
+            .iter()
+            .map(|&i| self.value[i as usize])
+            .sum()
+    }
+
+    /// Hands each touched cell and its value to `f`, and empties the scratch.
+    #[inline]
+    pub fn drain(&mut self, mut f: impl FnMut(usize, f64)) {
+        for &i in &self.touched[..self.len] {
             let i = i as usize;
-            let v = self.value[i];
+            f(i, std::mem::take(&mut self.value[i]));
+        }
+        self.len = 0;
+    }
+
+    /// Adds each touched cell's value v to `sum[offset + cell]` and v² to `sum_sq[…]`, and
+    /// empties the scratch.
+    pub fn flush(&mut self, offset: usize, sum: &mut [f64], sum_sq: &mut [f64]) {
+        self.drain(|i, v| {
             sum[offset + i] += v;
             sum_sq[offset + i] += v * v;
-            self.value[i] = 0.0;
-        }
-        self.touched.clear();
+        });
     }
 }
 
@@ -258,27 +298,30 @@ impl Scratch {
 pub(crate) struct McmlScorer<'a> {
     tally: &'a mut Tally,
     grid: GridIndex,
+    /// A(r, z) and A(z) of the current history, when their per-photon moments are tallied.
     rz: Option<(Scratch, Scratch)>,
     a_l: Scratch,
+    /// Offsets of A(r, z) and A(z) in the tally.
+    offsets_rz: (usize, usize),
 }
 
 impl<'a> McmlScorer<'a> {
     pub fn new(tally: &'a mut Tally, grid: Grid) -> Self {
         let l = tally.layout;
-        let rz =
-            l.rz.then(|| (Scratch::new(l.nr * l.nz), Scratch::new(l.nz)));
+        let rz = (l.rz && l.rz_se).then(|| (Scratch::new(l.nr * l.nz), Scratch::new(l.nz)));
         McmlScorer {
             tally,
             grid: GridIndex::new(&grid),
             rz,
             a_l: Scratch::new(l.layers),
+            offsets_rz: (l.a_rz(0), l.a_z(0)),
         }
     }
 }
 
 impl Scorer for McmlScorer<'_> {
-    fn deposits_by_position(&self) -> bool {
-        self.rz.is_some()
+    fn depth(&self) -> Depth {
+        depth_of(&self.tally.layout)
     }
 
     #[inline]
@@ -286,11 +329,28 @@ impl Scorer for McmlScorer<'_> {
         if dw == 0.0 {
             return;
         }
-        self.a_l.add(p.layer, dw);
+        self.absorb_total(p, dw);
         if let Some((a_rz, a_z)) = &mut self.rz {
             let iz = self.grid.iz(p.z);
             a_rz.add(self.grid.ir(p.r()) * self.tally.layout.nz + iz, dw);
             a_z.add(iz, dw);
+        } else if self.tally.layout.rz {
+            self.deposit_summed(p.r(), p.z, dw);
+        }
+    }
+
+    #[inline]
+    fn deposit_summed(&mut self, r: f64, z: f64, dw: f64) {
+        let (o_rz, o_z) = self.offsets_rz;
+        let iz = self.grid.iz(z);
+        self.tally.sum[o_rz + self.grid.ir(r) * self.tally.layout.nz + iz] += dw;
+        self.tally.sum[o_z + iz] += dw;
+    }
+
+    #[inline]
+    fn absorb_total(&mut self, p: &Photon, dw: f64) {
+        if dw != 0.0 {
+            self.a_l.add(p.layer, dw);
         }
     }
 
@@ -313,12 +373,7 @@ impl Scorer for McmlScorer<'_> {
     fn finish(&mut self, p: &Photon) {
         let l = self.tally.layout;
         let t = &mut *self.tally;
-        let a: f64 = self
-            .a_l
-            .touched
-            .iter()
-            .map(|&i| self.a_l.value[i as usize])
-            .sum();
+        let a = self.a_l.total();
         t.sum[l.a_total(0)] += a;
         t.sum_sq[l.a_total(0)] += a * a;
         self.a_l.flush(l.a_l(0), &mut t.sum, &mut t.sum_sq);
@@ -328,5 +383,14 @@ impl Scorer for McmlScorer<'_> {
         }
         t.photons += 1;
         t.interactions += p.interactions;
+    }
+}
+
+/// What a scorer with this layout keeps of deposits besides each history's total.
+pub(crate) fn depth_of(l: &Layout) -> Depth {
+    match (l.rz, l.rz_se) {
+        (false, _) => Depth::None,
+        (true, false) => Depth::Summed,
+        (true, true) => Depth::PerPhoton,
     }
 }

@@ -56,6 +56,7 @@ fn batch_equals_independent_runs_within_statistics() {
         seed: 1,
         tallies: TallySet {
             absorption_rz: true,
+            absorption_rz_se: true,
             surface_xy: 0,
         },
     };
@@ -130,6 +131,7 @@ fn grouping_respects_albedo_g_eta_and_thickness() {
         seed: 1,
         tallies: TallySet {
             absorption_rz: false,
+            absorption_rz_se: true,
             surface_xy: 0,
         },
     };
@@ -180,6 +182,7 @@ fn a_channel_alone_and_in_a_bigger_batch_gives_the_same_bits() {
         seed: 11,
         tallies: TallySet {
             absorption_rz: true,
+            absorption_rz_se: true,
             surface_xy: 8,
         },
     };
@@ -271,6 +274,7 @@ fn error_target_is_met() {
         seed: 8,
         tallies: TallySet {
             absorption_rz: false,
+            absorption_rz_se: true,
             surface_xy: 0,
         },
     };
@@ -316,6 +320,7 @@ fn oblique_batch_surface_grids_equal_independent_runs() {
     let (photons, theta) = (60_000, mc::incidence::Incidence { theta_deg: 60.0 });
     let tallies = TallySet {
         absorption_rz: false,
+        absorption_rz_se: true,
         surface_xy: 20,
     };
     let spec = BatchSpec {

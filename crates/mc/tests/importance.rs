@@ -9,6 +9,7 @@ use mc::{Grid, Layer, Output, RunSpec, Sample, TallySet};
 
 const PROFILE_ONLY: TallySet = TallySet {
     absorption_rz: false,
+    absorption_rz_se: true,
     surface_xy: 0,
 };
 

@@ -28,6 +28,7 @@ fn run_at(
         seed,
         tallies: TallySet {
             absorption_rz: !profile_only,
+            absorption_rz_se: true,
             surface_xy,
         },
     };
@@ -196,4 +197,88 @@ fn lanes_are_deterministic_across_threads() {
             .install(|| run(&sample, grid, 3 * mc::CHUNK_PHOTONS + 17, 9, true))
     };
     assert_eq!(on(1), on(2));
+}
+
+fn run_tallies(sample: &Sample, grid: Grid, photons: u64, seed: u64, se: bool) -> Output {
+    let spec = RunSpec {
+        sample: sample.clone(),
+        grid,
+        photons,
+        seed,
+        tallies: TallySet {
+            absorption_rz: true,
+            absorption_rz_se: se,
+            surface_xy: 0,
+        },
+    };
+    mc::run(&spec, &|_| {}).unwrap()
+}
+
+/// χ² of a summed tally (no standard errors) against a per-photon one of the same photon count,
+/// whose variance both share: Σ (a − b)²/(2 se_b²) over the cells with se_b < 0.2·b, within 5
+/// standard deviations of its mean.
+fn assert_summed_agrees(name: &str, summed: &[Estimate], exact: &[Estimate], min_cells: usize) {
+    let (mut chi, mut dof) = (0.0, 0);
+    for (a, b) in summed.iter().zip(exact) {
+        assert!(a.se.is_nan(), "{name}: a summed cell has a standard error");
+        if b.se > 0.0 && b.se < 0.2 * b.value {
+            chi += (a.value - b.value).powi(2) / (2.0 * b.se * b.se);
+            dof += 1;
+        }
+    }
+    assert!(dof >= min_cells, "{name}: only {dof} cells to compare");
+    assert!(
+        chi < dof as f64 + 5.0 * (2.0 * dof as f64).sqrt(),
+        "{name}: χ² = {chi:.1} over {dof} cells"
+    );
+}
+
+/// A(r, z) summed as MCML sums it (`absorption_rz_se` off: lanes in one layer, the scalar walk in
+/// two) agrees with A(r, z) gathered per photon (exact standard errors) in A(z) and A(r, z) by
+/// χ², every deposit lands in a cell (Σ A(r, z)·volume = A to rounding), its standard errors
+/// are marked not estimated (NaN), and the totals keep theirs.
+#[test]
+fn summed_absorption_agrees_with_per_photon_absorption() {
+    let layer = |g, d| Layer {
+        n: 1.4,
+        mu_a: 1.0,
+        mu_s: 19.0,
+        g,
+        thickness: d,
+    };
+    for (name, layers) in [
+        ("one layer, g = 0.9", vec![layer(0.9, 0.3)]),
+        ("half-space, g = 0", vec![layer(0.0, 1.0e8)]),
+        ("two layers", vec![layer(0.9, 0.05), layer(0.0, 0.3)]),
+    ] {
+        let sample = Sample {
+            n_above: 1.0,
+            n_below: 1.0,
+            layers,
+        };
+        let grid = Grid {
+            dr: 0.01,
+            dz: 0.01,
+            nr: 30,
+            nz: 30,
+            na: 1,
+        };
+        let summed = run_tallies(&sample, grid, 40_000, 6, false);
+        let exact = run_tallies(&sample, grid, 40_000, 7, true);
+        assert_summed_agrees(&format!("{name} A(z)"), &summed.a_z, &exact.a_z, 20);
+        assert_summed_agrees(&format!("{name} A(r,z)"), &summed.a_rz, &exact.a_rz, 200);
+        // The annulus of bin ir: π((ir + 1)² − ir²)·dr².
+        let volume = |ir: usize| 2.0 * std::f64::consts::PI * (ir as f64 + 0.5) * grid.dr * grid.dr;
+        let total: f64 = (0..grid.nr * grid.nz)
+            .map(|i| summed.a_rz[i].value * volume(i / grid.nz) * grid.dz)
+            .sum();
+        assert!(
+            (total - summed.a.value).abs() < 1e-9 * summed.a.value,
+            "{name}: ΣA(r,z) = {total}, A = {:?}",
+            summed.a
+        );
+        for (what, p, q) in [("A", summed.a, exact.a), ("Rd", summed.rd, exact.rd)] {
+            assert!(p.se > 0.0 && z(p, q) < 4.0, "{name} {what}: {p:?} vs {q:?}");
+        }
+    }
 }

@@ -48,6 +48,7 @@ static VALID: LazyLock<String> = LazyLock::new(|| {
         seed: 3,
         tallies: TallySet {
             absorption_rz: true,
+            absorption_rz_se: true,
             surface_xy: 1,
         },
     };

@@ -29,6 +29,7 @@ fn spec(mu_a: f64, mu_s: f64, n: f64) -> BatchSpec {
         seed: 9,
         tallies: TallySet {
             absorption_rz: false,
+            absorption_rz_se: true,
             surface_xy: 0,
         },
     }

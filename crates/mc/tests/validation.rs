@@ -249,6 +249,7 @@ fn profile_only_runs_match_chandrasekhar() {
             seed: 40 + i as u64,
             tallies: TallySet {
                 absorption_rz: false,
+                absorption_rz_se: true,
                 surface_xy: 0,
             },
         };
@@ -469,6 +470,7 @@ fn surface_run(layer: Layer, theta_deg: f64, n: usize, photons: u64, seed: u64) 
         seed,
         tallies: TallySet {
             absorption_rz: false,
+            absorption_rz_se: true,
             surface_xy: n,
         },
     };
