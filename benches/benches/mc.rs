@@ -1,6 +1,7 @@
 //! `mc` throughput on one core: photons/s (criterion's throughput, elements = photon packets) of
 //! a single-channel run of Skin1 R and Wholemilk R, half-spaces on the thesis grid (Table 6.1),
-//! profile-only and with MCML's full tallies (A(r, z)), as `sss bench mc` measures them. Each run
+//! profile-only, with MCML's full tallies (A(r, z) summed, as `.mci` runs keep it) and with
+//! per-photon standard errors of A(r, z) as well, as `sss bench mc` measures them. Each run
 //! also counts its interaction events (drops, one per interaction site); the bench prints
 //! events/photon and events/s [M/s] over the timed runs. One core: every run is traced on a
 //! one-thread rayon pool.
@@ -19,8 +20,10 @@ use sss_benches::{material, single_channel};
 /// Wholemilk's albedo is near 1, so its photons take ten times as many steps.
 const CASES: [(&str, u64); 2] = [("skin1", 50_000), ("wholemilk", 5_000)];
 
-/// (label, tallies): profile-only, and MCML's full set with absorption on the (r, z) grid.
-const TALLIES: [(&str, TallySet); 2] = [
+/// (label, tallies): profile-only; MCML's full set with absorption on the (r, z) grid, summed as
+/// MCML sums it (as `.mci` runs keep it); and the full set with per-photon standard errors of
+/// A(r, z).
+const TALLIES: [(&str, TallySet); 3] = [
     (
         "profile-only",
         TallySet {
@@ -34,6 +37,14 @@ const TALLIES: [(&str, TallySet); 2] = [
         TallySet {
             absorption_rz: true,
             absorption_rz_se: false,
+            surface_xy: 0,
+        },
+    ),
+    (
+        "full-rz-se",
+        TallySet {
+            absorption_rz: true,
+            absorption_rz_se: true,
             surface_xy: 0,
         },
     ),

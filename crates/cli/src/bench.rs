@@ -46,7 +46,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
         .num_threads(a.threads.unwrap_or(0))
         .build()?;
 
-    // 1. Single channel, one core: the MCML yardstick (full tallies) and profile-only.
+    // 1. Single channel, one core: the MCML yardstick (full tallies, summed as .mci runs keep
+    // them, and with per-photon standard errors of A(r, z)) and profile-only.
     eprintln!("== single channel, 1 thread, thesis grid ==");
     let named = ["skin1", "wholemilk", "marble"]
         .map(library::material)
@@ -60,7 +61,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     let throughput = single.install(|| mc::bench::throughput(&cases, &config))?;
     for r in &throughput {
         eprintln!(
-            "{:<10} R  {:<13} {:>10.0} photons/s  {:>6.1} M events/s  ({:.0} events/photon)",
+            "{:<10} R  {:<17} {:>10.0} photons/s  {:>6.1} M events/s  ({:.0} events/photon)",
             r.material,
             r.tallies,
             r.photons_per_s,

@@ -133,7 +133,7 @@ impl SimConfig {
     /// The batch run of `materials` under these settings: three channels (R, G, B) per material
     /// in order, each on its material's grid ([`SimConfig::grid_for`]) and thickness (the
     /// material's, else `thickness_cm`), `photons` per channel from `seed`; A(r, z) is tallied
-    /// unless `profile_only`. Validated.
+    /// unless `profile_only`, summed as MCML sums it (no per-photon standard errors). Validated.
     pub fn batch(
         &self,
         materials: &[&Material],
