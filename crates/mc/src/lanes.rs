@@ -101,48 +101,83 @@ fn lane(v: Wide, k: usize) -> f64 {
     v.as_array()[k]
 }
 
-/// `v` with lane `k` set to `x`.
-#[inline(always)]
-fn with_lane(v: Wide, k: usize, x: f64) -> Wide {
-    let mut a = v.to_array();
-    a[k] = x;
-    Wide::from(a)
+/// The lanes' states as plain arrays, for the scalar work: unpacked once, edited lane by lane,
+/// packed once (writing single lanes of a vector one at a time costs a stalled store forwarding
+/// for each).
+struct Unpacked {
+    x: [f64; LANES],
+    y: [f64; LANES],
+    z: [f64; LANES],
+    ux: [f64; LANES],
+    uy: [f64; LANES],
+    uz: [f64; LANES],
+    w: [f64; LANES],
+    absorbed: [f64; LANES],
+    interactions: [u64; LANES],
+    busy: [bool; LANES],
 }
 
 impl Lanes {
+    fn unpack(&self) -> Unpacked {
+        Unpacked {
+            x: self.x.to_array(),
+            y: self.y.to_array(),
+            z: self.z.to_array(),
+            ux: self.ux.to_array(),
+            uy: self.uy.to_array(),
+            uz: self.uz.to_array(),
+            w: self.w.to_array(),
+            absorbed: self.absorbed.to_array(),
+            interactions: self.interactions.to_array(),
+            busy: std::array::from_fn(|k| self.busy.to_bitmask() & (1 << k) != 0),
+        }
+    }
+
+    fn pack(u: &Unpacked) -> Self {
+        let ones = f64::from_bits(u64::MAX);
+        Lanes {
+            x: Wide::from(u.x),
+            y: Wide::from(u.y),
+            z: Wide::from(u.z),
+            ux: Wide::from(u.ux),
+            uy: Wide::from(u.uy),
+            uz: Wide::from(u.uz),
+            w: Wide::from(u.w),
+            absorbed: Wide::from(u.absorbed),
+            interactions: WideBits::from(u.interactions),
+            busy: Wide::from(u.busy.map(|b| if b { ones } else { 0.0 })),
+        }
+    }
+}
+
+impl Unpacked {
     /// Lane `k` as a scalar photon.
     fn photon(&self, k: usize) -> Photon {
         Photon {
-            x: lane(self.x, k),
-            y: lane(self.y, k),
-            z: lane(self.z, k),
-            ux: lane(self.ux, k),
-            uy: lane(self.uy, k),
-            uz: lane(self.uz, k),
-            w: lane(self.w, k),
+            x: self.x[k],
+            y: self.y[k],
+            z: self.z[k],
+            ux: self.ux[k],
+            uy: self.uy[k],
+            uz: self.uz[k],
+            w: self.w[k],
             layer: 0,
             s_left: 0.0,
-            interactions: self.interactions.as_array()[k],
+            interactions: self.interactions[k],
             alive: true,
         }
     }
 
     /// Writes a scalar photon into lane `k`.
     fn set(&mut self, k: usize, p: &Photon) {
-        self.x = with_lane(self.x, k, p.x);
-        self.y = with_lane(self.y, k, p.y);
-        self.z = with_lane(self.z, k, p.z);
-        self.ux = with_lane(self.ux, k, p.ux);
-        self.uy = with_lane(self.uy, k, p.uy);
-        self.uz = with_lane(self.uz, k, p.uz);
-        self.w = with_lane(self.w, k, p.w);
-        let mut n = self.interactions.to_array();
-        n[k] = p.interactions;
-        self.interactions = WideBits::from(n);
-    }
-
-    fn busy(&self, k: usize) -> bool {
-        self.busy.to_bitmask() & (1 << k) != 0
+        self.x[k] = p.x;
+        self.y[k] = p.y;
+        self.z[k] = p.z;
+        self.ux[k] = p.ux;
+        self.uy[k] = p.uy;
+        self.uz[k] = p.uz;
+        self.w[k] = p.w;
+        self.interactions[k] = p.interactions;
     }
 }
 
@@ -168,23 +203,22 @@ impl<'a, S: Scorer> Walk<'a, S> {
     }
 
     /// Launches the chunk's next photon in lane `k`, or idles the lane when all are launched.
-    fn start(&mut self, v: &mut Lanes, k: usize) {
-        v.absorbed = with_lane(v.absorbed, k, 0.0);
-        v.set(k, &launch(self.m));
-        let busy = self.launched < self.photons;
-        self.launched += u64::from(busy);
-        v.busy = with_lane(v.busy, k, if busy { f64::from_bits(u64::MAX) } else { 0.0 });
+    fn start(&mut self, u: &mut Unpacked, k: usize) {
+        u.absorbed[k] = 0.0;
+        u.set(k, &launch(self.m));
+        u.busy[k] = self.launched < self.photons;
+        self.launched += u64::from(u.busy[k]);
     }
 
     /// After scalar work on lane `k`: the photon goes back into its lane, or its history ends
     /// (its deposits go to the scorer in one sum) and the lane launches the next one.
-    fn settle(&mut self, v: &mut Lanes, k: usize, p: Photon) {
+    fn settle(&mut self, u: &mut Unpacked, k: usize, p: Photon) {
         if p.alive {
-            v.set(k, &p);
+            u.set(k, &p);
         } else {
-            self.scorer.absorb_total(&p, lane(v.absorbed, k));
+            self.scorer.absorb_total(&p, u.absorbed[k]);
             self.scorer.finish(&p);
-            self.start(v, k);
+            self.start(u, k);
         }
     }
 
@@ -193,26 +227,28 @@ impl<'a, S: Scorer> Walk<'a, S> {
     #[inline(never)]
     fn events(&mut self, v: &mut Lanes, hits: u32, light: u32) {
         let slab = self.m.slabs[0];
+        let mut u = v.unpack();
         for k in 0..LANES {
-            if !v.busy(k) {
+            if !u.busy[k] {
                 continue;
             }
             if hits & (1 << k) != 0 {
-                let mut p = v.photon(k);
+                let mut p = u.photon(k);
                 let bound = if p.uz > 0.0 { slab.z1 } else { slab.z0 };
                 let d = (bound - p.z) / p.uz;
                 hop(&mut p, d);
                 cross_or_not(self.m, &mut p, &mut self.rng[k], self.scorer);
-                self.settle(v, k, p);
+                self.settle(&mut u, k, p);
             }
-            if light & (1 << k) != 0 && v.busy(k) {
-                let mut p = v.photon(k);
+            if light & (1 << k) != 0 && u.busy[k] {
+                let mut p = u.photon(k);
                 if p.w < ROULETTE_THRESHOLD {
                     roulette(&mut p, &mut self.rng[k], ROULETTE_SURVIVAL);
                 }
-                self.settle(v, k, p);
+                self.settle(&mut u, k, p);
             }
         }
+        *v = Lanes::pack(&u);
     }
 
     /// The periodic roulettes of the scalar walk (`hop_drop_spin`) for the lanes in `due`, whose
@@ -221,19 +257,18 @@ impl<'a, S: Scorer> Walk<'a, S> {
     /// interactions, then the importance roulette (which decides again, in scalar arithmetic).
     #[inline(never)]
     fn checks(&mut self, v: &mut Lanes, due: u32) {
+        let mut u = v.unpack();
         for k in (0..LANES).filter(|k| due & (1 << k) != 0) {
-            let mut p = v.photon(k);
-            let w = p.w;
+            let mut p = u.photon(k);
             if p.interactions.is_multiple_of(PATH_ROULETTE_INTERVAL) {
                 roulette(&mut p, &mut self.rng[k], 0.5);
             }
             if p.alive && self.m.importance {
                 importance(self.m, &mut p, &mut self.rng[k]);
             }
-            if p.w != w || !p.alive {
-                self.settle(v, k, p);
-            }
+            self.settle(&mut u, k, p);
         }
+        *v = Lanes::pack(&u);
     }
 
     fn run(mut self) {
@@ -249,22 +284,23 @@ impl<'a, S: Scorer> Walk<'a, S> {
         let (depth, tau_total) = (splat(slab.z1 - slab.z0), splat(m.tau_total));
         let importance_threshold = splat(IMPORTANCE_THRESHOLD);
         let importance_target = splat(IMPORTANCE_TARGET);
-        let p = launch(m);
-        let mut v = Lanes {
-            x: splat(p.x),
-            y: splat(p.y),
-            z: splat(p.z),
-            ux: splat(p.ux),
-            uy: splat(p.uy),
-            uz: splat(p.uz),
-            w: splat(p.w),
-            absorbed: Wide::ZERO,
-            interactions: WideBits::ZERO,
-            busy: Wide::ZERO,
+        let zero = [0.0; LANES];
+        let mut u = Unpacked {
+            x: zero,
+            y: zero,
+            z: zero,
+            ux: zero,
+            uy: zero,
+            uz: zero,
+            w: zero,
+            absorbed: zero,
+            interactions: [0; LANES],
+            busy: [false; LANES],
         };
         for k in 0..LANES {
-            self.start(&mut v, k);
+            self.start(&mut u, k);
         }
+        let mut v = Lanes::pack(&u);
         while v.busy.any() {
             let mut xi_s = [0.0; LANES];
             let mut xi_theta = [0.0; LANES];
