@@ -8,6 +8,16 @@ use common::{assert_agree, assert_profiles_agree};
 use mc::incidence::Incidence;
 use mc::{Estimate, Grid, Layer, Output, RunSpec, Sample, TallySet};
 
+fn spec(sample: &Sample, grid: Grid, photons: u64, seed: u64, tallies: TallySet) -> RunSpec {
+    RunSpec {
+        sample: sample.clone(),
+        grid,
+        photons,
+        seed,
+        tallies,
+    }
+}
+
 fn run(sample: &Sample, grid: Grid, photons: u64, seed: u64, profile_only: bool) -> Output {
     run_at(sample, grid, photons, seed, profile_only, 0.0, 0)
 }
@@ -21,18 +31,27 @@ fn run_at(
     theta_deg: f64,
     surface_xy: usize,
 ) -> Output {
-    let spec = RunSpec {
-        sample: sample.clone(),
-        grid,
-        photons,
-        seed,
-        tallies: TallySet {
-            absorption_rz: !profile_only,
-            absorption_rz_se: true,
-            surface_xy,
-        },
+    let tallies = TallySet {
+        absorption_rz: !profile_only,
+        absorption_rz_se: true,
+        surface_xy,
     };
+    let spec = spec(sample, grid, photons, seed, tallies);
     mc::run_at(&spec, Incidence { theta_deg }, &|_| {}).unwrap()
+}
+
+/// A run with A(r, z), its standard errors from per-photon moments (`se`) or not.
+fn run_tallies(sample: &Sample, grid: Grid, photons: u64, seed: u64, se: bool) -> Output {
+    mc::run(&spec(sample, grid, photons, seed, with_rz(se)), &|_| {}).unwrap()
+}
+
+/// The tallies with A(r, z), with per-photon standard errors (`se`) or summed.
+fn with_rz(se: bool) -> TallySet {
+    TallySet {
+        absorption_rz: true,
+        absorption_rz_se: se,
+        surface_xy: 0,
+    }
 }
 
 /// |z| of two estimates' difference.
@@ -199,36 +218,11 @@ fn lanes_are_deterministic_across_threads() {
     };
     let profile = |threads| pool(threads).install(|| run(&sample, grid, photons, 9, true));
     assert_eq!(profile(1), profile(2));
-    let spec = RunSpec {
-        sample: sample.clone(),
-        grid,
-        photons,
-        seed: 9,
-        tallies: TallySet {
-            absorption_rz: true,
-            absorption_rz_se: false,
-            surface_xy: 0,
-        },
-    };
+    let spec = spec(&sample, grid, photons, 9, with_rz(false));
     let chunks = 0..mc::chunk_count(photons);
     let summed =
         |threads| pool(threads).install(|| mc::accumulate(&spec, chunks.clone(), &|_| {}).unwrap());
     assert_eq!(summed(1), summed(2));
-}
-
-fn run_tallies(sample: &Sample, grid: Grid, photons: u64, seed: u64, se: bool) -> Output {
-    let spec = RunSpec {
-        sample: sample.clone(),
-        grid,
-        photons,
-        seed,
-        tallies: TallySet {
-            absorption_rz: true,
-            absorption_rz_se: se,
-            surface_xy: 0,
-        },
-    };
-    mc::run(&spec, &|_| {}).unwrap()
 }
 
 /// χ² of a summed tally (no standard errors) against a per-photon one of the same photon count,
