@@ -1,9 +1,9 @@
 //! Several photons in flight per core: the walk of [`crate::photon`] traced four or eight
-//! photons at a time in SIMD lanes (`wide::f64x4` or `f64x8`: `LANES`), for runs of one interacting layer that keep no per-photon
-//! moments below the surface: those that tally only what leaves through the surfaces (every
-//! profile of the library, `eval`, `render`, `reproduce`, `simulate` without `--full`), and MCML
-//! runs of one layer whose A(r, z) is summed as MCML sums it (`.mci`, `simulate --full`:
-//! `TallySet::absorption_rz_se` off).
+//! photons at a time in SIMD lanes (`wide::f64x4` or `f64x8`: `LANES`), for runs of one
+//! interacting layer that keep no per-photon moments below the surface: those that tally only
+//! what leaves through the surfaces (every profile of the library, `eval`, `render`, `reproduce`,
+//! `simulate` without `--full`), and MCML runs of one layer whose A(r, z) is summed as MCML sums
+//! it (`.mci`, `simulate --full`: `TallySet::absorption_rz_se` off).
 //!
 //! One interaction of a lane is MCML's hop–drop–spin without a branch: the free path
 //! s = −ln ξ / μt, the move, the implicit-capture deposit w·μa/μt, and the new direction are
@@ -12,7 +12,7 @@
 //! reflectance), a lane whose weight fell below the roulette threshold, and the periodic
 //! importance and path-length roulettes are handled one lane at a time by the scalar walk's own
 //! functions. A lane whose photon has ended launches the chunk's next photon. The physics is the
-//! scalar walk's with two exact rewritings:
+//! scalar walk's with three exact rewritings:
 //! - a step cut at a boundary is not resumed with its leftover optical depth: a reflected photon
 //!   draws a fresh exponential free path, which has the same distribution (the exponential is
 //!   memoryless: given s > d, s − d is again exponential with rate μt);
