@@ -70,9 +70,8 @@ pub(crate) struct Medium {
     pub launch_uz: f64,
     /// ∫ μ_eff dz over the whole sample [-].
     pub tau_total: f64,
-    /// Whether nothing below the surfaces is tallied: photons then play the importance roulette
-    /// ([`importance`]) and may be traced in lanes (`lanes`), which hand a history's deposits to
-    /// the scorer in one sum when it ends.
+    /// Whether photons play the importance roulette ([`importance`]): only when nothing below
+    /// the surfaces is tallied.
     pub importance: bool,
 }
 

@@ -4,7 +4,9 @@
 //! - a photon escapes at most once, so the exit tallies `Rd(r, α)` and `Tt(r, α)` get w and w²
 //!   directly, and every 1D/0D exit quantity's second moment is a sum of theirs;
 //! - absorption happens many times per photon, so deposits are gathered in a per-photon scratch
-//!   (`A(r,z)`, `A(z)`, `A_l`, `A`) and flushed as (Σw, (Σw)²) when the photon's history ends.
+//!   (`A(r,z)`, `A(z)`, `A_l`, `A`) and flushed as (Σw, (Σw)²) when the photon's history ends;
+//!   without `TallySet::absorption_rz_se`, `A(r,z)` and `A(z)` are summed directly (no second
+//!   moments: their standard errors are NaN).
 //!
 //! Chunk tallies are summed into an [`Accumulator`] in 2⁻⁶⁴ fixed point (i128), which makes the
 //! merge associative: results are bit-identical whatever the thread count, chunk order or shards.
@@ -236,9 +238,10 @@ impl Accumulator {
 }
 
 /// Gathers one photon's deposits in a dense array with a list of touched cells, then flushes
-/// (Σw, (Σw)²) per cell. No allocation after construction. The list has room for every cell, so
-/// a deposit appends its cell unconditionally and counts it only if the cell was empty: no
-/// branch on the deposit's value (a cell once touched stays positive: deposits are > 0).
+/// (Σw, (Σw)²) per cell. No allocation after construction. The list has room for every cell (4
+/// bytes per cell beside the value's 8), so a deposit appends its cell unconditionally and counts
+/// it only if the cell was empty: no branch on the deposit's value (a cell once touched stays
+/// positive: deposits are > 0).
 #[derive(Clone, Debug)]
 pub(crate) struct Scratch {
     value: Vec<f64>,
