@@ -599,12 +599,11 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     }
     let emitters = gpu::emitters(&a.lights).len();
     if a.method == Method::DirectionalDipole
-        && (emitters > gpu::DIPOLE_LIGHTS
-            || a.lights.iter().any(|l| matches!(l, Light::Area { .. })))
+        && (emitters > gpu::DISC_LIGHTS || a.lights.iter().any(|l| matches!(l, Light::Area { .. })))
     {
         bail!(
             "invalid --light: the directional dipole takes at most {} directional or point lights, no area light",
-            gpu::DIPOLE_LIGHTS
+            gpu::DISC_LIGHTS
         );
     }
     if emitters > gpu::MAX_EMITTERS {
@@ -843,7 +842,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         }
         (Some(d), _) => format!(
             "directional dipole ({} samples × {} frames per pixel and light, r* = {:.3} cm)",
-            d.samples, d.frames, d.radius_cm
+            d.sampling.samples, d.sampling.frames, d.sampling.radius_cm
         ),
         (None, Some(k)) => format!(
             "{} kernel ({} pass(es) × {} taps){}",
@@ -864,7 +863,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         "kernel": kernels.first().map(|k| k.model.to_string()), "width": a.width, "height": a.height,
         "kernels": kernels.iter().map(|k| json!({"model": k.model.to_string(), "passes": k.pass.len(), "taps": k.taps})).collect::<Vec<_>>(),
         "area_gather": area.as_ref().map(|s| json!({"inner": s.pattern.inner, "layers": s.pattern.layers, "taps": s.pattern.taps().len(), "reach_px": s.pattern.reach_px(), "brighten": s.pattern.brighten, "r_max_cm": s.kernel.r_max_cm(), "table": gpu::area_gather::AREA_TABLE_SIZE})),
-        "dipole": dipole.as_ref().map(|d| json!({"samples": d.samples, "frames": d.frames, "radius_cm": d.radius_cm, "light_map": d.map_size, "scale": d.scale})),
+        "dipole": dipole.as_ref().map(|d| json!({"samples": d.sampling.samples, "frames": d.sampling.frames, "radius_cm": d.sampling.radius_cm, "light_map": d.sampling.map_size, "scale": d.scale})),
         "translucency": params.shading[..all_named.len()].iter().map(|s| s.translucency.as_ref().map(|t| json!({"first_cm": t.first_cm, "ratio": t.ratio, "tt_over_rho": t.table}))).collect::<Vec<_>>(),
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
     });
@@ -1043,12 +1042,12 @@ fn dipole_setup(
     let media: [fit::analytic::Medium; 3] =
         [0, 1, 2].map(|c| fit::analytic::Medium::channel(&named.material, c));
     let mut setup = DipoleSetup::new(&media)?;
-    setup.samples = a.samples;
-    setup.frames = a.frames;
-    setup.map_size = a.light_map;
-    setup.seed = a.source.seed() as u32;
+    setup.sampling.samples = a.samples;
+    setup.sampling.frames = a.frames;
+    setup.sampling.map_size = a.light_map;
+    setup.sampling.seed = a.source.seed() as u32;
     if let Some(r) = a.dipole_radius {
-        setup.radius_cm = r;
+        setup.sampling.radius_cm = r;
     }
     setup
         .validate()
@@ -1098,7 +1097,7 @@ fn bench_dipole(
     let rows = gpu::bench::dipole(gpu, scene, base)?;
     table(format!(
         "directional dipole at 1920×1080 on {} ({slug}, {} frames per render, median of 3 renders)",
-        gpu.adapter_name, base.frames
+        gpu.adapter_name, base.sampling.frames
     ));
     table(format!(
         "  {:>6} {:>8} {:>18} {:>18}",

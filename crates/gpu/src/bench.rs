@@ -392,7 +392,8 @@ pub fn dipole(gpu: &Gpu, scene: &Scene, base: &DipoleSetup) -> Result<Vec<Dipole
     let mut rows = Vec::new();
     for s in [scene, &four] {
         for samples in [8, 16] {
-            let setup = DipoleSetup { samples, ..*base };
+            let mut setup = *base;
+            setup.sampling.samples = samples;
             let (mut per_frame, mut wall) = (Vec::new(), Vec::new());
             for _ in 0..3 {
                 let t = std::time::Instant::now();
@@ -404,13 +405,13 @@ pub fn dipole(gpu: &Gpu, scene: &Scene, base: &DipoleSetup) -> Result<Vec<Dipole
                     .filter(|t| t.label.starts_with("directional dipole"))
                     .map(|t| t.ms)
                     .sum();
-                per_frame.push(ms / setup.frames as f64);
+                per_frame.push(ms / setup.sampling.frames as f64);
             }
             rows.push(DipoleRow {
                 method: "directional-dipole",
                 lights: s.lights.len(),
                 samples,
-                frames: setup.frames,
+                frames: setup.sampling.frames,
                 dipole_ms_per_frame: gpu.timestamps.then(|| median(per_frame)),
                 render_wall_ms: median(wall),
                 timestamps: gpu.timestamps,

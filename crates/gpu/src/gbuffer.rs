@@ -58,7 +58,7 @@ struct MaterialU {
 }
 
 impl MaterialU {
-    /// The material's tables; `plain`: all off but η (the dipole brings its own physics).
+    /// The material's tables; `plain`: all off but η (the disc gathers bring their own physics).
     fn new(s: &Shading, plain: bool) -> MaterialU {
         let s = &if plain {
             Shading {
@@ -185,7 +185,8 @@ impl GBufferPass {
     }
 
     /// Records the scene pass and the unpacking; `plain`: no albedo split and no SSS shading
-    /// tables (the directional dipole brings its own colour and angular dependence).
+    /// tables (the disc gathers, [`crate::disc_gather`], bring their own colour and angular
+    /// dependence).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn encode(
         &self,

@@ -15,6 +15,10 @@
 //! position/normal maps from the camera and from each light, then progressive Monte Carlo frames
 //! that integrate the directional dipole over the lit surface points around each pixel.
 //!
+//! [`Scatter::SurfaceGather`] ([`surface_gather`]) integrates the material's own Monte Carlo
+//! BSSRDF (`mc`'s profile, or its Rd(x, y; θ) at oblique incidence) the same way: the reference
+//! any real-time method is measured against on the same geometry and visibility.
+//!
 //! For large scattering distances, [`Scatter::AreaGather`] ([`area_gather`]) gathers an area
 //! pre-integrated kernel over Maisch & Ropinski's layered sampling pattern instead.
 //!
@@ -30,6 +34,7 @@ mod combine;
 pub mod compare;
 mod context;
 pub mod dipole;
+pub mod disc_gather;
 mod error;
 mod gbuffer;
 mod half;
@@ -42,13 +47,15 @@ mod scene;
 mod shading;
 mod shadow;
 mod splat;
+pub mod surface_gather;
 mod timing;
 
 pub use area_gather::{AreaGatherSetup, AreaKernel, GatherPattern};
 pub use blur::{BlurParams, DepthMode, GpuKernel, blur_image};
 pub use compare::{Comparison, compare_kernels, compare_models};
 pub use context::Gpu;
-pub use dipole::{DIPOLE_LIGHTS, DipoleSetup};
+pub use dipole::DipoleSetup;
+pub use disc_gather::{DISC_LIGHTS, Sampling};
 pub use error::{GpuError, Result};
 pub use light::{AREA_CELLS, Emitter, Light, MAX_EMITTERS, emitters};
 pub use mesh::{Mesh, Vertex};
@@ -59,6 +66,7 @@ pub use shading::{
     AngleTables, INCIDENCE_STEPS, Shading, TRANSLUCENCY_STEPS, Translucency,
     incidence_hemispherical, incidence_ratio,
 };
+pub use surface_gather::{Bssrdf, DirectionalTable, SurfaceGatherSetup};
 pub use timing::PassTime;
 
 #[cfg(test)]
@@ -67,7 +75,7 @@ mod tests {
     /// Rust twin uploaded into it (None: no uniform twin).
     type Shader = (&'static str, &'static str, Option<(&'static str, usize)>);
 
-    const SHADERS: [Shader; 12] = [
+    const SHADERS: [Shader; 14] = [
         (
             "scene.wgsl",
             crate::gbuffer::SCENE_WGSL,
@@ -116,9 +124,19 @@ mod tests {
             Some(("View", 64)),
         ),
         (
-            "dipole.wgsl",
+            "fresnel + dipole + disc_gather.wgsl",
             crate::dipole::DIPOLE_WGSL,
             Some(("Dipole", crate::dipole::DIPOLE_UNIFORM_SIZE)),
+        ),
+        (
+            "fresnel + dipole + disc_gather.wgsl (Gather)",
+            crate::dipole::DIPOLE_WGSL,
+            Some(("Gather", crate::disc_gather::GATHER_UNIFORM_SIZE)),
+        ),
+        (
+            "fresnel + mc_bssrdf + disc_gather.wgsl",
+            crate::surface_gather::MC_BSSRDF_WGSL,
+            Some(("Tables", crate::surface_gather::TABLES_UNIFORM_SIZE)),
         ),
     ];
 

@@ -6,7 +6,8 @@ use crate::area_gather::{AreaGather, AreaGatherSetup};
 use crate::blur::{Blur, BlurParams, GpuKernel};
 use crate::combine::Combine;
 use crate::context::{Gpu, pixels};
-use crate::dipole::{DIPOLE_LIGHTS, DipoleSetup};
+use crate::dipole::DipoleSetup;
+use crate::disc_gather::{DISC_LIGHTS, Target};
 use crate::error::{GpuError, Result};
 use crate::gbuffer::{GBufferPass, camera_view_proj};
 use crate::half::{HalfRes, half_size};
@@ -16,6 +17,7 @@ use crate::params::{MAX_MATERIALS, RenderParams};
 use crate::scene::Scene;
 use crate::shadow::ShadowPass;
 use crate::splat::Splats;
+use crate::surface_gather::SurfaceGatherSetup;
 use crate::timing::{PassTime, Timer};
 
 /// How the diffuse light of SSS surfaces is scattered.
@@ -37,6 +39,9 @@ pub enum Scatter<'a> {
     /// Maisch & Ropinski's gather of an area pre-integrated kernel over their layered sampling
     /// pattern ([`crate::area_gather`]), for large scattering distances; one SSS material.
     AreaGather(&'a AreaGatherSetup),
+    /// The material's own Monte Carlo BSSRDF (radial or directional) integrated per pixel over
+    /// lit surface points ([`crate::surface_gather`]), like the directional dipole.
+    SurfaceGather(&'a SurfaceGatherSetup),
 }
 
 /// The largest kernel footprint [px] (its farthest tap from the pixel) that
@@ -107,8 +112,8 @@ pub struct FrameTime {
 }
 
 /// Every pipeline of the separable path, built once from the device; [`Renderer::render`] then
-/// draws any number of frames (of any size, scene and kernels). The directional dipole's
-/// pipelines are still built per frame.
+/// draws any number of frames (of any size, scene and kernels). The disc gather's pipelines (the
+/// directional dipole, the surface gather) are still built per frame.
 pub struct Renderer {
     shadow: ShadowPass,
     gbuffer: GBufferPass,
@@ -223,7 +228,10 @@ impl Renderer {
         scatter: Scatter,
         params: &RenderParams,
     ) -> Result<Recorded> {
-        let dipole = matches!(scatter, Scatter::DirectionalDipole(_));
+        let disc = matches!(
+            scatter,
+            Scatter::DirectionalDipole(_) | Scatter::SurfaceGather(_)
+        );
         let (w, h) = (params.width, params.height);
         let max = gpu.device.limits().max_texture_dimension_2d;
         if w == 0 || h == 0 || w > max || h > max {
@@ -247,12 +255,12 @@ impl Renderer {
                 ),
             ));
         }
-        if dipole && (emitters.len() > DIPOLE_LIGHTS || emitters.iter().any(|e| e.cell.is_some())) {
+        if disc && (emitters.len() > DISC_LIGHTS || emitters.iter().any(|e| e.cell.is_some())) {
             return Err(GpuError::invalid(
                 "lights",
                 scene.lights.len(),
                 format!(
-                    "the directional dipole takes at most {DIPOLE_LIGHTS} directional or point lights"
+                    "the directional dipole and the surface gather take at most {DISC_LIGHTS} directional or point lights"
                 ),
             ));
         }
@@ -282,11 +290,13 @@ impl Renderer {
                     format!("one per SSS material: the scene uses {used}, at most {MAX_MATERIALS}"),
                 ));
             }
-            Scatter::DirectionalDipole(_) | Scatter::AreaGather(_) if used > 1 => {
+            Scatter::DirectionalDipole(_) | Scatter::AreaGather(_) | Scatter::SurfaceGather(_)
+                if used > 1 =>
+            {
                 return Err(GpuError::invalid(
                     "materials",
                     used,
-                    "the directional dipole and the area gather render one SSS material per frame",
+                    "the directional dipole and the area and surface gathers render one SSS material per frame",
                 ));
             }
             _ => {}
@@ -328,7 +338,7 @@ impl Renderer {
             &mesh,
             &shadow_maps,
             params,
-            dipole,
+            disc,
             &mut timer.as_mut(),
         );
         let scattered = pixels(gpu, n, "scattered");
@@ -420,11 +430,26 @@ impl Renderer {
             Scatter::DirectionalDipole(setup) => crate::dipole::encode(
                 gpu,
                 &mut enc,
-                scene,
+                &Target {
+                    scene,
+                    camera_view_proj: camera_view_proj(scene, (w, h)),
+                    size: (w, h),
+                    mesh: &mesh,
+                },
                 setup,
-                camera_view_proj(scene, (w, h)),
-                (w, h),
-                &mesh,
+                &scattered,
+                &mut timer.as_mut(),
+            )?,
+            Scatter::SurfaceGather(setup) => crate::surface_gather::encode(
+                gpu,
+                &mut enc,
+                &Target {
+                    scene,
+                    camera_view_proj: camera_view_proj(scene, (w, h)),
+                    size: (w, h),
+                    mesh: &mesh,
+                },
+                setup,
                 &scattered,
                 &mut timer.as_mut(),
             )?,

@@ -140,11 +140,11 @@ fn front_lit_slab_matches_the_quadrature_and_the_models_total_reflectance() {
         0.0,
         0.0,
         Vector3::y(),
-        8.0 * setup.radius_cm as f64,
+        8.0 * setup.sampling.radius_cm as f64,
     );
     for (c, m) in media.iter().enumerate() {
         let dd = DirectionalDipole::new(m);
-        let (n, r_max) = (3000, 8.0 * setup.radius_cm as f64);
+        let (n, r_max) = (3000, 8.0 * setup.sampling.radius_cm as f64);
         let mut total = 0.0;
         for i in 0..n {
             let (a, b) = (
@@ -166,9 +166,9 @@ fn front_lit_slab_matches_the_quadrature_and_the_models_total_reflectance() {
         );
     }
     let Some(gpu) = gpu() else { return };
-    setup.samples = 32;
-    setup.frames = 8;
-    setup.map_size = 2048;
+    setup.sampling.samples = 32;
+    setup.sampling.frames = 8;
+    setup.sampling.map_size = 2048;
     let scene = slab_scene(4.0, 200.0, Vec3::new(1.0, 1.0, 0.0).normalize());
     let params = RenderParams {
         width: SIZE,
@@ -182,7 +182,7 @@ fn front_lit_slab_matches_the_quadrature_and_the_models_total_reflectance() {
         0.0,
         0.0,
         Vector3::y(),
-        setup.radius_cm as f64,
+        setup.sampling.radius_cm as f64,
     );
     check("front-lit", centre_mean(&frame), want, 0.02);
     // A point light 300 cm away along the same direction with intensity E·(300 cm)²: across the
@@ -203,9 +203,9 @@ fn light_through_a_thin_slab_matches_the_quadrature() {
     let towards = Vector3::new(1.0, 1.0, 0.0).normalize();
     let mut setup = DipoleSetup::new(&media).unwrap();
     let Some(gpu) = gpu() else { return };
-    setup.samples = 32;
-    setup.frames = 8;
-    setup.map_size = 2048;
+    setup.sampling.samples = 32;
+    setup.sampling.frames = 8;
+    setup.sampling.map_size = 2048;
     let thickness = 0.2;
     let scene = slab_scene(thickness, -200.0, Vec3::new(1.0, 1.0, 0.0).normalize());
     let params = RenderParams {
@@ -220,7 +220,7 @@ fn light_through_a_thin_slab_matches_the_quadrature() {
         0.0,
         -thickness as f64,
         -Vector3::y(),
-        setup.radius_cm as f64,
+        setup.sampling.radius_cm as f64,
     );
     assert!(want.iter().all(|&v| v > 0.0));
     check("back-lit", centre_mean(&frame), want, 0.02);
@@ -230,7 +230,7 @@ fn light_through_a_thin_slab_matches_the_quadrature() {
 #[test]
 fn bad_settings_are_refused() {
     let mut setup = DipoleSetup::new(&skin1()).unwrap();
-    setup.samples = 0;
+    setup.sampling.samples = 0;
     assert!(
         setup
             .validate()
@@ -238,8 +238,8 @@ fn bad_settings_are_refused() {
             .to_string()
             .contains("samples")
     );
-    setup.samples = 4;
-    setup.radius_cm = f32::NAN;
+    setup.sampling.samples = 4;
+    setup.sampling.radius_cm = f32::NAN;
     assert!(setup.validate().unwrap_err().to_string().contains("radius"));
     let mut bad = skin1();
     bad[1].sigma_a = -1.0;

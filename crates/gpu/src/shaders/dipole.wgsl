@@ -1,26 +1,8 @@
-// The directional dipole evaluated in real time (draft §4.2–4.3), one progressive frame: for each
-// SSS pixel x_o and each light, `samples` points p on a disc of radius r* around x_o in the
-// plane perpendicular to the light ray, radii drawn from a mixture over channels of truncated
-// exponentials σtr·e^{−σtr r}; each p is carried along the light ray onto the first surface the
-// light sees (the light's position/normal map), the lit entry point x_i. The flux through the
-// disc element dA⊥ is E⊥·dA⊥ (directional) or I·cos α·dA⊥/|p − x_light|² (point), so
-//   L_o ≈ T(ω_o)·(1/N)·Σ flux density · T(ω_i)·S_d(x_i, ω_i; x_o) / pdf_A(p),
-// pdf_A the sample's density per unit disc area. Light the map marks as a non-SSS surface (an
-// occluder, the floor) contributes nothing: shadows come for free. Each frame adds
-// π·L_o/frames into `out` (π·L_o: the exitance convention of the separable pipeline).
-
-struct Light {
-    view_proj: mat4x4<f32>,
-    // xyz: direction towards the light (w = 0) or its position (w = 1) [cm].
-    pos_or_dir: vec4<f32>,
-    // rgb: irradiance at normal incidence (directional) or intensity [irradiance × cm²] (point);
-    // w: layer of the light maps.
-    color: vec4<f32>,
-};
+// The directional dipole (Frisvad et al. 2014) as the disc gather's model (disc_gather.wgsl,
+// draft §4.2–4.3): radii drawn from a mixture over channels of truncated exponentials
+// σ·e^{−σr}/(1 − e^{−σr*}), the response T(ω_i)·S_d(x_i, ω₁₂; x_o), and π·T(ω_o) at the exit.
 
 struct Dipole {
-    lights: array<Light, 4>,
-    camera_pos: vec4<f32>,
     // Per channel (rgb): D [cm], σtr [cm⁻¹], d_e [cm], back-lit depth 1/(3σt) [cm],
     // 1/(4C_φ(1/η)·4π²) [sr⁻¹], sampling rate of the radius [cm⁻¹].
     d: vec4<f32>,
@@ -31,41 +13,16 @@ struct Dipole {
     rate: vec4<f32>,
     // x: A, y: C_φ(η), z: C_E(η), w: η.
     boundary: vec4<f32>,
-    // x: r* [cm], y: weight of one sample in the final image, 1/(samples·frames).
-    disc: vec4<f32>,
-    // width, height, light count, samples per pixel and light.
-    size: vec4<u32>,
-    // frame index, seed, light-map size, 0.
-    frame: vec4<u32>,
 };
 
-@group(0) @binding(0) var<uniform> u: Dipole;
-@group(0) @binding(1) var cam_pos: texture_2d<f32>;
-@group(0) @binding(2) var cam_normal: texture_2d<f32>;
-@group(0) @binding(3) var light_pos: texture_2d_array<f32>;
-@group(0) @binding(4) var light_normal: texture_2d_array<f32>;
-@group(0) @binding(5) var<storage, read_write> out: array<vec4<f32>>;
-
-const PI: f32 = 3.14159265358979;
-
-// PCG hash (Jarzynski & Olano 2020).
-fn pcg(v: u32) -> u32 {
-    let s = v * 747796405u + 2891336453u;
-    let w = ((s >> ((s >> 28u) + 4u)) ^ s) * 277803737u;
-    return (w >> 22u) ^ w;
-}
-
-fn uniform01(state: ptr<function, u32>) -> f32 {
-    *state = pcg(*state);
-    return f32(*state >> 8u) / 16777216.0;
-}
+@group(0) @binding(6) var<uniform> dp: Dipole;
 
 // S′_d of eq. 3.7 for channel c without its normalisation.
 fn source(c: u32, rho: f32, x_w: f32, w_n: f32, x_n: f32) -> f32 {
-    let d = u.d[c];
-    let s = u.sigma_tr[c] * rho;
-    let bracket = u.boundary.y * (rho * rho / d + 3.0 * (1.0 + s) * x_w)
-        - u.boundary.z * (3.0 * d * (1.0 + s) * w_n
+    let d = dp.d[c];
+    let s = dp.sigma_tr[c] * rho;
+    let bracket = dp.boundary.y * (rho * rho / d + 3.0 * (1.0 + s) * x_w)
+        - dp.boundary.z * (3.0 * d * (1.0 + s) * w_n
             - ((1.0 + s) + 3.0 * d * (3.0 * (1.0 + s) + s * s) / (rho * rho) * x_w) * x_n);
     return exp(-s) / (rho * rho * rho) * bracket;
 }
@@ -85,177 +42,56 @@ fn s_d(xi: vec3<f32>, ni: vec3<f32>, w12: vec3<f32>, xo: vec3<f32>, no: vec3<f32
     let w_v = w12 - 2.0 * dot(w12, n_star) * n_star;
     var result = vec3<f32>(0.0);
     for (var c = 0u; c < 3u; c++) {
-        if u.norm[c] == 0.0 {
+        if dp.norm[c] == 0.0 {
             continue;
         }
         var d_r: f32;
         if mu0 > 0.0 {
-            let de = u.d_e[c];
+            let de = dp.d_e[c];
             let cos_beta = -sqrt(max(r2 - x_w * x_w, 0.0) / (r2 + de * de));
-            d_r = sqrt(r2 + u.d[c] * mu0 * (u.d[c] * mu0 - 2.0 * de * cos_beta));
+            d_r = sqrt(r2 + dp.d[c] * mu0 * (dp.d[c] * mu0 - 2.0 * de * cos_beta));
         } else {
-            d_r = sqrt(r2 + u.backlit[c] * u.backlit[c]);
+            d_r = sqrt(r2 + dp.backlit[c] * dp.backlit[c]);
         }
         let real = source(c, d_r, x_w, dot(w12, no), dot(x, no));
-        let xv = xo - (xi + 2.0 * u.boundary.x * u.d_e[c] * n_star);
+        let xv = xo - (xi + 2.0 * dp.boundary.x * dp.d_e[c] * n_star);
         let virt = source(c, length(xv), dot(xv, w_v), dot(w_v, no), dot(xv, no));
-        result[c] = max(u.norm[c] * (real - virt), 0.0);
+        result[c] = max(dp.norm[c] * (real - virt), 0.0);
     }
     return result;
 }
 
+// A radius from the truncated exponential of a channel picked uniformly.
+fn model_sample_radius(state: ptr<function, u32>) -> f32 {
+    let c = min(u32(uniform01(state) * 3.0), 2u);
+    let s = dp.rate[c];
+    return -log(1.0 - uniform01(state) * (1.0 - exp(-s * u.disc.x))) / s;
+}
+
 // The sample density per unit disc area at radius r: the mean over channels of the truncated
 // exponential σ·e^{−σr}/(1 − e^{−σr*}) spread over the circle 2πr.
-fn pdf_area(r: f32) -> f32 {
+fn model_pdf_area(r: f32) -> f32 {
     var p = 0.0;
     for (var c = 0u; c < 3u; c++) {
-        let s = u.rate[c];
+        let s = dp.rate[c];
         p += s * exp(-s * r) / (1.0 - exp(-s * u.disc.x));
     }
     return p / (3.0 * 2.0 * PI * r);
 }
 
-struct Entry {
-    x: vec3<f32>,
-    n: vec3<f32>,
-    ok: u32,
-};
-
-// The lit entry point where the light ray (origin ray_o, unit direction ray_d) through the
-// disc point meets the surface, from the light's maps at continuous texel coordinate t. Where
-// the four surrounding texels are one smooth SSS surface, their positions and normals are
-// interpolated bilinearly: laterally exact for an orthographic light map, and a linear
-// interpolation of depth (snapping to a texel centre instead would integrate S_d by the midpoint
-// rule on the map's grid, overweighting its peak at x_o). Elsewhere (depth discontinuities, the
-// light-space silhouette) the ray meets the nearest texel's tangent plane, a point inside that
-// texel's footprint; snapping to the texel centre there instead draws the staircase of the
-// rasterized silhouette into the terminator as scalloped dots. Only where the ray runs within
-// 0.6° of that plane is the texel centre kept.
-fn entry_point(t: vec2<f32>, layer: i32, ray_o: vec3<f32>, ray_d: vec3<f32>) -> Entry {
-    var e: Entry;
-    e.ok = 0u;
-    let size = vec2<i32>(textureDimensions(light_pos));
-    let base = vec2<i32>(floor(t - 0.5));
-    let f = t - 0.5 - vec2<f32>(base);
-    let i00 = clamp(base, vec2<i32>(0), size - 1);
-    let i11 = clamp(base + 1, vec2<i32>(0), size - 1);
-    let p00 = textureLoad(light_pos, i00, layer, 0);
-    let p10 = textureLoad(light_pos, vec2<i32>(i11.x, i00.y), layer, 0);
-    let p01 = textureLoad(light_pos, vec2<i32>(i00.x, i11.y), layer, 0);
-    let p11 = textureLoad(light_pos, i11, layer, 0);
-    // A smooth patch: all four on SSS surfaces, neighbours no further apart along the ray than
-    // 8 times across it (surfaces up to ~83° from facing the light).
-    let across = length(cross(p10.xyz - p00.xyz, ray_d)) + length(cross(p01.xyz - p00.xyz, ray_d));
-    let along = abs(dot(p10.xyz - p00.xyz, ray_d)) + abs(dot(p01.xyz - p00.xyz, ray_d))
-        + abs(dot(p11.xyz - p00.xyz, ray_d));
-    if min(min(p00.w, p10.w), min(p01.w, p11.w)) > 0.5 && along <= 8.0 * across {
-        e.x = mix(mix(p00.xyz, p10.xyz, f.x), mix(p01.xyz, p11.xyz, f.x), f.y);
-        let n00 = textureLoad(light_normal, i00, layer, 0).xyz;
-        let n10 = textureLoad(light_normal, vec2<i32>(i11.x, i00.y), layer, 0).xyz;
-        let n01 = textureLoad(light_normal, vec2<i32>(i00.x, i11.y), layer, 0).xyz;
-        let n11 = textureLoad(light_normal, i11, layer, 0).xyz;
-        e.n = normalize(mix(mix(n00, n10, f.x), mix(n01, n11, f.x), f.y));
-        e.ok = 1u;
-        return e;
-    }
-    let near = clamp(vec2<i32>(floor(t)), vec2<i32>(0), size - 1);
-    let pc = textureLoad(light_pos, near, layer, 0);
-    if pc.w < 0.5 {
-        return e;
-    }
-    e.n = normalize(textureLoad(light_normal, near, layer, 0).xyz);
-    e.x = pc.xyz;
-    let facing = dot(ray_d, e.n);
-    if abs(facing) > 0.01 {
-        e.x = ray_o + ray_d * (dot(pc.xyz - ray_o, e.n) / facing);
-    }
-    e.ok = 1u;
-    return e;
+// T(ω_i)·S_d with ω₁₂ the refracted direction of light arriving from wi.
+fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: vec3<f32>,
+                  no: vec3<f32>) -> vec3<f32> {
+    let eta = dp.boundary.w;
+    let t_in = 1.0 - fresnel(eta, cos_i);
+    let inv = 1.0 / eta;
+    let ct = sqrt(max(1.0 - inv * inv * (1.0 - cos_i * cos_i), 0.0));
+    let w12 = normalize(-wi * inv + ni * (inv * cos_i - ct));
+    return t_in * s_d(xi, ni, w12, xo, no);
 }
 
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let width = u.size.x;
-    if id.x >= width || id.y >= u.size.y {
-        return;
-    }
-    let i = id.y * width + id.x;
-    let po = textureLoad(cam_pos, vec2<i32>(id.xy), 0);
-    if po.w < 0.5 {
-        return;
-    }
-    let xo = po.xyz;
-    let no = normalize(textureLoad(cam_normal, vec2<i32>(id.xy), 0).xyz);
-    let wo = normalize(u.camera_pos.xyz - xo);
-    let eta = u.boundary.w;
-    // Leaving at exterior angle θ_o transmits as entering at θ_o does (Stokes reciprocity).
-    let t_out = 1.0 - fresnel(eta, dot(wo, no));
-    var state = pcg(i ^ pcg(u.frame.x * 9781u + pcg(u.frame.y)));
-    var sum = vec3<f32>(0.0);
-    let r_max = u.disc.x;
-    let map = f32(u.frame.z);
-    for (var l = 0u; l < u.size.z; l++) {
-        let light = u.lights[l];
-        let point = light.pos_or_dir.w > 0.5;
-        var axis = normalize(light.pos_or_dir.xyz);
-        if point {
-            axis = normalize(light.pos_or_dir.xyz - xo);
-        }
-        // An orthonormal basis of the disc's plane (Duff et al. 2017).
-        let sgn = select(-1.0, 1.0, axis.z >= 0.0);
-        let a = -1.0 / (sgn + axis.z);
-        let b = axis.x * axis.y * a;
-        let t1 = vec3<f32>(1.0 + sgn * axis.x * axis.x * a, sgn * b, -sgn * axis.x);
-        let t2 = vec3<f32>(b, sgn + axis.y * axis.y * a, -axis.y);
-        for (var k = 0u; k < u.size.w; k++) {
-            let c = min(u32(uniform01(&state) * 3.0), 2u);
-            let s = u.rate[c];
-            let r = -log(1.0 - uniform01(&state) * (1.0 - exp(-s * r_max))) / s;
-            let phi = 2.0 * PI * uniform01(&state);
-            if !(r > 0.0) {
-                continue;
-            }
-            let p = xo + r * (cos(phi) * t1 + sin(phi) * t2);
-            let clip = light.view_proj * vec4<f32>(p, 1.0);
-            if clip.w <= 0.0 {
-                continue;
-            }
-            let ndc = clip.xyz / clip.w;
-            let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
-            if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
-                continue;
-            }
-            let layer = i32(light.color.w);
-            var ray_o = p;
-            var ray_d = axis;
-            if point {
-                ray_o = light.pos_or_dir.xyz;
-                ray_d = normalize(p - ray_o);
-            }
-            let hit = entry_point(uv * map, layer, ray_o, ray_d);
-            if hit.ok == 0u {
-                continue;
-            }
-            let xi = hit.x;
-            let ni = hit.n;
-            var wi = axis;
-            var flux = light.color.rgb;
-            if point {
-                let to_light = light.pos_or_dir.xyz - p;
-                wi = normalize(light.pos_or_dir.xyz - xi);
-                flux = flux * abs(dot(normalize(to_light), axis)) / dot(to_light, to_light);
-            }
-            let cos_i = dot(wi, ni);
-            if cos_i <= 0.0 {
-                continue;
-            }
-            let t_in = 1.0 - fresnel(eta, cos_i);
-            // ω₁₂: the refracted direction of light arriving from wi.
-            let inv = 1.0 / eta;
-            let ct = sqrt(max(1.0 - inv * inv * (1.0 - cos_i * cos_i), 0.0));
-            let w12 = normalize(-wi * inv + ni * (inv * cos_i - ct));
-            sum += flux * t_in * s_d(xi, ni, w12, xo, no) / pdf_area(r);
-        }
-    }
-    out[i] += vec4<f32>(PI * t_out * sum * u.disc.y, 0.0);
+// π·T(ω_o): leaving at exterior angle θ_o transmits as entering at θ_o does (Stokes
+// reciprocity).
+fn model_exit(cos_o: f32) -> vec3<f32> {
+    return vec3<f32>(PI * (1.0 - fresnel(dp.boundary.w, cos_o)));
 }

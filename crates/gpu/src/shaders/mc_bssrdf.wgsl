@@ -1,0 +1,147 @@
+// The material's own Monte Carlo transport as the disc gather's model (disc_gather.wgsl;
+// gpu::surface_gather): `mc`'s half-space tables, no diffusion model.
+// - radial: Rd(|x_o − x_i|) of the Monte Carlo profile (annulus averages, piecewise constant in
+//   r) times the incidence table ρ(θ_i)/ρ(0);
+// - directional: Rd(x, y; θ_i) of `mc` at oblique incidence, tabulated at θ = 0°, 10°, …, 80°,
+//   85° (linear in θ between them; cells piecewise constant), x along the tangential part of
+//   the light's propagation at x_i, y ≥ 0 across it (the table is folded: Rd is even in y), with
+//   x² + y² = |x_o − x_i|².
+// Both leave with h(θ_o) (the exit table). Radii are drawn from a mixture of the profile's own
+// area density per channel (its CDF) and a share of uniform disc sampling, which keeps the
+// density positive wherever the 3-D distance may make the response non-zero.
+
+struct Tables {
+    // x: radial bin width dr [cm], y: r* [cm], z: share of uniform disc sampling, w: 0.
+    radial: vec4<f32>,
+    // rgb: each channel's share of the profile sampling (0 for a channel reflecting nothing).
+    share: vec4<f32>,
+    // rgb: each channel's ∫Rd dA over the profile's bins [-].
+    total: vec4<f32>,
+    // rgb: cell side of each channel's directional table [cm].
+    cell: vec4<f32>,
+    // x: 1 directional, 0 radial; y: the directional table's half width n; z: profile bins.
+    shape: vec4<u32>,
+    // ρ(θ)/ρ(0) and h(θ) at θ = 0°, 10°, …, 80° (rgb).
+    incidence: array<vec4<f32>, 9>,
+    exit: array<vec4<f32>, 9>,
+};
+
+@group(0) @binding(6) var<uniform> tb: Tables;
+// Rd per profile bin (rgb) [cm⁻²].
+@group(0) @binding(7) var<storage, read> profile: array<vec4<f32>>;
+// The cumulative share of ∫Rd dA up to and including each bin (rgb), 1 at the last.
+@group(0) @binding(8) var<storage, read> cdf: array<vec4<f32>>;
+// Directional tables [cm⁻²]: [angle][channel][iy 0..=n][ix 0..=2n].
+@group(0) @binding(9) var<storage, read> directional: array<f32>;
+
+// An angle table (0: incidence, 1: exit) at cos θ, linear in θ, held beyond 80°.
+fn angle_table(which: u32, cos_t: f32) -> vec3<f32> {
+    let t = degrees(acos(clamp(cos_t, 0.0, 1.0))) / 10.0;
+    let i = min(u32(floor(t)), 8u);
+    let j = min(i + 1u, 8u);
+    let f = clamp(t - f32(i), 0.0, 1.0);
+    if which == 0u {
+        return mix(tb.incidence[i].rgb, tb.incidence[j].rgb, f);
+    }
+    return mix(tb.exit[i].rgb, tb.exit[j].rgb, f);
+}
+
+fn model_sample_radius(state: ptr<function, u32>) -> f32 {
+    let r_max = u.disc.x;
+    let pick = uniform01(state);
+    if pick < tb.radial.z {
+        return r_max * sqrt(uniform01(state));
+    }
+    var c = 2u;
+    var acc = tb.radial.z;
+    for (var k = 0u; k < 2u; k++) {
+        acc += tb.share[k];
+        if pick < acc {
+            c = k;
+            break;
+        }
+    }
+    // The first bin whose cumulative share exceeds v.
+    let v = uniform01(state);
+    var lo = 0u;
+    var hi = tb.shape.z - 1u;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        if cdf[mid][c] > v {
+            hi = mid;
+        } else {
+            lo = mid + 1u;
+        }
+    }
+    let dr = tb.radial.x;
+    let r0 = f32(lo) * dr;
+    let r1 = r0 + dr;
+    return sqrt(r0 * r0 + uniform01(state) * (r1 * r1 - r0 * r0));
+}
+
+fn model_pdf_area(r: f32) -> f32 {
+    let r_max = u.disc.x;
+    var p = tb.radial.z / (PI * r_max * r_max);
+    let bin = u32(r / tb.radial.x);
+    if bin < tb.shape.z {
+        let v = profile[bin];
+        for (var c = 0u; c < 3u; c++) {
+            if tb.share[c] > 0.0 {
+                p += tb.share[c] * v[c] / tb.total[c];
+            }
+        }
+    }
+    return p;
+}
+
+// Channel c of the directional table at angle index k, local (x, y ≥ 0) [cm].
+fn directional_at(k: u32, c: u32, x: f32, y: f32) -> f32 {
+    let n = tb.shape.y;
+    let s = tb.cell[c];
+    let ix = floor(x / s + f32(n) + 0.5);
+    let iy = floor(y / s + 0.5);
+    if ix < 0.0 || ix > f32(2u * n) || iy > f32(n) {
+        return 0.0;
+    }
+    return directional[((k * 3u + c) * (n + 1u) + u32(iy)) * (2u * n + 1u) + u32(ix)];
+}
+
+fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: vec3<f32>,
+                  no: vec3<f32>) -> vec3<f32> {
+    let d = xo - xi;
+    let r = length(d);
+    if tb.shape.x == 0u {
+        let bin = u32(r / tb.radial.x);
+        if bin >= tb.shape.z {
+            return vec3<f32>(0.0);
+        }
+        return profile[bin].rgb * angle_table(0u, cos_i);
+    }
+    // The incidence plane's tangential direction: the light's propagation −wi less its normal
+    // part (any tangent at normal incidence, where the table is radially symmetric).
+    var along = -wi + cos_i * ni;
+    if length(along) < 1e-4 {
+        along = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(ni.x) > 0.9);
+        along = along - dot(along, ni) * ni;
+    }
+    let x = dot(d, normalize(along));
+    let y = sqrt(max(r * r - x * x, 0.0));
+    // θ = 0°, 10°, …, 80° at indices 0–8, 85° at 9.
+    let theta = degrees(acos(clamp(cos_i, 0.0, 1.0)));
+    var t = theta / 10.0;
+    if theta > 80.0 {
+        t = 8.0 + (theta - 80.0) / 5.0;
+    }
+    let k0 = min(u32(floor(t)), 9u);
+    let k1 = min(k0 + 1u, 9u);
+    let f = clamp(t - f32(k0), 0.0, 1.0);
+    var result = vec3<f32>(0.0);
+    for (var c = 0u; c < 3u; c++) {
+        result[c] = mix(directional_at(k0, c, x, y), directional_at(k1, c, x, y), f);
+    }
+    return result;
+}
+
+fn model_exit(cos_o: f32) -> vec3<f32> {
+    return angle_table(1u, cos_o);
+}
