@@ -123,6 +123,22 @@ pub enum Method {
     /// Carlo profile averaged over discs, R′(r, A) (512×512), gathered per pixel over their
     /// layered sampling pattern from a pyramid of the irradiance (--gather-inner, --gather-layers)
     AreaGather,
+    /// The material's own Monte Carlo BSSRDF integrated per pixel over lit surface points as the
+    /// directional dipole is (--bssrdf radial: the MC profile at the 3-D distance with the
+    /// incidence and exit tables; directional: mc's Rd(x, y; θ) at oblique incidence): the
+    /// reference a real-time method is measured against on the same geometry and visibility;
+    /// progressive over --frames, ambient light is not scattered
+    SurfaceGather,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BssrdfArg {
+    /// Rd(|x_o − x_i|) of the Monte Carlo profile × ρ(θ_i)/ρ(0), leaving with h(θ_o): the
+    /// best any radial-profile method can reach
+    Radial,
+    /// mc's Rd(x, y; θ_i) at 0°, 10°, …, 80°, 85° (257 × 129 cells per channel and angle, reaching
+    /// ln(10⁴)/σtr), oriented in the plane of incidence at x_i, leaving with h(θ_o)
+    Directional,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -303,7 +319,8 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value = "off")]
     exit_aware: OnOff,
 
-    /// Photons per channel and angle for the tables of --incidence-aware and --exit-aware
+    /// Photons per channel and angle for the tables of --incidence-aware and --exit-aware (and
+    /// the surface gather's angle and directional tables)
     #[arg(long, value_parser = crate::parse_count, default_value = "100000")]
     incidence_photons: u64,
 
@@ -323,16 +340,21 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = Method::Separable)]
     method: Method,
 
-    /// directional-dipole: samples per pixel, light and frame
+    /// surface-gather: the Monte Carlo BSSRDF integrated
+    #[arg(long, value_enum, default_value_t = BssrdfArg::Directional)]
+    bssrdf: BssrdfArg,
+
+    /// directional-dipole, surface-gather: samples per pixel, light and frame
     #[arg(long, default_value_t = 16)]
     samples: u32,
 
-    /// directional-dipole: frames accumulated (the image is their mean)
+    /// directional-dipole, surface-gather: frames accumulated (the image is their mean)
     #[arg(long, default_value_t = 16)]
     frames: u32,
 
-    /// directional-dipole: radius r* [cm] of the disc of lit points around each pixel
-    /// [default: ln(1000)/σtr of the material's slowest-decaying channel]
+    /// directional-dipole, surface-gather: radius r* [cm] of the disc of lit points around each
+    /// pixel [default: the dipole ln(1000)/σtr of the material's slowest-decaying channel; the
+    /// surface gather the Monte Carlo profile's extent]
     #[arg(long)]
     dipole_radius: Option<f32>,
 
@@ -341,7 +363,7 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = DipoleEnergy::MonteCarlo)]
     dipole_energy: DipoleEnergy,
 
-    /// directional-dipole: side of each light's position/normal map [texels]
+    /// directional-dipole, surface-gather: side of each light's position/normal map [texels]
     #[arg(long, default_value_t = 1024)]
     light_map: u32,
 
@@ -598,11 +620,11 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         );
     }
     let emitters = gpu::emitters(&a.lights).len();
-    if a.method == Method::DirectionalDipole
+    if matches!(a.method, Method::DirectionalDipole | Method::SurfaceGather)
         && (emitters > gpu::DISC_LIGHTS || a.lights.iter().any(|l| matches!(l, Light::Area { .. })))
     {
         bail!(
-            "invalid --light: the directional dipole takes at most {} directional or point lights, no area light",
+            "invalid --light: the directional dipole and the surface gather take at most {} directional or point lights, no area light",
             gpu::DISC_LIGHTS
         );
     }
@@ -654,7 +676,9 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         );
     }
     if materials > 1 && a.method != Method::Separable {
-        bail!("--method directional-dipole and area-gather render one SSS material per frame");
+        bail!(
+            "--method directional-dipole, area-gather and surface-gather render one SSS material per frame"
+        );
     }
     if ![0, 1, materials].contains(&a.object_albedo.len()) {
         bail!(
@@ -726,6 +750,10 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         Method::AreaGather => Some(area_setup(named, &a, &mut files)?),
         _ => None,
     };
+    let surface = match a.method {
+        Method::SurfaceGather => Some(surface_setup(named, &a, &mut files)?),
+        _ => None,
+    };
     let gpu = Gpu::new()?;
     eprintln!("GPU: {}", gpu.adapter_name);
     let mut shading = [Shading::default(); gpu::MAX_MATERIALS];
@@ -738,14 +766,12 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
             a.exit_aware == OnOff::On && !a.no_sss,
         )?;
         let translucency = match a.translucency.unwrap_or(OnOff::On) {
-            OnOff::On if !a.no_sss && dipole.is_none() && area.is_none() => {
-                Some(translucency_table(
-                    n,
-                    &a.source.profile(n, &mut files)?,
-                    a.translucency_photons,
-                    &a.source,
-                )?)
-            }
+            OnOff::On if a.method == Method::Separable && !a.no_sss => Some(translucency_table(
+                n,
+                &a.source.profile(n, &mut files)?,
+                a.translucency_photons,
+                &a.source,
+            )?),
             _ => None,
         };
         *s = Shading {
@@ -795,7 +821,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     }
     // One kernel per material: --kernel, or pre-integration fitted to each material's profile.
     let kernels: Vec<ShaderKernel> = match kernel_file {
-        _ if a.no_sss || dipole.is_some() || area.is_some() => Vec::new(),
+        _ if a.no_sss || a.method != Method::Separable => Vec::new(),
         Some(k) => vec![k],
         None => all_named
             .iter()
@@ -813,9 +839,10 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         .map(GpuKernel::from_shader_kernel)
         .collect::<std::result::Result<Vec<_>, _>>()?;
     let start = std::time::Instant::now();
-    let scatter = match (&dipole, &area) {
-        (Some(setup), _) => Scatter::DirectionalDipole(setup),
-        (_, Some(setup)) => Scatter::AreaGather(setup),
+    let scatter = match (&dipole, &area, &surface) {
+        (Some(setup), _, _) => Scatter::DirectionalDipole(setup),
+        (_, Some(setup), _) => Scatter::AreaGather(setup),
+        (_, _, Some(setup)) => Scatter::SurfaceGather(setup),
         _ if gpu_kernels.is_empty() => Scatter::None,
         _ => Scatter::Separable(&gpu_kernels),
     };
@@ -831,6 +858,16 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         pfm(frame.width, frame.height, &frame.linear),
     );
     let what = match (&dipole, kernels.first()) {
+        _ if let Some(s) = &surface => format!(
+            "surface gather of the {} Monte Carlo BSSRDF ({} samples × {} frames per pixel and light, r* = {:.3} cm)",
+            match s.bssrdf {
+                gpu::Bssrdf::Radial => "radial",
+                gpu::Bssrdf::Directional => "directional",
+            },
+            s.sampling.samples,
+            s.sampling.frames,
+            s.sampling.radius_cm
+        ),
         _ if area.is_some() => {
             let p = area.as_ref().map(|s| s.pattern).unwrap_or_default();
             format!(
@@ -863,6 +900,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         "kernel": kernels.first().map(|k| k.model.to_string()), "width": a.width, "height": a.height,
         "kernels": kernels.iter().map(|k| json!({"model": k.model.to_string(), "passes": k.pass.len(), "taps": k.taps})).collect::<Vec<_>>(),
         "area_gather": area.as_ref().map(|s| json!({"inner": s.pattern.inner, "layers": s.pattern.layers, "taps": s.pattern.taps().len(), "reach_px": s.pattern.reach_px(), "brighten": s.pattern.brighten, "r_max_cm": s.kernel.r_max_cm(), "table": gpu::area_gather::AREA_TABLE_SIZE})),
+        "surface_gather": surface.as_ref().map(|s| json!({"bssrdf": match s.bssrdf { gpu::Bssrdf::Radial => "radial", gpu::Bssrdf::Directional => "directional" }, "samples": s.sampling.samples, "frames": s.sampling.frames, "radius_cm": s.sampling.radius_cm, "light_map": s.sampling.map_size, "seed": s.sampling.seed})),
         "dipole": dipole.as_ref().map(|d| json!({"samples": d.sampling.samples, "frames": d.sampling.frames, "radius_cm": d.sampling.radius_cm, "light_map": d.sampling.map_size, "scale": d.scale})),
         "translucency": params.shading[..all_named.len()].iter().map(|s| s.translucency.as_ref().map(|t| json!({"first_cm": t.first_cm, "ratio": t.ratio, "tt_over_rho": t.table}))).collect::<Vec<_>>(),
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
@@ -1070,6 +1108,55 @@ fn dipole_setup(
             );
         }
     }
+    Ok(setup)
+}
+
+/// The surface gather's Monte Carlo tables for the material (`gpu::SurfaceGatherSetup::from_mc`:
+/// its profile, the angle tables and, for --bssrdf directional, mc's Rd(x, y; θ) tables at
+/// --incidence-photons per channel and angle) and the sampling flags.
+fn surface_setup(
+    named: &library::Named,
+    a: &RenderArgs,
+    files: &mut Outputs,
+) -> Result<gpu::SurfaceGatherSetup> {
+    if a.kernel.is_some() || a.compare_models || a.no_sss || a.bench {
+        bail!(
+            "--method surface-gather does not use --kernel, --compare-models, --no-sss or --bench"
+        );
+    }
+    if a.incidence_aware == OnOff::On
+        || a.exit_aware == OnOff::On
+        || a.translucency == Some(OnOff::On)
+    {
+        bail!(
+            "--incidence-aware, --exit-aware and --translucency are for the separable method: the surface gather brings the angle tables and the light through thin parts itself"
+        );
+    }
+    let profile = a.source.profile(named, files)?;
+    let spec = table_spec(named, a.incidence_photons, &a.source)?;
+    let bssrdf = match a.bssrdf {
+        BssrdfArg::Radial => gpu::Bssrdf::Radial,
+        BssrdfArg::Directional => gpu::Bssrdf::Directional,
+    };
+    let bar = crate::progress::photons(
+        a.incidence_photons
+            * spec.groups().len() as u64
+            * gpu::SurfaceGatherSetup::batch_runs(bssrdf),
+        "surface gather tables",
+    );
+    let mut setup = gpu::SurfaceGatherSetup::from_mc(&spec, &profile, bssrdf, &|k| bar.inc(k))
+        .with_context(|| format!("--method surface-gather: {}", named.slug))?;
+    bar.finish_and_clear();
+    setup.sampling.samples = a.samples;
+    setup.sampling.frames = a.frames;
+    setup.sampling.map_size = a.light_map;
+    setup.sampling.seed = a.source.seed() as u32;
+    if let Some(r) = a.dipole_radius {
+        setup.sampling.radius_cm = r;
+    }
+    setup
+        .validate()
+        .context("invalid --samples/--frames/--dipole-radius/--light-map")?;
     Ok(setup)
 }
 

@@ -40,6 +40,10 @@ pub enum Bssrdf {
 /// The share of uniform disc sampling in the radius mixture.
 pub const UNIFORM_SHARE: f64 = 0.1;
 
+/// The half width n of the directional tables [`SurfaceGatherSetup::from_mc`] builds: 257 × 129
+/// cells per channel and angle.
+pub const DIRECTIONAL_HALF_WIDTH: usize = 128;
+
 /// The angles of a [`DirectionalTable`] [degrees]: 0°, 10°, …, 80° and 85°.
 pub const DIRECTIONAL_ANGLES: [f64; 10] =
     [0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0, 85.0];
@@ -224,6 +228,46 @@ impl SurfaceGatherSetup {
         };
         setup.validate()?;
         Ok(setup)
+    }
+
+    /// The gather of the material whose three channels `spec` holds (a profile-only batch),
+    /// with its Monte Carlo `profile`: the angle tables (incidence for [`Bssrdf::Radial`], exit
+    /// for both) and, for [`Bssrdf::Directional`], the [`DirectionalTable`] of half width
+    /// [`DIRECTIONAL_HALF_WIDTH`] reaching [`DirectionalTable::reach`] within r*/√2 (so every
+    /// cell lies on the disc: the 3-D distance |x_o − x_i| is never shorter than the disc
+    /// radius), each run of `spec.photons` per channel and angle. `progress` receives photon
+    /// counts.
+    pub fn from_mc(
+        spec: &mc::BatchSpec,
+        profile: &fit::Profile,
+        bssrdf: Bssrdf,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<SurfaceGatherSetup> {
+        let radial = bssrdf == Bssrdf::Radial;
+        let angles = AngleTables::from_mc(spec, radial, true, progress)?;
+        let mut setup = SurfaceGatherSetup::new(profile, angles, None)?;
+        if !radial {
+            let media = [0, 1, 2]
+                .map(|c| fit::analytic::Medium::of_layer(&spec.channels[c].layer, spec.n_above));
+            let r_max = setup.sampling.radius_cm as f64 / std::f64::consts::SQRT_2;
+            let reach = DirectionalTable::reach(&media, r_max);
+            let table = DirectionalTable::from_mc(spec, DIRECTIONAL_HALF_WIDTH, reach, progress)?;
+            setup.directional = Some(table);
+            setup.bssrdf = Bssrdf::Directional;
+        }
+        setup.validate()?;
+        Ok(setup)
+    }
+
+    /// The batch runs [`SurfaceGatherSetup::from_mc`] makes (for progress bars: each traces
+    /// `spec.photons` per walk group): the angle tables' and the directional tables'.
+    pub fn batch_runs(bssrdf: Bssrdf) -> u64 {
+        let angle_runs = AngleTables::angles(bssrdf == Bssrdf::Radial, true).len();
+        let table_runs = match bssrdf {
+            Bssrdf::Radial => 0,
+            Bssrdf::Directional => DIRECTIONAL_ANGLES.len(),
+        };
+        (angle_runs + table_runs) as u64
     }
 
     /// Checks the tables and settings; the error names the field.

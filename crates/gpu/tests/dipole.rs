@@ -250,3 +250,58 @@ fn bad_settings_are_refused() {
             .contains("sigma_a")
     );
 }
+
+/// Issue #30's report: a thick flat slab of Skin1's coefficients at η = 1 under a distant light
+/// at 60° seemed to return 0.85 / 0.84 / 0.79 of the normal-incidence reflectance per unit
+/// irradiance, where `mc` gives 1.16 / 1.27 / 1.33. The model itself does not: its total
+/// reflectance at 60° over that at 0° is 1.075 / 1.215 / 1.354 (`DirectionalDipole::total_rd`,
+/// the same quadrature as above). The renderer must return that ratio per unit irradiance
+/// E·cos θ, within the disc's truncation (measured by the quadrature on the renderer's disc).
+#[test]
+fn oblique_light_on_an_index_matched_half_space_follows_the_models_total() {
+    let media = skin1().map(|m| Medium { eta: 1.0, ..m });
+    let mut setup = DipoleSetup::new(&media).unwrap();
+    let r = setup.sampling.radius_cm as f64;
+    let at = |theta: f64| {
+        let t = theta.to_radians();
+        quadrature(
+            &media,
+            Vector3::new(t.sin(), t.cos(), 0.0),
+            0.0,
+            0.0,
+            Vector3::y(),
+            r,
+        )
+    };
+    let (q0, q60) = (at(0.0), at(60.0));
+    let model: [f64; 3] = std::array::from_fn(|c| {
+        let dd = DirectionalDipole::new(&media[c]);
+        dd.total_rd(60.0) / dd.total_rd(0.0)
+    });
+    let on_disc: [f64; 3] = std::array::from_fn(|c| q60[c] / (0.5 * q0[c]));
+    eprintln!("model Rd(60°)/Rd(0): {model:.4?}, on the renderer's disc: {on_disc:.4?}");
+    for c in 0..3 {
+        assert!(
+            (on_disc[c] / model[c] - 1.0).abs() < 0.03,
+            "{c}: {on_disc:?} vs {model:?}"
+        );
+    }
+    let Some(gpu) = gpu() else { return };
+    setup.sampling.samples = 32;
+    setup.sampling.frames = 8;
+    setup.sampling.map_size = 2048;
+    let params = RenderParams {
+        width: SIZE,
+        height: SIZE,
+        ..RenderParams::default()
+    };
+    let mut got = [[0.0; 3]; 2];
+    for (k, theta) in [0f32, 60.0].into_iter().enumerate() {
+        let t = theta.to_radians();
+        let scene = slab_scene(4.0, 200.0, Vec3::new(t.sin(), t.cos(), 0.0));
+        let frame = render(&gpu, &scene, Scatter::DirectionalDipole(&setup), &params).unwrap();
+        got[k] = centre_mean(&frame);
+    }
+    let ratio: [f64; 3] = std::array::from_fn(|c| got[1][c] / (0.5 * got[0][c]));
+    check("60° over 0° per unit irradiance", ratio, on_disc, 0.03);
+}
