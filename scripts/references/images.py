@@ -69,6 +69,18 @@ AREA = [
     ("area-gather-incidence-exit", [], ["--method", "area-gather", "--material", "{material}",
                                         "--profiles", "{profiles}", "--incidence-aware", "on", "--exit-aware", "on"]),
 ]
+# The material's own Monte Carlo BSSRDF gathered over the lit surface (`--method surface-gather`,
+# point and directional lights only): the error budget's references on our side. Radial: the
+# profile at the 3-D distance with the incidence and exit tables, the best any radial-profile
+# method can reach with exact geometry and visibility; directional: mc's Rd(x, y; θ) at oblique
+# incidence. Each is rendered twice with independent frame seeds ({frames} frames each): their
+# mean is the image, their difference its noise, corrected for as the reference's is.
+GATHER_ARGS = ["--method", "surface-gather", "--material", "{material}", "--profiles", "{profiles}",
+               "--samples", "32", "--frames", "{frames}", "--light-map", "2048",
+               "--incidence-photons", "{table_photons}"]
+GATHERS = [("surface-gather-radial", [], [*GATHER_ARGS, "--bssrdf", "radial"]),
+           ("surface-gather-directional", [], [*GATHER_ARGS, "--bssrdf", "directional"])]
+GATHER_LABELS = [g[0] for g in GATHERS]
 MODELS = [  # label, `sss fit` arguments (None: no scattering), extra `sss render` arguments
     ("lambert", None, []),
     ("preint", ["--model", "preint"], []),
@@ -96,6 +108,7 @@ MODELS = [  # label, `sss fit` arguments (None: no scattering), extra `sss rende
                                    "--profiles", "{profiles}",
                                    "--samples", "32", "--frames", "32", "--light-map", "2048"]),
     *AREA,
+    *GATHERS,
 ]
 
 # Thin parts: gpu::Scene::fin()'s sphere and its 3 mm and 1 mm fins, seen from the default camera
@@ -117,13 +130,14 @@ FIN_MODELS = [
                                    "--profiles", "{profiles}",
                                    "--samples", "32", "--frames", "32", "--light-map", "2048"]),
     *AREA,
+    *GATHERS,
 ]
 
 # Small features and depth discontinuities: the depth tests, the incidence-aware shading.
 BUST_MODELS = [m for m in MODELS if m[0] in (
     "lambert", "preint", "preint-reject", "preint-nodepth", "preint-gaussian", "svd1", "svd3",
     "preint-incidence",
-    "preint-incidence-exit", "area-gather")]
+    "preint-incidence-exit", "area-gather", *GATHER_LABELS)]
 
 # A smooth dielectric boundary (η = 1.3) lit by a square area light: what the index-matched scenes
 # leave out. Light enters through Fresnel transmission and leaves by refraction, so Mitsuba cannot
@@ -178,12 +192,14 @@ def cube(mi, lo, hi, bsdf, interior=None):
     return d
 
 
-def scene_dict(mi, m, scene_name, width, height, spp, surface="medium", rho=None, files=None):
+def scene_dict(mi, m, scene_name, width, height, spp, surface="medium", rho=None, files=None, only=None):
     """The Mitsuba scene: SSS shapes as the material's medium behind an index-matched `null`
     boundary, or a smooth `dielectric` one where the scene has η ≠ 1 (surface="medium"), as an opaque Lambertian surface of reflectance rho [R,G,B] lit
     directly only (surface="direct", the calibration of camera, light and geometry) or with every
     interreflection (surface="diffuse"), or the shape-index AOV that marks silhouettes
-    (surface="aov": shape index and geometric normal). files: paths of generated meshes (scene "bust")."""
+    (surface="aov": shape index and geometric normal). files: paths of generated meshes (scene "bust").
+    only: the index of the one SSS shape kept as it is; the others become black occluders that
+    still cast their shadows (no light between surfaces)."""
     ch = m["channels"]
     st = [ch[c]["sigma_a_per_cm"] + ch[c]["sigma_s_per_cm"] for c in "RGB"]
     albedo = [ch[c]["sigma_s_per_cm"] / st[i] for i, c in enumerate("RGB")]
@@ -199,7 +215,9 @@ def scene_dict(mi, m, scene_name, width, height, spp, surface="medium", rho=None
 
     eta = sc.get("eta", 1.0)
 
-    def surf():
+    def surf(i):
+        if only is not None and i != only:
+            return {"bsdf": black}
         if surface == "medium":
             boundary = {"type": "null"} if eta == 1.0 else {"type": "dielectric", "int_ior": eta, "ext_ior": 1.0}
             return {"bsdf": boundary, "interior": medium()}
@@ -207,11 +225,11 @@ def scene_dict(mi, m, scene_name, width, height, spp, surface="medium", rho=None
     shapes = {}
     for i, shape in enumerate(sc["media"]):
         if shape[0] == "sphere":
-            shapes[f"medium{i}"] = {"type": "sphere", "center": list(shape[1]), "radius": shape[2], **surf()}
+            shapes[f"medium{i}"] = {"type": "sphere", "center": list(shape[1]), "radius": shape[2], **surf(i)}
         elif shape[0] == "obj":
-            shapes[f"medium{i}"] = {"type": "obj", "filename": files[shape[1]], "face_normals": False, **surf()}
+            shapes[f"medium{i}"] = {"type": "obj", "filename": files[shape[1]], "face_normals": False, **surf(i)}
         else:
-            s = surf()
+            s = surf(i)
             shapes[f"medium{i}"] = cube(mi, shape[1], shape[2], s["bsdf"], s.get("interior"))
     for i, (lo, hi) in enumerate(sc["boxes"]):
         shapes[f"occluder{i}"] = cube(mi, lo, hi, black)
@@ -405,14 +423,17 @@ def tonemap(img, exposure):
     return (s * 255 + 0.5).astype(np.uint8)
 
 
-def measure(o2, r2, d2, mask, mean):
+def measure(o2, r2, d2, mask, mean, do2=None):
     """One image against a reference on 2×2 blocks (o2, r2: block images; d2: the difference of
     the reference's two half-budget renders; mask: the blocks compared; mean: the reference's mean
-    there). Per block, (o − r̄)² − (r₁ − r₂)²/4 estimates the squared error against the noiseless
-    reference without bias (var(r̄) = E(r₁ − r₂)²/4): the noise-corrected MSE is its mean, with
-    the standard error of that mean. Returns the per-block estimates (for paired comparisons)
+    there; do2: the same difference for an image that is itself a Monte Carlo estimate, the surface
+    gathers). Per block, (o − r̄)² − (r₁ − r₂)²/4 − (o₁ − o₂)²/4 estimates the squared error
+    between the noiseless images without bias (var(r̄) = E(r₁ − r₂)²/4): the noise-corrected
+    MSE is its mean, with the standard error of that mean, and "resolved" says whether it lies
+    more than 3 standard errors above 0. Returns the per-block estimates (for paired comparisons)
     and the summary numbers."""
-    per = ((o2 - r2)[mask] ** 2 - d2[mask] ** 2 / 4).mean(1)
+    noise = d2[mask] ** 2 / 4 + (0 if do2 is None else do2[mask] ** 2 / 4)
+    per = ((o2 - r2)[mask] ** 2 - noise).mean(1)
     rmse = float(np.sqrt(((o2 - r2)[mask] ** 2).mean()) / mean)
     mse_c, mse_se = float(per.mean()), float(per.std(ddof=1) / math.sqrt(per.size))
     mean = float(mean)
@@ -425,7 +446,7 @@ def measure(o2, r2, d2, mask, mean):
     energy = [float(o2[mask][:, c].sum() / rs[c]) for c in range(3)]
     energy_se = [float(e * math.sqrt((d2[mask][:, c] ** 2 / 4).sum()) / rs[c]) for c, e in enumerate(energy)]
     return per, {"rmse_rel": rmse, "rmse_noise_corrected": rmse_c, "rmse_noise_corrected_se": rmse_c_se,
-                 "energy_ratio": energy, "energy_ratio_se": energy_se}
+                 "resolved": bool(mse_c > 3 * mse_se), "energy_ratio": energy, "energy_ratio_se": energy_se}
 
 
 # Calibration tolerance: `sss render --no-sss` against Mitsuba's direct lighting of the same
@@ -442,6 +463,83 @@ def calibrated(m):
         abs(e - 1) <= max(CAL_ENERGY, 3 * se) for e, se in zip(m["energy_ratio"], m["energy_ratio_se"])))
 
 
+def error_budget(o2s, gather_noise, alone, r2, d2, mask, rows, shapes, interreflection):
+    """Where the image error comes from (issue 30), on the blocks of the comparison, relative to
+    the mean of Mitsuba's reference without light between surfaces (`alone`: its two half-budget
+    renders): each term's noise-corrected RMSE ± SE and whether it is resolved (> 3 SE above 0).
+    - best_realtime: the screen-space method (separable kernels, the area gather) closest to
+      that reference, and its error;
+    - radial, directional: the surface gathers of the Monte Carlo BSSRDF against it
+      (directional: what a half-space BSSRDF, exact for the entry direction, cannot represent:
+      curvature, thin parts, several entries);
+    - screen_space: best_realtime ↔ radial, what the screen-space method loses against the exact
+      integral of a radial profile over the true surface with its visibility;
+    - entry_direction: radial ↔ directional, what the entry direction adds;
+    - between_surfaces: the full reference ↔ the one without light between surfaces (0 where the
+      scene has one SSS shape on a black floor); self_interreflection_lambert: for a Lambertian
+      surface of the same albedo, all bounces over direct light, − 1 (what light leaving a concave
+      shape and entering it again is worth there; with several shapes it includes the light
+      between them). None without both gathers (e.g. under an area light)."""
+    if not all(g in o2s for g in GATHER_LABELS):
+        return None
+    a0, a1 = blocks(alone[0]), blocks(alone[1])
+    m0, dm0 = 0.5 * (a0 + a1), a0 - a1
+    mean0 = float(m0[mask].mean())
+    realtime = [k for k in o2s if k not in GATHER_LABELS and k != "lambert"
+                and not k.startswith("directional-dipole") and k != "area-gather-dense"]
+
+    # Every image as (2×2 blocks, the difference of its two half renders or None if noiseless).
+    img = {k: (o2s[k], gather_noise.get(k)) for k in o2s}
+    reference = (m0, dm0)
+
+    def term(x, y):
+        """Image x against image y, both noise-corrected."""
+        zero = np.zeros_like(y[0])
+        _, row = measure(x[0], y[0], zero if y[1] is None else y[1], mask, mean0, x[1])
+        return {k: row[k] for k in ("rmse_noise_corrected", "rmse_noise_corrected_se", "resolved", "energy_ratio")}
+
+    against = {k: term(img[k], reference) for k in realtime}
+    best = min(realtime, key=lambda k: against[k]["rmse_noise_corrected"])
+    full = next(r for r in rows if r["model"] == best)
+    radial, directional = GATHER_LABELS
+    # The full reference against the one without light between surfaces: both Mitsuba's.
+    between = term((r2, d2), reference) if shapes > 1 else ({
+        "rmse_noise_corrected": 0.0, "rmse_noise_corrected_se": 0.0, "resolved": False,
+        "energy_ratio": [1.0, 1.0, 1.0]})
+    return {
+        "reference": "Mitsuba without light between surfaces" + (" (one SSS shape: the full reference)" if shapes == 1 else
+                                                                   f" ({shapes} SSS shapes rendered alone, summed)"),
+        "relative_to": "the mean of that reference over the compared blocks",
+        "best_realtime": best,
+        "best_realtime_full_reference": {k: full[k] for k in ("rmse_noise_corrected", "rmse_noise_corrected_se")},
+        "terms": {
+            "best_realtime": against[best],
+            "radial": term(img[radial], reference),
+            "directional": term(img[directional], reference),
+            "screen_space": term(img[best], img[radial]),
+            "entry_direction": term(img[radial], img[directional]),
+            "between_surfaces": between,
+        },
+        "self_interreflection_lambert": [e - 1 for e in interreflection],
+        "realtime_against_reference": against,
+    }
+
+
+def print_budget(b):
+    """The error budget's lines on stdout."""
+    names = {"best_realtime": f"best real-time ({b['best_realtime']}) ↔ reference",
+             "radial": "radial MC gather ↔ reference", "directional": "directional MC gather ↔ reference (half-space limit)",
+             "screen_space": "screen-space part: best real-time ↔ radial", "entry_direction": "entry direction: radial ↔ directional",
+             "between_surfaces": "light between surfaces: full ↔ reference"}
+    print(f"  error budget against {b['reference']} (% of its mean):")
+    for k, t in b["terms"].items():
+        print(f"    {names[k]:<58} {100 * t['rmse_noise_corrected']:6.2f} ± {100 * t['rmse_noise_corrected_se']:4.2f} %"
+              f" ({'resolved' if t['resolved'] else 'undecided'}), energy "
+              + "/".join(f"{e:.3f}" for e in t["energy_ratio"]))
+    print("    self-interreflection of Lambertian surfaces (all bounces / direct − 1): "
+          + "/".join(f"{100 * e:.2f} %" for e in b["self_interreflection_lambert"]))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="CI size: small image, fewer samples")
@@ -454,6 +552,9 @@ def main():
     a = ap.parse_args()
     sss = sss_binary(a.sss)
     width, height, spp, photons = (192, 108, 128, 300_000) if a.quick else (384, 216, 1024, 10_000_000)
+    # The surface gathers: frames per seed (two seeds), and photons per channel and angle of their
+    # angle and directional tables.
+    gather_frames, table_photons = (16, 300_000) if a.quick else (64, 1_000_000)
     # Paths that must find the light by chance (behind a dielectric boundary) need more samples.
     spp *= SCENES[a.scene].get("spp_factor", 1)
     # Opaque surfaces lit directly by a point or directional light converge fast: a quarter of
@@ -466,7 +567,7 @@ def main():
     out = os.path.join(a.out, name)
     os.makedirs(out, exist_ok=True)
     mi = mitsuba()
-    images = {}
+    images, gather_noise = {}, {}
     with tempfile.TemporaryDirectory() as tmp:
         files = {}
         if any(shape[0] == "obj" for shape in sc["media"]):
@@ -493,8 +594,8 @@ def main():
         rho = [summary["channels"][c]["rd"] for c in "RGB"]
         profile = os.path.join(tmp, "medium.profile.csv")
 
-        def mitsuba_scene(surface, n):
-            return scene_dict(mi, m, a.scene, width, height, n, surface, rho, files)
+        def mitsuba_scene(surface, n, only=None):
+            return scene_dict(mi, m, a.scene, width, height, n, surface, rho, files, only)
         # Two independent half-budget renders: their mean is the reference, their difference
         # measures its noise (per 2×2 block, var(mean) = (r₁ − r₂)²/4). The same for the
         # calibration (opaque Lambertian surfaces of reflectance ρ, direct light only), one render
@@ -503,6 +604,18 @@ def main():
         ref_a = mitsuba_image(mi, mitsuba_scene("medium", spp // 2), seed=3)
         ref_b = mitsuba_image(mi, mitsuba_scene("medium", spp // 2), seed=4)
         t_ref = time.time() - t0
+        # The reference without light between surfaces: each SSS shape alone, the others black
+        # occluders that still cast their shadows, the images summed (each pixel sees one shape).
+        # With one SSS shape on a black floor it is the reference itself; light that leaves a
+        # concave shape and enters it again elsewhere stays in both.
+        if len(sc["media"]) > 1:
+            t1 = time.time()
+            alone = [sum(mitsuba_image(mi, mitsuba_scene("medium", spp // 2, only=i), seed=s + 10 * i)
+                         for i in range(len(sc["media"]))) for s in (13, 14)]
+            print(f"  Mitsuba: each SSS shape alone ({len(sc['media'])} shapes, {spp} spp each) "
+                  f"{time.time() - t1:.0f} s", flush=True)
+        else:
+            alone = [ref_a, ref_b]
         cal_a = mitsuba_image(mi, mitsuba_scene("direct", cal_spp // 2), seed=5)
         cal_b = mitsuba_image(mi, mitsuba_scene("direct", cal_spp // 2), seed=6)
         gi = mitsuba_image(mi, mitsuba_scene("diffuse", cal_spp), seed=7)
@@ -534,7 +647,16 @@ def main():
         lambertian = read_pfm(os.path.join(lambertian, "render.pfm")) / math.pi
         for label, fit_args, extra in sc["models"]:
             rdir = os.path.join(tmp, label)
-            extra = [x.replace("{material}", mat).replace("{profiles}", tmp) for x in extra]
+            extra = [x.replace("{material}", mat).replace("{profiles}", tmp).replace("{frames}", str(gather_frames))
+                     .replace("{table_photons}", str(table_photons)) for x in extra]
+            if label in GATHER_LABELS:
+                halves = []
+                for seed in (1, 2):
+                    run([sss, "render", *common, *albedo, *extra, "--frame-seed", str(seed), "--out", rdir])
+                    halves.append(read_pfm(os.path.join(rdir, "render.pfm")) / math.pi)
+                images[label] = 0.5 * (halves[0] + halves[1])
+                gather_noise[label] = blocks(halves[0]) - blocks(halves[1])
+                continue
             # The material names the boundary's η (the mirror image of an area light) to every model.
             if "--material" not in extra:
                 extra = [*extra, "--material", mat]
@@ -595,13 +717,15 @@ def main():
     rows, per, panels = [], {}, []
     for label, o2 in o2s.items():
         ours = images[label]
-        per[label], row = measure(o2, r2, d2, mask, mean)
+        per[label], row = measure(o2, r2, d2, mask, mean, gather_noise.get(label))
         # Attribution: the error left once each channel is scaled by its best global factor (least
         # squares: s = Σ o·r̄ / Σ o², which the noise term does not change), the spatial
         # structure; and the share of the noise-corrected MSE that factor explains.
         o, r = o2[mask], r2[mask]
         scale = [float((o[:, c] * r[:, c]).sum() / max((o[:, c] ** 2).sum(), 1e-300)) for c in range(3)]
-        _, flat = measure(o2 * np.array(scale), r2, d2, mask, mean)
+        noise2 = gather_noise.get(label)
+        _, flat = measure(o2 * np.array(scale), r2, d2, mask, mean,
+                          None if noise2 is None else noise2 * np.array(scale))
         row["best_scale"] = scale
         row["rmse_spatial"] = flat["rmse_noise_corrected"]
         row["rmse_spatial_se"] = flat["rmse_noise_corrected_se"]
@@ -621,6 +745,9 @@ def main():
               f"{100 * row['rmse_noise_corrected_se']:4.2f}% (raw {100 * row['rmse_rel']:5.2f}%; "
               f"{100 * row['rmse_spatial']:5.2f}% with the best factor per channel), "
               f"DSSIM {row['dssim']:.4f}, energy {e[0]:.3f}/{e[1]:.3f}/{e[2]:.3f}", flush=True)
+    budget = error_budget(o2s, gather_noise, alone, r2, d2, mask, rows, len(sc["media"]), interreflection)
+    if budget:
+        print_budget(budget)
     write_png(os.path.join(out, "mitsuba.png"), tonemap(ref, 1.0 / mean / 4))
     write_png(os.path.join(out, "mitsuba_lambert.png"), tonemap(gi, 1.0 / mean / 4))
     excluded = np.repeat((255 * (1 - edge))[:, :, None], 3, 2).astype(np.uint8)
@@ -629,6 +756,10 @@ def main():
             ("silhouettes and creases (black: excluded)", excluded, "rgb"),
             ("calibration: --no-sss, Lambertian surfaces", tonemap(lambertian, 1.0 / cal_mean / 4), "rgb"),
             ("calibration − Mitsuba's direct light", (lambertian - 0.5 * (cal_a + cal_b)).mean(2) / cal_mean, "diff")]
+    if len(sc["media"]) > 1:
+        m0 = 0.5 * (alone[0] + alone[1])
+        head += [("Mitsuba, each SSS shape alone (no light between them)", tonemap(m0, 1.0 / mean / 4), "rgb"),
+                 ("light between surfaces: full − alone", (ref - m0).mean(2) / mean, "diff")]
     sheet(os.path.join(out, "sheet.png"),
           f"{a.scene} / {a.material}, {width}×{height}, Mitsuba {spp} spp (noise {100 * noise:.1f} % per 2×2 block); "
           f"each model's noise-corrected RMSE ± SE (% of the reference's mean)",
@@ -710,7 +841,8 @@ def main():
                                         "rmse_rel": control["rmse_noise_corrected"], "rejected": control_rejected},
                    "interreflection_ratio": interreflection,
                    "incidence_share_of_preint_mse": incidence_share,
-                   "models": rows, "rankings": ranked, "checks": checks, "pass": ok}, f, indent=2)
+                   "models": rows, "rankings": ranked, "checks": checks, "pass": ok,
+                   **({"error_budget": budget} if budget else {})}, f, indent=2)
     for k, v in ranked.items():
         print(f"  {k}: {'yes' if v else 'undecided (within 3 SE)' if v is None else 'NO'}")
     for k, v in checks.items():

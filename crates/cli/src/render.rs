@@ -136,8 +136,8 @@ pub enum BssrdfArg {
     /// Rd(|x_o − x_i|) of the Monte Carlo profile × ρ(θ_i)/ρ(0), leaving with h(θ_o): the
     /// best any radial-profile method can reach
     Radial,
-    /// mc's Rd(x, y; θ_i) at 0°, 10°, …, 80°, 85° (257 × 129 cells per channel and angle, reaching
-    /// ln(10⁴)/σtr), oriented in the plane of incidence at x_i, leaving with h(θ_o)
+    /// mc's Rd(x, y; θ_i) at 0°, 10°, …, 80°, 85° (385 × 193 cells per channel and angle, reaching
+    /// ln(10⁸)/σtr), oriented in the plane of incidence at x_i, leaving with h(θ_o)
     Directional,
 }
 
@@ -351,6 +351,11 @@ pub struct RenderArgs {
     /// directional-dipole, surface-gather: frames accumulated (the image is their mean)
     #[arg(long, default_value_t = 16)]
     frames: u32,
+
+    /// directional-dipole, surface-gather: seed of the frames' per-pixel random numbers
+    /// [default: --seed, or 1]; another seed gives an independent image from the same tables
+    #[arg(long)]
+    frame_seed: Option<u32>,
 
     /// directional-dipole, surface-gather: radius r* [cm] of the disc of lit points around each
     /// pixel [default: the dipole ln(1000)/σtr of the material's slowest-decaying channel; the
@@ -1083,7 +1088,7 @@ fn dipole_setup(
     setup.sampling.samples = a.samples;
     setup.sampling.frames = a.frames;
     setup.sampling.map_size = a.light_map;
-    setup.sampling.seed = a.source.seed() as u32;
+    setup.sampling.seed = a.frame_seed.unwrap_or(a.source.seed() as u32);
     if let Some(r) = a.dipole_radius {
         setup.sampling.radius_cm = r;
     }
@@ -1150,7 +1155,7 @@ fn surface_setup(
     setup.sampling.samples = a.samples;
     setup.sampling.frames = a.frames;
     setup.sampling.map_size = a.light_map;
-    setup.sampling.seed = a.source.seed() as u32;
+    setup.sampling.seed = a.frame_seed.unwrap_or(a.source.seed() as u32);
     if let Some(r) = a.dipole_radius {
         setup.sampling.radius_cm = r;
     }

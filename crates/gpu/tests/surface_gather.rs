@@ -279,3 +279,121 @@ fn the_error_to_the_limit_falls_as_one_over_root_frames() {
     eprintln!("RMS error ratio 1 frame / 16 frames: {ratio:.3} (1/√frames: {want:.3})");
     assert!((ratio / want - 1.0).abs() < 0.15, "{ratio} vs {want}");
 }
+
+/// The orientation of the directional BSSRDF against `mc`'s physics: light entering at 60°
+/// exits shifted forward along the light's tangential propagation, mc's Rd(x, y; 60°) having its
+/// centroid δ ahead of the entry (as Wang & Jacques' far-field centre). Across a straight shadow
+/// edge with the lit side ahead, an exitance profile across the edge is M·G(x − e), G the
+/// distribution function of the exit offset's x, so the difference of two BSSRDFs' profiles
+/// integrates to M·(mean_radial − mean_directional) = −M·δ over a window holding both tails,
+/// wherever the edge e lies: the directional gather keeps δ·M per unit length of the edge out of
+/// the lit region's border; a reversed table would add it.
+#[test]
+fn the_directional_bssrdf_carries_light_forward_across_a_shadow_edge() {
+    let material = mc::Material {
+        eta: 1.0,
+        ..skin1()
+    };
+    let config =
+        mc::SimConfig::from_toml(include_str!("../../../configs/thesis.toml"), "thesis").unwrap();
+    let s = config.batch(&[&material], PHOTONS, 7, true).unwrap();
+    let out = mc::run_batch(
+        &config.batch(&[&material], 4 * PHOTONS, 101, true).unwrap(),
+        &|_| {},
+    )
+    .unwrap();
+    let p = fit::Profile::from_csv(
+        &fit::Profile::csv_from_mc([&out[0], &out[1], &out[2]]),
+        "mc",
+    )
+    .unwrap();
+    let mut radial = SurfaceGatherSetup::from_mc(&s, &p, Bssrdf::Radial, &|_| {}).unwrap();
+    let mut directional =
+        SurfaceGatherSetup::from_mc(&s, &p, Bssrdf::Directional, &|_| {}).unwrap();
+    // The centroid of mc's table at 60° (index 6) per channel [cm]: the mean of the exit
+    // offset along the propagation, x.
+    let t = directional.directional.as_ref().unwrap();
+    let n = t.half_width as i64;
+    let delta: [f64; 3] = std::array::from_fn(|c| {
+        let cell = t.cell_cm[c];
+        let (mut sx, mut sw) = (0.0, 0.0);
+        for iy in 0..=n {
+            for ix in -n..=n {
+                let (x, y) = (ix as f64 * cell, iy as f64 * cell);
+                let w = t.at(6, c, x, y) * if iy == 0 { 1.0 } else { 2.0 };
+                sx += w * x;
+                sw += w;
+            }
+        }
+        sx / sw
+    });
+    let Some(gpu) = gpu() else { return };
+    // Light from −x at 60° propagates towards +x. A black box 10–10.5 cm above the slab over
+    // x < −10.5·tan 60° puts the shadow edge (cast by its upper corner) at x = 0, the shadow on
+    // its −x side, the box outside the camera's view.
+    let (sin, cos) = 60f32.to_radians().sin_cos();
+    let reach = 10.5 * sin / cos;
+    let mut scene = slab_scene(4.0, 100.0, Vec3::new(-sin, cos, 0.0));
+    scene.mesh = Mesh::cuboid(
+        Vec3::new(-60.0, -4.0, -40.0),
+        Vec3::new(40.0, 0.0, 40.0),
+        [1.0; 3],
+        1.0,
+    );
+    scene.mesh.append(&Mesh::cuboid(
+        Vec3::new(-60.0, 10.0, -40.0),
+        Vec3::new(-reach, 10.5, 40.0),
+        [0.0; 3],
+        0.0,
+    ));
+    scene.camera = Camera {
+        position: Vec3::new(0.0, 100.0, 0.0),
+        target: Vec3::new(0.0, 0.0, 0.0),
+        fov_y_deg: 2.0 * (3.0f32 / 100.0).atan().to_degrees(),
+    };
+    // Pixels of 1/64 cm: the blue exit distribution is about 0.1 cm wide.
+    let size = 384u32;
+    let px = 6.0 / size as f64; // [cm]
+    let params = RenderParams {
+        width: size,
+        height: size,
+        ..RenderParams::default()
+    };
+    for s in [&mut radial, &mut directional] {
+        s.sampling.samples = 16;
+        s.sampling.frames = 16;
+        s.sampling.map_size = 8192;
+    }
+    let rad = render(&gpu, &scene, Scatter::SurfaceGather(&radial), &params).unwrap();
+    let dir = render(&gpu, &scene, Scatter::SurfaceGather(&directional), &params).unwrap();
+    // Which side of the image is lit: the brighter one in the radial image (the edge is in the
+    // middle column).
+    let w = size as usize;
+    let column_mean = |f: &gpu::Frame, x: usize, c: usize| {
+        (0..w)
+            .map(|y| f.scattered[y * w + x][c] as f64)
+            .sum::<f64>()
+            / w as f64
+    };
+    let lit_left = column_mean(&rad, 2, 0) > column_mean(&rad, w - 3, 0);
+    for c in 0..3 {
+        // Each profile over its own lit exitance: the two totals come from different mc runs.
+        let far = if lit_left { 2..10 } else { w - 10..w - 2 };
+        let lit = |f: &gpu::Frame| far.clone().map(|x| column_mean(f, x, c)).sum::<f64>() / 8.0;
+        let (lit_rad, lit_dir) = (lit(&rad), lit(&dir));
+        let lost: f64 = (0..w)
+            .map(|x| column_mean(&rad, x, c) / lit_rad - column_mean(&dir, x, c) / lit_dir)
+            .sum();
+        let measured = lost * px;
+        eprintln!(
+            "channel {c}: light the directional BSSRDF moves forward = {measured:.4} cm of lit exitance; mc's centroid at 60° {:.4} cm",
+            delta[c]
+        );
+        assert!(delta[c] > 0.0, "mc's table is not shifted forward");
+        assert!(
+            (measured / delta[c] - 1.0).abs() < 0.2,
+            "channel {c}: {measured} vs {}",
+            delta[c]
+        );
+    }
+}
