@@ -74,7 +74,37 @@ fn mitsuba_references_agree() {
             );
         }
     }
+    // The error budget (issue 30) of every scene with point or directional light: each term a
+    // noise-corrected RMSE with its standard error; no light between surfaces where the scene
+    // holds one SSS shape on a black floor.
+    for scene in ["images", "images-fin", "images-bust"] {
+        let b = &read(scene)["error_budget"];
+        for (name, t) in b["terms"].as_object().unwrap() {
+            let (e, se) = (
+                t["rmse_noise_corrected"].as_f64().unwrap(),
+                t["rmse_noise_corrected_se"].as_f64().unwrap(),
+            );
+            assert!(
+                e.is_finite() && e >= 0.0 && se >= 0.0,
+                "{scene} {name}: {t}"
+            );
+        }
+        if scene != "images-fin" {
+            assert_eq!(b["terms"]["between_surfaces"]["rmse_noise_corrected"], 0.0);
+        }
+    }
     let images = read("images");
+    // On the sphere, the best real-time method (incidence- and exit-aware pre-integration) and
+    // the radial Monte Carlo gather carry the same light (the same profile, incidence and exit
+    // tables): the screen-space part moves light, it adds or removes almost none.
+    let screen_space = &images["error_budget"]["terms"]["screen_space"];
+    for e in screen_space["energy_ratio"].as_array().unwrap() {
+        let e = e.as_f64().unwrap();
+        assert!(
+            (e - 1.0).abs() < 0.02,
+            "screen-space part's energy ratio {e}"
+        );
+    }
     let models = images["models"].as_array().unwrap();
     // Issue 15's goal for incidence-aware shading: every channel's energy within 2 % of Mitsuba's.
     // The energy is a sum over thousands of blocks (its image noise ≈ 0.3 %), but it also carries

@@ -24,6 +24,31 @@ def run(cmd, **kw):
     return r.stdout
 
 
+# The error budget's terms (images.py's error_budget, issue 30), as the tables name them.
+BUDGET_TERMS = {
+    "best_realtime": "best real-time ↔ reference",
+    "radial": "radial MC gather ↔ reference",
+    "directional": "directional MC gather ↔ reference (half-space limit)",
+    "screen_space": "screen-space part: best real-time ↔ radial",
+    "entry_direction": "entry direction: radial ↔ directional",
+    "between_surfaces": "light between surfaces: full ↔ reference",
+}
+
+
+def budget_lines(b, indent="    "):
+    """The lines of an error budget: each term's noise-corrected RMSE ± SE, resolved or not."""
+    lines = [f"{indent[:-2]}error budget against {b['reference']} (% of its mean; best real-time: "
+             f"{b['best_realtime']}, {100 * b['best_realtime_full_reference']['rmse_noise_corrected']:.2f} ± "
+             f"{100 * b['best_realtime_full_reference']['rmse_noise_corrected_se']:.2f} % from the full reference):"]
+    for k, t in b["terms"].items():
+        lines.append(f"{indent}{BUDGET_TERMS[k]:<52} {100 * t['rmse_noise_corrected']:6.2f} ± "
+                     f"{100 * t['rmse_noise_corrected_se']:4.2f} % ({'resolved' if t['resolved'] else 'undecided'}), "
+                     "energy " + "/".join(f"{e:.3f}" for e in t["energy_ratio"]))
+    lines.append(f"{indent}self-interreflection of Lambertian surfaces (all bounces / direct − 1): "
+                 + "/".join(f"{100 * e:.2f} %" for e in b["self_interreflection_lambert"]))
+    return lines
+
+
 def material(sss, name):
     """A built-in material's coefficients [1/cm] per channel, from `sss materials --json`."""
     for m in json.loads(run([sss, "materials", "--json"]))["materials"]:

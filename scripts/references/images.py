@@ -50,7 +50,7 @@ import time
 
 import numpy as np
 
-from common import material, mitsuba, run, sss_binary
+from common import budget_lines, material, mitsuba, run, sss_binary
 
 # gpu::Scene::sphere()'s camera, zoomed onto the sphere's lit face, across which a black bar
 # between the light and the sphere casts a hard shadow: the edges scattering softens.
@@ -525,21 +525,6 @@ def error_budget(o2s, gather_noise, alone, r2, d2, mask, rows, shapes, interrefl
     }
 
 
-def print_budget(b):
-    """The error budget's lines on stdout."""
-    names = {"best_realtime": f"best real-time ({b['best_realtime']}) ↔ reference",
-             "radial": "radial MC gather ↔ reference", "directional": "directional MC gather ↔ reference (half-space limit)",
-             "screen_space": "screen-space part: best real-time ↔ radial", "entry_direction": "entry direction: radial ↔ directional",
-             "between_surfaces": "light between surfaces: full ↔ reference"}
-    print(f"  error budget against {b['reference']} (% of its mean):")
-    for k, t in b["terms"].items():
-        print(f"    {names[k]:<58} {100 * t['rmse_noise_corrected']:6.2f} ± {100 * t['rmse_noise_corrected_se']:4.2f} %"
-              f" ({'resolved' if t['resolved'] else 'undecided'}), energy "
-              + "/".join(f"{e:.3f}" for e in t["energy_ratio"]))
-    print("    self-interreflection of Lambertian surfaces (all bounces / direct − 1): "
-          + "/".join(f"{100 * e:.2f} %" for e in b["self_interreflection_lambert"]))
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="CI size: small image, fewer samples")
@@ -549,6 +534,11 @@ def main():
                          "(a generated mesh: small features, depth discontinuities)")
     ap.add_argument("--sss", help="path to the sss binary [default: target/release/sss]")
     ap.add_argument("--out", default="out/references", help="output folder")
+    ap.add_argument("--models", help="comma-separated labels: render only these of the scene's models "
+                                     "(and lambert) [default: all]")
+    ap.add_argument("--arrays", action="store_true",
+                    help="also write arrays.npz: every linear image (radiance), the reference, its two halves, "
+                         "the reference without light between surfaces and the compared blocks' mask")
     a = ap.parse_args()
     sss = sss_binary(a.sss)
     width, height, spp, photons = (192, 108, 128, 300_000) if a.quick else (384, 216, 1024, 10_000_000)
@@ -561,7 +551,13 @@ def main():
     # the samples. Direct light from an area light is sampled over its surface: all of them.
     cal_spp = spp if SCENES[a.scene]["light"][0] == "area" else max(spp // 4, 16)
     m = material(sss, a.material)
-    sc = SCENES[a.scene]
+    sc = dict(SCENES[a.scene])
+    if a.models:
+        keep = set(a.models.split(",")) | {"lambert"}
+        unknown = keep - {m[0] for m in sc["models"]}
+        if unknown:
+            sys.exit(f"--models: {', '.join(sorted(unknown))} not among the {a.scene} scene's models")
+        sc["models"] = [m for m in sc["models"] if m[0] in keep]
     name = ("images" if a.scene == "sphere" else f"images-{a.scene}") + (
         "" if a.material == "skin1" else f"-{a.material}")
     out = os.path.join(a.out, name)
@@ -746,8 +742,12 @@ def main():
               f"{100 * row['rmse_spatial']:5.2f}% with the best factor per channel), "
               f"DSSIM {row['dssim']:.4f}, energy {e[0]:.3f}/{e[1]:.3f}/{e[2]:.3f}", flush=True)
     budget = error_budget(o2s, gather_noise, alone, r2, d2, mask, rows, len(sc["media"]), interreflection)
+    if a.arrays:
+        np.savez_compressed(os.path.join(out, "arrays.npz"), reference=ref, reference_a=ref_a, reference_b=ref_b,
+                            alone=0.5 * (alone[0] + alone[1]), mask_blocks=mask,
+                            **{f"model_{k}": v for k, v in images.items()})
     if budget:
-        print_budget(budget)
+        print("\n".join(budget_lines(budget)))
     write_png(os.path.join(out, "mitsuba.png"), tonemap(ref, 1.0 / mean / 4))
     write_png(os.path.join(out, "mitsuba_lambert.png"), tonemap(gi, 1.0 / mean / 4))
     excluded = np.repeat((255 * (1 - edge))[:, :, None], 3, 2).astype(np.uint8)

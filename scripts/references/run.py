@@ -13,6 +13,8 @@ import os
 import subprocess
 import sys
 
+from common import budget_lines
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
@@ -40,6 +42,8 @@ def table(results):
             e = m["energy_ratio"]
             lines.append(f"  {m['model']:<30} {100 * m['rmse_noise_corrected']:>14.2f} ± {100 * m['rmse_noise_corrected_se']:4.2f} %"
                          f" {100 * m['rmse_spatial']:>6.2f} % {m['ssim']:>7.4f}  {e[0]:.3f}/{e[1]:.3f}/{e[2]:.3f}")
+        if r.get("error_budget"):
+            lines += budget_lines(r["error_budget"])
     return "\n".join(lines)
 
 

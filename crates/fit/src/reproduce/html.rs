@@ -308,6 +308,28 @@ fn mitsuba_html(all: &[MitsubaImages], h: &mut String) {
             );
         }
         *h += "</table>";
+        if let Some(b) = &v.error_budget {
+            let _ = write!(
+                h,
+                "<p>Where the error comes from, against {} (noise-corrected RMSE ± standard error, % of that reference's mean; resolved: more than 3 standard errors above 0). The best real-time method is <code>{}</code>, {:.2} ± {:.2} % from the full reference. Self-interreflection of opaque Lambertian surfaces of the same albedo: {} % of the direct light.</p><table><tr><th>term</th><th>noise-corrected RMSE</th><th></th><th>energy R / G / B</th></tr>",
+                b.reference,
+                b.best_realtime,
+                100.0 * b.best_realtime_full_reference.rmse_noise_corrected,
+                100.0 * b.best_realtime_full_reference.rmse_noise_corrected_se,
+                joined(&b.self_interreflection_lambert.map(|x| 100.0 * x), 2)
+            );
+            for (name, t) in b.terms.named() {
+                let _ = write!(
+                    h,
+                    "<tr><td style=\"text-align:left\">{name}</td><td>{:.2} ± {:.2} %</td><td>{}</td><td>{}</td></tr>",
+                    100.0 * t.rmse_noise_corrected,
+                    100.0 * t.rmse_noise_corrected_se,
+                    if t.resolved { "resolved" } else { "undecided" },
+                    joined(&t.energy_ratio, 3)
+                );
+            }
+            *h += "</table>";
+        }
         if !v.rankings.is_empty() {
             *h += "<p>Rankings (paired over blocks, resolved at 3 standard errors):</p><ul>";
             for (k, r) in &v.rankings {

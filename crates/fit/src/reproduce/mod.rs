@@ -232,6 +232,9 @@ pub struct MitsubaImages {
     /// Paired rankings: Some(true/false) when resolved at 3 standard errors, None undecided.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub rankings: BTreeMap<String, Option<bool>>,
+    /// Where the image error comes from (absent: a scene without both surface gathers).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_budget: Option<ErrorBudget>,
     /// Every other field `images.py` wrote, kept as it was.
     #[serde(flatten)]
     pub extra: serde_json::Map<String, serde_json::Value>,
@@ -253,6 +256,93 @@ pub struct NegativeControl {
     /// Every other field, kept as it was.
     #[serde(flatten)]
     pub extra: serde_json::Map<String, serde_json::Value>,
+}
+
+/// `images.py`'s error budget of one scene: each term's noise-corrected RMSE against Mitsuba's
+/// reference without light between surfaces (relative to that reference's mean), and the light
+/// between surfaces on its own.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ErrorBudget {
+    /// The reference the terms are measured against.
+    pub reference: String,
+    /// The screen-space method closest to it.
+    pub best_realtime: String,
+    /// That method against the full reference (with light between surfaces).
+    pub best_realtime_full_reference: BudgetError,
+    /// The terms.
+    pub terms: BudgetTerms,
+    /// For opaque Lambertian surfaces of the same albedo, all bounces over direct light − 1, per
+    /// channel: what self-interreflection (and, with several shapes, light between them) is worth.
+    pub self_interreflection_lambert: [f64; 3],
+    /// Every other field, kept as it was.
+    #[serde(flatten)]
+    pub extra: serde_json::Map<String, serde_json::Value>,
+}
+
+/// A noise-corrected RMSE with its standard error (relative).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BudgetError {
+    /// Noise-corrected RMSE.
+    pub rmse_noise_corrected: f64,
+    /// Its standard error.
+    pub rmse_noise_corrected_se: f64,
+}
+
+/// One term of the budget.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BudgetTerm {
+    /// Noise-corrected RMSE.
+    pub rmse_noise_corrected: f64,
+    /// Its standard error.
+    pub rmse_noise_corrected_se: f64,
+    /// Whether it lies more than 3 standard errors above 0.
+    pub resolved: bool,
+    /// Energy ratio per channel, the first image over the second.
+    pub energy_ratio: [f64; 3],
+}
+
+/// The budget's terms (issue 30).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BudgetTerms {
+    /// The best screen-space method against the reference.
+    pub best_realtime: BudgetTerm,
+    /// The radial Monte Carlo gather against the reference.
+    pub radial: BudgetTerm,
+    /// The directional Monte Carlo gather against the reference: what a half-space BSSRDF cannot
+    /// represent.
+    pub directional: BudgetTerm,
+    /// The best screen-space method against the radial gather: the screen-space part.
+    pub screen_space: BudgetTerm,
+    /// The radial gather against the directional one: what the entry direction adds.
+    pub entry_direction: BudgetTerm,
+    /// The full reference against the one without light between surfaces.
+    pub between_surfaces: BudgetTerm,
+}
+
+impl BudgetTerms {
+    /// The terms with their names as `images.json` and the page give them.
+    pub fn named(&self) -> [(&'static str, &BudgetTerm); 6] {
+        [
+            ("best real-time ↔ reference", &self.best_realtime),
+            ("radial Monte Carlo gather ↔ reference", &self.radial),
+            (
+                "directional Monte Carlo gather ↔ reference (what a half-space BSSRDF cannot represent)",
+                &self.directional,
+            ),
+            (
+                "screen-space part: best real-time ↔ radial gather",
+                &self.screen_space,
+            ),
+            (
+                "entry direction: radial ↔ directional gather",
+                &self.entry_direction,
+            ),
+            (
+                "light between surfaces: full reference ↔ reference",
+                &self.between_surfaces,
+            ),
+        ]
+    }
 }
 
 /// One model's errors against Mitsuba, relative to the reference's mean.
@@ -423,5 +513,23 @@ mod tests {
         let back = serde_json::to_value(v).unwrap();
         assert_eq!(back["checks"], 13);
         assert!(back.get("calibration_pass").is_none());
+        assert!(back.get("error_budget").is_none());
+        // An error budget is typed: a term without its standard error names the field.
+        let term = r#"{"rmse_noise_corrected": 0.06, "rmse_noise_corrected_se": 0.002, "resolved": true, "energy_ratio": [1, 1, 1]}"#;
+        let budget = format!(
+            r#"{{"reference": "Mitsuba", "best_realtime": "preint", "best_realtime_full_reference": {{"rmse_noise_corrected": 0.07, "rmse_noise_corrected_se": 0.002}}, "self_interreflection_lambert": [0, 0, 0], "terms": {{"best_realtime": {term}, "radial": {term}, "directional": {term}, "screen_space": {term}, "entry_direction": {term}, "between_surfaces": {term}}}}}"#
+        );
+        let with_budget = one.replacen("{", &format!(r#"{{"error_budget": {budget}, "#), 1);
+        let v = &MitsubaImages::parse(&with_budget).unwrap()[0];
+        let b = v.error_budget.as_ref().unwrap();
+        assert_eq!(b.best_realtime, "preint");
+        assert!(b.terms.named().iter().all(|(_, t)| t.resolved));
+        let broken = with_budget.replacen(
+            r#""rmse_noise_corrected_se": 0.002, "resolved""#,
+            r#""resolved""#,
+            1,
+        );
+        let e = MitsubaImages::parse(&broken).unwrap_err();
+        assert!(e.contains("rmse_noise_corrected_se"), "{e}");
     }
 }
