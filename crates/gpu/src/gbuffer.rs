@@ -53,6 +53,8 @@ struct MaterialU {
     translucency: [[f32; 4]; TRANSLUCENCY_STEPS],
     /// x: first thickness [cm], y: ln ratio, z: 1 on / 0 off, w: η ([`Shading::eta`]).
     translucency_params: [f32; 4],
+    /// h_T(θ; d_k) at θ = 0°, 10°, …, 80° for each thickness d_k, [k][θ] (rgb).
+    translucency_exit: [[f32; 4]; TRANSLUCENCY_STEPS * INCIDENCE_STEPS],
     /// h(θ) at θ = 0°, 10°, …, 80° (rgb).
     exit: [[f32; 4]; INCIDENCE_STEPS],
 }
@@ -80,6 +82,12 @@ impl MaterialU {
                 Some(t) => [t.first_cm, t.ratio.ln(), 1.0, s.eta],
                 None => [1.0, 1.0, 0.0, s.eta],
             },
+            translucency_exit: match &s.translucency {
+                Some(t) => {
+                    std::array::from_fn(|i| rgb(t.exit[i / INCIDENCE_STEPS][i % INCIDENCE_STEPS]))
+                }
+                None => [[1.0; 4]; TRANSLUCENCY_STEPS * INCIDENCE_STEPS],
+            },
             exit: s.exit.map(rgb),
         }
     }
@@ -93,10 +101,12 @@ pub(crate) const SCENE_WGSL: &str = concat!(
 );
 
 /// The size of scene.wgsl's `Globals`: 2 mat4 + 3 vec4 + 64 emitters × 192 + per material 10 vec4
-/// of incidence, 17 vec4 of translucency and 9 vec4 of exit (checked against naga's layout in a
-/// test).
-pub(crate) const GLOBALS_SIZE: usize =
-    2 * 64 + 3 * 16 + MAX_EMITTERS * 192 + MAX_MATERIALS * (10 * 16 + 17 * 16 + 9 * 16);
+/// of incidence, 17 vec4 of translucency, 16 × 9 vec4 of its exit and 9 vec4 of exit (checked
+/// against naga's layout in a test).
+pub(crate) const GLOBALS_SIZE: usize = 2 * 64
+    + 3 * 16
+    + MAX_EMITTERS * 192
+    + MAX_MATERIALS * (10 * 16 + 17 * 16 + 16 * 9 * 16 + 9 * 16);
 const _: () = assert!(std::mem::size_of::<Globals>() == GLOBALS_SIZE);
 
 /// Scene targets: diffuse; specular + strength; view depth + packed post-scatter albedo.

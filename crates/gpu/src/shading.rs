@@ -103,6 +103,13 @@ pub struct Translucency {
     pub ratio: f32,
     /// Tt(d_k)/ρ per channel.
     pub table: [[f32; 3]; TRANSLUCENCY_STEPS],
+    /// The transmitted light's angular distribution at each thickness d_k: its radiance at exit
+    /// angle θ = 0°, 10°, …, 80° relative to a Lambertian surface's, h_T(θ; d_k) per channel
+    /// (`mc::exitance::transmitted_radiance_ratio`; all ones: Lambertian). The scene pass gives
+    /// transmitted light the radiance h_T at the pixel's view angle: through a 3 mm Skin1 slab,
+    /// 0.86 / 0.99 / 1.09 (R/G/B) towards the normal and 0.45 / 0.46 / 0.37 at 85°, where the
+    /// reflected light's h is 1.07–1.25 (`mc`, 2·10⁵ photons).
+    pub exit: [[[f32; 3]; INCIDENCE_STEPS]; TRANSLUCENCY_STEPS],
 }
 
 impl Translucency {
@@ -133,7 +140,9 @@ impl Translucency {
     /// `mc` slab runs at the [`TRANSLUCENCY_STEPS`] thicknesses of
     /// [`Translucency::thickness_range`], `spec.photons` per channel and thickness; `progress`
     /// receives photon counts. Entries are Tt(d)/ρ with `rho` the total diffuse reflectance of
-    /// the material's profile per channel, which must be positive.
+    /// the material's profile per channel, which must be positive; the exit tables come from the
+    /// same runs in 10° exit bins, read as [`AngleTables`]' exit table is (h_T = 1 where nothing
+    /// came through).
     pub fn from_mc(
         spec: &mc::BatchSpec,
         rho: [f64; 3],
@@ -157,15 +166,29 @@ impl Translucency {
             .map(|c| fit::analytic::Medium::of_layer(&spec.channels[c].layer, spec.n_above));
         let (first, last) = Translucency::thickness_range(&media);
         let d = Translucency::thicknesses(first, last);
-        let rows = mc::slab::transmittance_table(spec, &d, progress)?;
+        let mut spec = spec.clone();
+        for ch in &mut spec.channels {
+            ch.grid.na = INCIDENCE_STEPS;
+        }
+        let rows = mc::slab::transmittance_table(&spec, &d, progress)?;
         let mut table = [[0.0f32; 3]; TRANSLUCENCY_STEPS];
+        let mut exit = [[[1.0f32; 3]; INCIDENCE_STEPS]; TRANSLUCENCY_STEPS];
         for (k, row) in rows.iter().enumerate() {
             table[k] = [0, 1, 2].map(|c| (row.tt[c].value / rho[c]) as f32);
+            for (c, bins) in row.exit.iter().enumerate() {
+                if bins.len() == INCIDENCE_STEPS {
+                    let h = exit_angles(bins);
+                    for (j, v) in h.iter().enumerate() {
+                        exit[k][j][c] = v.0;
+                    }
+                }
+            }
         }
         let t = Translucency {
             first_cm: first as f32,
             ratio: (d[1] / d[0]) as f32,
             table,
+            exit,
         };
         t.validate()?;
         Ok(t)
@@ -173,16 +196,34 @@ impl Translucency {
 
     /// Tt(d)/ρ at thickness `d_cm` (what the scene shader evaluates).
     pub fn at(&self, d_cm: f32) -> [f32; 3] {
+        let (i, f) = self.position(d_cm);
+        let j = (i + 1).min(TRANSLUCENCY_STEPS - 1);
+        [0, 1, 2].map(|c| self.table[i][c] * (1.0 - f) + self.table[j][c] * f)
+    }
+
+    /// h_T at thickness `d_cm` and exit cosine `cos_o`: linear in ln d and in θ as
+    /// [`Translucency::at`] and [`incidence_ratio`] (what the scene shader evaluates).
+    pub fn exit_at(&self, d_cm: f32, cos_o: f32) -> [f32; 3] {
+        let (i, f) = self.position(d_cm);
+        let j = (i + 1).min(TRANSLUCENCY_STEPS - 1);
+        let (a, b) = (
+            incidence_ratio(&self.exit[i], cos_o),
+            incidence_ratio(&self.exit[j], cos_o),
+        );
+        [0, 1, 2].map(|c| a[c] * (1.0 - f) + b[c] * f)
+    }
+
+    /// The table entry at or below `d_cm` and the fraction towards the next (0 outside).
+    fn position(&self, d_cm: f32) -> (usize, f32) {
         let t = (d_cm.max(1e-30) / self.first_cm).ln() / self.ratio.ln();
         if t.is_nan() || t <= 0.0 {
-            return self.table[0];
+            return (0, 0.0);
         }
         let i = t.floor() as usize;
         if i + 1 >= TRANSLUCENCY_STEPS {
-            return self.table[TRANSLUCENCY_STEPS - 1];
+            return (TRANSLUCENCY_STEPS - 1, 0.0);
         }
-        let f = t - i as f32;
-        [0, 1, 2].map(|c| self.table[i][c] * (1.0 - f) + self.table[i + 1][c] * f)
+        (i, t - i as f32)
     }
 
     /// Checks the table; the error names the field.
@@ -209,6 +250,19 @@ impl Translucency {
         {
             return Err(GpuError::invalid(
                 "translucency table",
+                v,
+                "entries must be finite and ≥ 0",
+            ));
+        }
+        if let Some(v) = self
+            .exit
+            .iter()
+            .flatten()
+            .flatten()
+            .find(|v| !(v.is_finite() && **v >= 0.0))
+        {
+            return Err(GpuError::invalid(
+                "translucency exit table",
                 v,
                 "entries must be finite and ≥ 0",
             ));
@@ -301,18 +355,28 @@ impl AngleTables {
             }
         }
         if exit {
-            let bins = &rows[0].exit;
-            for k in 0..INCIDENCE_STEPS {
-                let (lo, hi) = (k.saturating_sub(1), k);
-                for (c, channel) in bins.iter().enumerate() {
-                    let (a, b) = (&channel[lo].h, &channel[hi].h);
-                    tables.exit[k][c] = (0.5 * (a.value + b.value)) as f32;
-                    tables.exit_se[k][c] = (0.5 * (a.se.powi(2) + b.se.powi(2)).sqrt()) as f32;
+            for (c, channel) in rows[0].exit.iter().enumerate() {
+                for (k, (h, se)) in exit_angles(channel).into_iter().enumerate() {
+                    tables.exit[k][c] = h;
+                    tables.exit_se[k][c] = se;
                 }
             }
         }
         Ok(tables)
     }
+}
+
+/// An exit table's entries at θ = 0°, 10°, …, 80° with their standard errors from `mc`'s
+/// [`INCIDENCE_STEPS`] exit bins of 10°: at 0° the first bin's, at 10°…80° the mean of the two
+/// bins around the angle.
+fn exit_angles(bins: &[mc::exitance::ExitBin]) -> [(f32, f32); INCIDENCE_STEPS] {
+    std::array::from_fn(|k| {
+        let (a, b) = (&bins[k.saturating_sub(1)].h, &bins[k].h);
+        (
+            (0.5 * (a.value + b.value)) as f32,
+            (0.5 * (a.se.powi(2) + b.se.powi(2)).sqrt()) as f32,
+        )
+    })
 }
 
 /// ρ(θ)/ρ(0) at cos θ = `cos_i` from an incidence table (or h(θ) from an exit table), linear in θ

@@ -25,6 +25,7 @@ fn table() -> Translucency {
             let t = (-d[k] / 0.1).exp() as f32;
             [t, 0.5 * t, 0.25 * t]
         }),
+        exit: [[[1.0; 3]; gpu::INCIDENCE_STEPS]; gpu::TRANSLUCENCY_STEPS],
     }
 }
 
@@ -171,4 +172,51 @@ fn table_from_mc_lies_between_the_beer_lambert_bounds() {
     }
     let e = Translucency::from_mc(&spec, [1.0, 0.0, 1.0], &|_| {}).unwrap_err();
     assert!(e.to_string().contains("ρ"), "{e}");
+}
+
+/// Exit-aware translucency: the transmitted light leaves with the slab's own angular
+/// distribution h_T(θ; d) (`mc`: the law of darkening for thick slabs, tested there), not the
+/// reflected light's h. The scene pass multiplies it by h_T/h at the pixel's view angle (the
+/// recombination multiplies every scattered light by h), here straight down (θ = 0), as the CPU
+/// twin `Translucency::exit_at` reads the table: linear in ln d between thicknesses.
+#[test]
+fn transmitted_light_leaves_with_its_own_angular_distribution() {
+    let Some(gpu) = gpu() else { return };
+    let mut t = table();
+    // h_T growing with the thickness index and falling with the angle; the reflection's h 1.25.
+    t.exit = std::array::from_fn(|k| {
+        std::array::from_fn(|j| [1.0 + 0.1 * k as f32, 1.0, 2.0 - j as f32 / 8.0])
+    });
+    let shading = Shading {
+        translucency: Some(t),
+        exit: [[1.25; 3]; gpu::INCIDENCE_STEPS],
+        eta: 1.3,
+        ..Shading::default()
+    };
+    let params = RenderParams {
+        width: SIZE,
+        height: SIZE,
+        albedo: AlbedoMode::Post,
+        shading: [shading; MAX_MATERIALS],
+        ..RenderParams::default()
+    };
+    let cos = 30f32.to_radians().cos();
+    let entry = (1.0 - mc::fresnel(1.0, 1.3, cos as f64).0) / (1.0 - mc::fresnel(1.0, 1.3, 1.0).0);
+    for thickness in [0.05f32, 0.2, 0.7] {
+        let got = centre(&render(&gpu, &slab(thickness), Scatter::None, &params).unwrap());
+        let d = thickness / cos;
+        let h = t.exit_at(d, 1.0);
+        let want: Vec<f32> = (0..3)
+            .map(|c| 2.0 * cos * entry as f32 * t.at(d)[c] * h[c] / 1.25)
+            .collect();
+        for c in 0..3 {
+            assert!(
+                (got[c] - want[c]).abs() < 0.01 * want[c] + 1e-6,
+                "d = {thickness}: channel {c}: {} vs {} (h_T {:?})",
+                got[c],
+                want[c],
+                h
+            );
+        }
+    }
 }

@@ -28,17 +28,27 @@ pub struct ExitBin {
 
 /// h(θ) at the centre of each exit-angle bin of a run; empty when it reflected nothing.
 pub fn radiance_ratio(o: &Output) -> Vec<ExitBin> {
-    let rd = o.rd.value;
-    if rd.is_nan() || rd <= 0.0 {
+    ratio(o.rd.value, &o.rd_a, o.grid.da())
+}
+
+/// The same for the transmitted light leaving the far face of a slab (MCML's `Tt_a` over `Tt`,
+/// unscattered light included: at normal incidence it lies in the first bin): the radiance
+/// through a thin part relative to a Lambertian surface's; empty when nothing came through.
+pub fn transmitted_radiance_ratio(o: &Output) -> Vec<ExitBin> {
+    ratio(o.tt.value, &o.tt_a, o.grid.da())
+}
+
+/// π·X_a(θ)/(X·cos θ) per bin of width `da` [rad] for a total X and its angular tally X_a.
+fn ratio(total: f64, per_angle: &[Estimate], da: f64) -> Vec<ExitBin> {
+    if total.is_nan() || total <= 0.0 {
         return Vec::new();
     }
-    let da = o.grid.da();
-    o.rd_a
+    per_angle
         .iter()
         .enumerate()
         .map(|(k, e)| {
             let theta = (k as f64 + 0.5) * da;
-            let s = std::f64::consts::PI / (rd * theta.cos());
+            let s = std::f64::consts::PI / (total * theta.cos());
             ExitBin {
                 theta_deg: theta.to_degrees(),
                 h: Estimate {

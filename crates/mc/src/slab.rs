@@ -15,6 +15,10 @@ pub struct SlabRow {
     pub tt: Vec<Estimate>,
     /// Diffuse reflectance Rd per channel, per unit incident power [-].
     pub rd: Vec<Estimate>,
+    /// Per channel, the transmitted radiance against exit angle relative to a Lambertian
+    /// surface's, h_T(θ) per exit-angle bin of the channel's grid
+    /// ([`crate::exitance::transmitted_radiance_ratio`]; empty where nothing came through).
+    pub exit: Vec<Vec<crate::exitance::ExitBin>>,
 }
 
 /// Runs every channel of `spec` as a slab of each thickness [cm] (each > 0 and finite), normal
@@ -55,6 +59,10 @@ pub fn transmittance_table(
                 thickness_cm: d,
                 tt: out.iter().map(|o| o.tt).collect(),
                 rd: out.iter().map(|o| o.rd).collect(),
+                exit: out
+                    .iter()
+                    .map(crate::exitance::transmitted_radiance_ratio)
+                    .collect(),
             })
         })
         .collect()

@@ -27,6 +27,9 @@ struct Material {
     // y: ln ratio, z: 1 on / 0 off (gpu::Translucency), w: the boundary's η (gpu::Shading).
     translucency: array<vec4<f32>, 16>,
     translucency_params: vec4<f32>,
+    // The transmitted light's radiance relative to a Lambertian surface's, h_T(θ; d_k) at
+    // θ = 0°, 10°, …, 80° for each thickness d_k, [k·9 + θ index] (rgb; all ones: Lambertian).
+    translucency_exit: array<vec4<f32>, 144>,
     // Exit-angle-aware shading: the radiance leaving at view angle θ relative to a Lambertian
     // surface's, h(θ) at θ = 0°, 10°, …, 80° (rgb; all ones: off).
     exit: array<vec4<f32>, 9>,
@@ -82,6 +85,26 @@ fn angle_table(table: array<vec4<f32>, 9>, cos_a: f32) -> vec3<f32> {
         return t[8].rgb;
     }
     return mix(t[i].rgb, t[i + 1u].rgb, x - f32(i));
+}
+
+// Material m's h_T at thickness d [cm] and exit cosine cos_o: linear in ln d and in θ, held
+// outside the tables (gpu::Translucency::exit_at).
+fn translucency_exit(m: u32, d: f32, cos_o: f32) -> vec3<f32> {
+    let t = log(max(d, 1e-30) / g.materials[m].translucency_params.x) / g.materials[m].translucency_params.y;
+    var i = 0u;
+    var f = 0.0;
+    if t > 0.0 {
+        i = min(u32(floor(t)), 15u);
+        f = select(t - f32(i), 0.0, i >= 15u);
+    }
+    let j = min(i + 1u, 15u);
+    let x = degrees(acos(clamp(cos_o, 0.0, 1.0))) / 10.0;
+    let a = min(u32(floor(x)), 8u);
+    let b = min(a + 1u, 8u);
+    let fa = select(x - f32(a), 0.0, a >= 8u);
+    let lo = mix(g.materials[m].translucency_exit[i * 9u + a].rgb, g.materials[m].translucency_exit[i * 9u + b].rgb, fa);
+    let hi = mix(g.materials[m].translucency_exit[j * 9u + a].rgb, g.materials[m].translucency_exit[j * 9u + b].rgb, fa);
+    return mix(lo, hi, f);
 }
 
 // Material m's Tt(d)/ρ at thickness d [cm]: linear in ln d between entries, held outside them.
@@ -189,7 +212,12 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
                     let c = -dot(n, l);
                     let eta = g.materials[m].translucency_params.w;
                     let entry = (1.0 - fresnel(eta, c)) / (1.0 - fresnel(eta, 1.0));
-                    irradiance += scale * c * entry * translucency(m, d);
+                    // Transmitted light leaves with its own angular distribution h_T; the
+                    // scattered light is multiplied by the reflection's h after the blur.
+                    let cos_o = dot(n, view_dir);
+                    let exit = translucency_exit(m, d, cos_o)
+                        / max(angle_table(g.materials[m].exit, cos_o), vec3<f32>(1e-3));
+                    irradiance += scale * c * entry * translucency(m, d) * exit;
                 }
             }
             continue;
