@@ -118,6 +118,14 @@ fn render_refuses_bad_input_naming_it() {
             "layers",
         ),
         (
+            vec!["render", "--method", "surface-gather", "--frames", "0"],
+            "frames",
+        ),
+        (
+            vec!["render", "--method", "surface-gather", "--exit-aware", "on"],
+            "--exit-aware",
+        ),
+        (
             vec!["render", "--method", "area-gather", "--translucency", "on"],
             "--translucency",
         ),
@@ -432,6 +440,76 @@ fn render_with_the_directional_dipole_lights_thin_parts_from_behind() {
         .filter(|(d, l)| l.iter().all(|&x| x == 0.0) && d[0] > 1e-3)
         .count();
     assert!(through >= 50, "{through} pixels lit through the fins");
+}
+
+/// The Monte Carlo BSSRDF gathered over the lit surface through the CLI, both BSSRDFs, on the
+/// fins lit exactly from −x: pixels black in the plain Lambertian image that glow carry light
+/// through the fins (their visible faces get no direct light); the summary names the method and
+/// the BSSRDF, and every value is finite and non-negative.
+#[test]
+fn render_with_the_surface_gather_lights_thin_parts_from_behind() {
+    let dir = tempfile::tempdir().unwrap();
+    let common = [
+        "--scene",
+        "fin",
+        "--light",
+        "dir:-1,0,0",
+        "--floor-albedo",
+        "0,0,0",
+        "--ambient",
+        "0",
+        "--specular",
+        "0",
+        "--width",
+        "160",
+        "--height",
+        "90",
+    ];
+    let mut args = vec!["render", "--no-sss"];
+    args.extend(common);
+    args.extend(["--out", "lambert"]);
+    let o = sss(&args, dir.path());
+    if no_adapter(&o) {
+        return;
+    }
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let lambert = pfm_pixels(&dir.path().join("lambert/render.pfm"));
+    for bssrdf in ["radial", "directional"] {
+        let mut args = vec!["render", "--method", "surface-gather", "--bssrdf", bssrdf];
+        args.extend(common);
+        args.extend([
+            "--samples",
+            "8",
+            "--frames",
+            "2",
+            "--photons",
+            "30000",
+            "--incidence-photons",
+            "10000",
+            "--profiles",
+            "p",
+            "--out",
+            bssrdf,
+            "--json",
+        ]);
+        let o = sss(&args, dir.path());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(v["method"], "surface-gather");
+        assert_eq!(v["surface_gather"]["bssrdf"], bssrdf);
+        let img = pfm_pixels(&dir.path().join(bssrdf).join("render.pfm"));
+        assert_eq!(img.len(), 160 * 90);
+        assert!(img.iter().flatten().all(|v| v.is_finite() && *v >= 0.0));
+        let through = img
+            .iter()
+            .zip(&lambert)
+            .filter(|(d, l)| l.iter().all(|&x| x == 0.0) && d[0] > 1e-3)
+            .count();
+        assert!(
+            through >= 50,
+            "{bssrdf}: {through} pixels lit through the fins"
+        );
+    }
 }
 
 /// The area gather through the CLI on the fins lit exactly from −x: their visible faces get no

@@ -1085,13 +1085,7 @@ fn dipole_setup(
     let media: [fit::analytic::Medium; 3] =
         [0, 1, 2].map(|c| fit::analytic::Medium::channel(&named.material, c));
     let mut setup = DipoleSetup::new(&media)?;
-    setup.sampling.samples = a.samples;
-    setup.sampling.frames = a.frames;
-    setup.sampling.map_size = a.light_map;
-    setup.sampling.seed = a.frame_seed.unwrap_or(a.source.seed() as u32);
-    if let Some(r) = a.dipole_radius {
-        setup.sampling.radius_cm = r;
-    }
+    sampling(&mut setup.sampling, a);
     setup
         .validate()
         .context("invalid --samples/--frames/--dipole-radius/--light-map")?;
@@ -1114,6 +1108,18 @@ fn dipole_setup(
         }
     }
     Ok(setup)
+}
+
+/// The disc gathers' sampling flags (--samples, --frames, --light-map, --frame-seed or --seed,
+/// --dipole-radius where given) over a method's defaults.
+fn sampling(s: &mut gpu::Sampling, a: &RenderArgs) {
+    s.samples = a.samples;
+    s.frames = a.frames;
+    s.map_size = a.light_map;
+    s.seed = a.frame_seed.unwrap_or(a.source.seed() as u32);
+    if let Some(r) = a.dipole_radius {
+        s.radius_cm = r;
+    }
 }
 
 /// The surface gather's Monte Carlo tables for the material (`gpu::SurfaceGatherSetup::from_mc`:
@@ -1152,13 +1158,7 @@ fn surface_setup(
     let mut setup = gpu::SurfaceGatherSetup::from_mc(&spec, &profile, bssrdf, &|k| bar.inc(k))
         .with_context(|| format!("--method surface-gather: {}", named.slug))?;
     bar.finish_and_clear();
-    setup.sampling.samples = a.samples;
-    setup.sampling.frames = a.frames;
-    setup.sampling.map_size = a.light_map;
-    setup.sampling.seed = a.frame_seed.unwrap_or(a.source.seed() as u32);
-    if let Some(r) = a.dipole_radius {
-        setup.sampling.radius_cm = r;
-    }
+    sampling(&mut setup.sampling, a);
     setup
         .validate()
         .context("invalid --samples/--frames/--dipole-radius/--light-map")?;

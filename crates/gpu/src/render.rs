@@ -342,6 +342,13 @@ impl Renderer {
             &mut timer.as_mut(),
         );
         let scattered = pixels(gpu, n, "scattered");
+        // Where the disc gathers draw.
+        let target = Target {
+            scene,
+            camera_view_proj: camera_view_proj(scene, (w, h)),
+            size: (w, h),
+            mesh: &mesh,
+        };
         let mut surface = None;
         match scatter {
             Scatter::Separable(given) => {
@@ -430,12 +437,7 @@ impl Renderer {
             Scatter::DirectionalDipole(setup) => crate::dipole::encode(
                 gpu,
                 &mut enc,
-                &Target {
-                    scene,
-                    camera_view_proj: camera_view_proj(scene, (w, h)),
-                    size: (w, h),
-                    mesh: &mesh,
-                },
+                &target,
                 setup,
                 &scattered,
                 &mut timer.as_mut(),
@@ -443,12 +445,7 @@ impl Renderer {
             Scatter::SurfaceGather(setup) => crate::surface_gather::encode(
                 gpu,
                 &mut enc,
-                &Target {
-                    scene,
-                    camera_view_proj: camera_view_proj(scene, (w, h)),
-                    size: (w, h),
-                    mesh: &mesh,
-                },
+                &target,
                 setup,
                 &scattered,
                 &mut timer.as_mut(),

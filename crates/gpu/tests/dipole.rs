@@ -9,12 +9,12 @@
 
 use fit::analytic::{DirectionalDipole, Medium, SurfacePoint, fresnel_moments::c_phi};
 use glam::Vec3;
-use gpu::{Camera, DipoleSetup, Light, Mesh, RenderParams, Scatter, Scene, render};
+use gpu::{DipoleSetup, Light, RenderParams, Scatter, render};
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 
 mod common;
-use common::gpu;
+use common::{centre_mean, gpu, slab_scene};
 
 const SIZE: u32 = 48;
 
@@ -75,45 +75,6 @@ fn quadrature(
         out[c] = PI * t_out * t_in * sum * 2.0 * PI / nphi as f64;
     }
     out
-}
-
-/// Mean of the dipole output over the central 16×16 pixels.
-fn centre_mean(frame: &gpu::Frame) -> [f64; 3] {
-    let mut acc = [0.0; 3];
-    let half = SIZE as usize / 2;
-    for y in half - 8..half + 8 {
-        for x in half - 8..half + 8 {
-            let v = frame.scattered[y * SIZE as usize + x];
-            for c in 0..3 {
-                acc[c] += v[c] as f64 / 256.0;
-            }
-        }
-    }
-    acc
-}
-
-fn slab_scene(thickness: f32, camera_y: f32, towards: Vec3) -> Scene {
-    Scene {
-        mesh: Mesh::cuboid(
-            Vec3::new(-20.0, -thickness, -20.0),
-            Vec3::new(20.0, 0.0, 20.0),
-            [1.0; 3],
-            1.0,
-        ),
-        camera: Camera {
-            position: Vec3::new(0.0, camera_y, 0.0),
-            target: Vec3::new(0.0, -0.5 * thickness, 0.0),
-            fov_y_deg: 4.0,
-        },
-        lights: vec![Light::Directional {
-            towards,
-            irradiance: Vec3::ONE,
-            shadow: true,
-        }],
-        ambient: Vec3::ZERO,
-        specular: 0.0,
-        shininess: 1.0,
-    }
 }
 
 fn check(name: &str, got: [f64; 3], want: [f64; 3], tol: f64) {
@@ -184,7 +145,7 @@ fn front_lit_slab_matches_the_quadrature_and_the_models_total_reflectance() {
         Vector3::y(),
         setup.sampling.radius_cm as f64,
     );
-    check("front-lit", centre_mean(&frame), want, 0.02);
+    check("front-lit", centre_mean(&frame, SIZE), want, 0.02);
     // A point light 300 cm away along the same direction with intensity E·(300 cm)²: across the
     // disc its direction turns by < 0.5° and its irradiance changes by < 2 %.
     let mut point = scene.clone();
@@ -194,7 +155,12 @@ fn front_lit_slab_matches_the_quadrature_and_the_models_total_reflectance() {
         shadow: true,
     }];
     let frame = render(&gpu, &point, Scatter::DirectionalDipole(&setup), &params).unwrap();
-    check("front-lit, point light", centre_mean(&frame), want, 0.03);
+    check(
+        "front-lit, point light",
+        centre_mean(&frame, SIZE),
+        want,
+        0.03,
+    );
 }
 
 #[test]
@@ -223,7 +189,7 @@ fn light_through_a_thin_slab_matches_the_quadrature() {
         setup.sampling.radius_cm as f64,
     );
     assert!(want.iter().all(|&v| v > 0.0));
-    check("back-lit", centre_mean(&frame), want, 0.02);
+    check("back-lit", centre_mean(&frame, SIZE), want, 0.02);
 }
 
 /// Validation: bad settings are refused with the field named.
@@ -300,7 +266,7 @@ fn oblique_light_on_an_index_matched_half_space_follows_the_models_total() {
         let t = theta.to_radians();
         let scene = slab_scene(4.0, 200.0, Vec3::new(t.sin(), t.cos(), 0.0));
         let frame = render(&gpu, &scene, Scatter::DirectionalDipole(&setup), &params).unwrap();
-        got[k] = centre_mean(&frame);
+        got[k] = centre_mean(&frame, SIZE);
     }
     let ratio: [f64; 3] = std::array::from_fn(|c| got[1][c] / (0.5 * got[0][c]));
     check("60° over 0° per unit irradiance", ratio, on_disc, 0.03);

@@ -1,6 +1,9 @@
-//! Shared by the GPU tests: the device, or a skip outside CI when there is none.
+//! Shared by the GPU tests: the device, or a skip outside CI when there is none; the thick or
+//! thin slab scene of the disc gathers' tests and its central mean. (Not every test uses each.)
+#![allow(dead_code)]
 
-use gpu::Gpu;
+use glam::Vec3;
+use gpu::{Camera, Gpu, Light, Mesh, Scene};
 
 /// The adapter wgpu finds; None (test skipped) without one, except under CI=true, where a
 /// missing adapter is a failure.
@@ -13,4 +16,46 @@ pub fn gpu() -> Option<Gpu> {
             None
         }
     }
+}
+
+/// A 40 × 40 cm slab y ∈ [−thickness, 0] of SSS material, seen from (0, camera_y, 0) through a
+/// 4° field of view (from above or, with camera_y < 0, from below), lit by a directional light
+/// of unit irradiance from `towards`.
+pub fn slab_scene(thickness: f32, camera_y: f32, towards: Vec3) -> Scene {
+    Scene {
+        mesh: Mesh::cuboid(
+            Vec3::new(-20.0, -thickness, -20.0),
+            Vec3::new(20.0, 0.0, 20.0),
+            [1.0; 3],
+            1.0,
+        ),
+        camera: Camera {
+            position: Vec3::new(0.0, camera_y, 0.0),
+            target: Vec3::new(0.0, -0.5 * thickness, 0.0),
+            fov_y_deg: 4.0,
+        },
+        lights: vec![Light::Directional {
+            towards,
+            irradiance: Vec3::ONE,
+            shadow: true,
+        }],
+        ambient: Vec3::ZERO,
+        specular: 0.0,
+        shininess: 1.0,
+    }
+}
+
+/// The mean of the scattered light over the central 16×16 pixels of a `size`² frame.
+pub fn centre_mean(frame: &gpu::Frame, size: u32) -> [f64; 3] {
+    let mut acc = [0.0; 3];
+    let (s, half) = (size as usize, size as usize / 2);
+    for y in half - 8..half + 8 {
+        for x in half - 8..half + 8 {
+            let v = frame.scattered[y * s + x];
+            for c in 0..3 {
+                acc[c] += v[c] as f64 / 256.0;
+            }
+        }
+    }
+    acc
 }
