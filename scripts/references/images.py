@@ -544,7 +544,7 @@ def main():
     width, height, spp, photons = (192, 108, 128, 300_000) if a.quick else (384, 216, 1024, 10_000_000)
     # The surface gathers: frames per seed (two seeds), and photons per channel and angle of their
     # angle and directional tables.
-    gather_frames, table_photons = (16, 300_000) if a.quick else (64, 1_000_000)
+    gather_frames, table_photons = (8, 100_000) if a.quick else (64, 1_000_000)
     # Paths that must find the light by chance (behind a dielectric boundary) need more samples.
     spp *= SCENES[a.scene].get("spp_factor", 1)
     # Opaque surfaces lit directly by a point or directional light converge fast: a quarter of
