@@ -374,6 +374,25 @@ fn pfm_pixels(path: &std::path::Path) -> Vec<[f32; 3]> {
         .collect()
 }
 
+/// The fin scene lit exactly from −x (the faces of the fins the camera sees get no direct light)
+/// on a black floor, without ambient or specular light, at 160×90.
+const FINS_FROM_BEHIND: [&str; 14] = [
+    "--scene",
+    "fin",
+    "--light",
+    "dir:-1,0,0",
+    "--floor-albedo",
+    "0,0,0",
+    "--ambient",
+    "0",
+    "--specular",
+    "0",
+    "--width",
+    "160",
+    "--height",
+    "90",
+];
+
 /// The directional-dipole method through the CLI, lit exactly from −x: the faces of the fins the
 /// camera sees (+x) get no direct light, so where the plain Lambertian image is black and the
 /// dipole's is not, the light came through the fins. On a black floor without ambient or
@@ -383,22 +402,7 @@ fn pfm_pixels(path: &std::path::Path) -> Vec<[f32; 3]> {
 #[test]
 fn render_with_the_directional_dipole_lights_thin_parts_from_behind() {
     let dir = tempfile::tempdir().unwrap();
-    let common = [
-        "--scene",
-        "fin",
-        "--light",
-        "dir:-1,0,0",
-        "--floor-albedo",
-        "0,0,0",
-        "--ambient",
-        "0",
-        "--specular",
-        "0",
-        "--width",
-        "160",
-        "--height",
-        "90",
-    ];
+    let common = FINS_FROM_BEHIND;
     let mut args = vec!["render", "--method", "directional-dipole"];
     args.extend(common);
     args.extend([
@@ -449,22 +453,7 @@ fn render_with_the_directional_dipole_lights_thin_parts_from_behind() {
 #[test]
 fn render_with_the_surface_gather_lights_thin_parts_from_behind() {
     let dir = tempfile::tempdir().unwrap();
-    let common = [
-        "--scene",
-        "fin",
-        "--light",
-        "dir:-1,0,0",
-        "--floor-albedo",
-        "0,0,0",
-        "--ambient",
-        "0",
-        "--specular",
-        "0",
-        "--width",
-        "160",
-        "--height",
-        "90",
-    ];
+    let common = FINS_FROM_BEHIND;
     let mut args = vec!["render", "--no-sss"];
     args.extend(common);
     args.extend(["--out", "lambert"]);

@@ -758,8 +758,8 @@ def main():
             ("calibration − Mitsuba's direct light", (lambertian - 0.5 * (cal_a + cal_b)).mean(2) / cal_mean, "diff")]
     if len(sc["media"]) > 1:
         m0 = 0.5 * (alone[0] + alone[1])
-        head += [("Mitsuba, each SSS shape alone (no light between them)", tonemap(m0, 1.0 / mean / 4), "rgb"),
-                 ("light between surfaces: full − alone", (ref - m0).mean(2) / mean, "diff")]
+        head += [("Mitsuba, SSS shapes alone", tonemap(m0, 1.0 / mean / 4), "rgb"),
+                 ("between surfaces: full − alone", (ref - m0).mean(2) / mean, "diff")]
     sheet(os.path.join(out, "sheet.png"),
           f"{a.scene} / {a.material}, {width}×{height}, Mitsuba {spp} spp (noise {100 * noise:.1f} % per 2×2 block); "
           f"each model's noise-corrected RMSE ± SE (% of the reference's mean)",

@@ -351,15 +351,20 @@ impl SurfaceGatherSetup {
         })
     }
 
-    /// The density per unit disc area [cm⁻²] of a radius the shader draws (its CPU twin).
-    pub fn pdf_area(&self, r: f64) -> f64 {
-        let r_max = self.sampling.radius_cm as f64;
-        let uniform_share = if self.shares().iter().all(|s| *s == 0.0) {
+    /// The share of uniform disc sampling: [`UNIFORM_SHARE`], or all of it where no channel
+    /// reflects anything.
+    pub fn uniform_share(&self) -> f64 {
+        if self.shares().iter().all(|s| *s == 0.0) {
             1.0
         } else {
             UNIFORM_SHARE
-        };
-        let mut p = uniform_share / (std::f64::consts::PI * r_max * r_max);
+        }
+    }
+
+    /// The density per unit disc area [cm⁻²] of a radius the shader draws (its CPU twin).
+    pub fn pdf_area(&self, r: f64) -> f64 {
+        let r_max = self.sampling.radius_cm as f64;
+        let mut p = self.uniform_share() / (std::f64::consts::PI * r_max * r_max);
         let bin = (r / self.dr_cm) as usize;
         if let Some(v) = self.profile.get(bin) {
             let (shares, total) = (self.shares(), self.profile_total());
@@ -420,11 +425,6 @@ pub(crate) fn encode(
 ) -> Result<()> {
     setup.validate()?;
     let (total, shares) = (setup.profile_total(), setup.shares());
-    let uniform_share = if shares.iter().all(|s| *s == 0.0) {
-        1.0
-    } else {
-        UNIFORM_SHARE
-    };
     let directional = setup
         .directional
         .as_ref()
@@ -433,7 +433,7 @@ pub(crate) fn encode(
         radial: [
             setup.dr_cm as f32,
             setup.sampling.radius_cm,
-            uniform_share as f32,
+            setup.uniform_share() as f32,
             0.0,
         ],
         share: rgb(shares),
