@@ -31,7 +31,7 @@ use std::str::FromStr;
 
 use serde::Serialize;
 
-use crate::burley::Burley;
+use crate::analytic::burley::Burley;
 use crate::profile::Profile;
 use crate::select::Judge;
 
@@ -264,7 +264,7 @@ pub fn burley_engine(engine: Engine, fit: &BurleyProfileFit) -> Option<EnginePar
 
 /// OpenPBR's subsurface parameters of a material (exact, from its coefficients); lengths in cm.
 pub fn openpbr(m: &mc::Material) -> EngineParams {
-    let art = mc::artist::Artist::of_material(m);
+    let art = m.artist();
     let (scale, radius) = split(art.radius);
     let g = m.g.iter().sum::<f64>() / 3.0;
     let mut notes = vec![

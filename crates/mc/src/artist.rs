@@ -12,8 +12,8 @@
 //! Its reduced form is α′ = σs′/σt′ = 1 − s², independent of g (similarity). Then σs = α/ℓ and
 //! σa = (1 − α)/ℓ.
 
+use crate::channel::CHANNELS;
 use crate::error::{McError, Result};
-use crate::material::{CHANNELS, Material};
 
 /// van de Hulst's s for a multiple-scattering albedo A ∈ [0, 1]: s(0) = 1, s(1) = 0.
 fn s_of(a: f64) -> f64 {
@@ -97,15 +97,16 @@ impl Artist {
         Ok((sigma_a, sigma_s))
     }
 
-    /// The artist parameters of a material (the forward map of [`Artist::coefficients`]);
-    /// a channel that does not interact has an infinite radius.
-    pub fn of_material(m: &Material) -> Artist {
+    /// The artist parameters of coefficients σa, σs [cm⁻¹] with HG anisotropy `g` per channel
+    /// (the forward map of [`Artist::coefficients`]); a channel that does not interact has an
+    /// infinite radius.
+    pub fn of_coefficients(sigma_a: [f64; 3], sigma_s: [f64; 3], g: [f64; 3]) -> Artist {
         let color = [0, 1, 2].map(|c| {
-            let s_red = m.sigma_s[c] * (1.0 - m.g[c]);
-            let t_red = m.sigma_a[c] + s_red;
+            let s_red = sigma_s[c] * (1.0 - g[c]);
+            let t_red = sigma_a[c] + s_red;
             multiple_scattering_albedo(if t_red > 0.0 { s_red / t_red } else { 0.0 })
         });
-        let radius = [0, 1, 2].map(|c| 1.0 / (m.sigma_a[c] + m.sigma_s[c]));
+        let radius = [0, 1, 2].map(|c| 1.0 / (sigma_a[c] + sigma_s[c]));
         Artist { color, radius }
     }
 }
@@ -113,6 +114,7 @@ impl Artist {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::material::Material;
 
     #[test]
     fn fit_ends_and_van_de_hulst_form() {
@@ -139,7 +141,7 @@ mod tests {
             eta: 1.3,
             thickness: None,
         };
-        let art = Artist::of_material(&m);
+        let art = m.artist();
         let (sa, ss) = art.coefficients(m.g).unwrap();
         for c in 0..3 {
             assert!((sa[c] / m.sigma_a[c] - 1.0).abs() < 1e-9, "σa[{c}] {sa:?}");

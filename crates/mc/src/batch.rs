@@ -22,12 +22,12 @@ use crate::rng::{Rng, stream_seed};
 
 use crate::error::{McError, Result};
 use crate::grid::{Grid, GridIndex};
-use crate::incidence::Incidence;
+use crate::job::Job;
 use crate::lanes::trace_photons;
+use crate::layer::Incidence;
 use crate::layer::{Layer, Sample};
 use crate::output::Output;
 use crate::photon::{Depth, Medium, Photon, Scorer};
-use crate::simulate::Job;
 use crate::tally::{Layout, Scratch, Tally, TallySet, depth_of};
 
 /// Optical thickness [mean free paths 1/μt] from which slabs count as half-spaces: they are

@@ -8,40 +8,8 @@
 
 use crate::batch::BatchSpec;
 use crate::error::{McError, Result};
-use crate::layer::Sample;
+pub use crate::layer::Incidence;
 use crate::output::Estimate;
-
-/// The beam's polar angle θ [degrees] in the medium above, 0 ≤ θ < 90.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Incidence {
-    /// Polar angle θ of the beam [degrees].
-    pub theta_deg: f64,
-}
-
-impl Incidence {
-    /// Normal incidence (MCML).
-    pub const NORMAL: Incidence = Incidence { theta_deg: 0.0 };
-
-    /// Checks the angle, and that the top layer is not glass when θ > 0 (MCML's closed-form Rsp
-    /// with multiple reflections in a glass layer holds at normal incidence only).
-    pub fn validate_for(&self, sample: &Sample) -> Result<()> {
-        if !(self.theta_deg.is_finite() && (0.0..90.0).contains(&self.theta_deg)) {
-            return Err(McError::invalid(
-                "incidence angle",
-                self.theta_deg,
-                "must be in [0, 90) degrees",
-            ));
-        }
-        if self.theta_deg > 0.0 && sample.layers.len() > 1 && sample.layers[0].is_glass() {
-            return Err(McError::invalid(
-                "incidence angle",
-                self.theta_deg,
-                "oblique incidence through a glass top layer is not supported",
-            ));
-        }
-        Ok(())
-    }
-}
 
 /// Rd(θ) of every channel of a batch at one angle.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]

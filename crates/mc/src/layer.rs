@@ -1,4 +1,5 @@
-//! The layered sample: a stack of homogeneous slabs between two ambient media.
+//! The layered sample: a stack of homogeneous slabs between two ambient media, and the beam's
+//! incidence on it.
 //!
 //! Units: lengths in cm, coefficients in cm⁻¹ (MCML's units). Axis convention: +z points into
 //! the sample; layer 0 starts at z = 0 and the light enters from the medium above (z < 0).
@@ -33,6 +34,11 @@ impl Layer {
         } else {
             0.0
         }
+    }
+
+    /// Transport mean free path ℓ′ = 1/(μa + μs(1 − g)) [cm]; infinite for a glass layer.
+    pub fn transport_mfp(&self) -> f64 {
+        1.0 / (self.mu_a + self.mu_s * (1.0 - self.g))
     }
 
     /// A layer that neither absorbs nor scatters: MCML's "glass" layer.
@@ -114,5 +120,37 @@ fn check_nonneg(field: &str, v: f64) -> Result<()> {
             v,
             "must be non-negative and finite",
         ))
+    }
+}
+
+/// The beam's polar angle θ [degrees] in the medium above, 0 ≤ θ < 90.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Incidence {
+    /// Polar angle θ of the beam [degrees].
+    pub theta_deg: f64,
+}
+
+impl Incidence {
+    /// Normal incidence (MCML).
+    pub const NORMAL: Incidence = Incidence { theta_deg: 0.0 };
+
+    /// Checks the angle, and that the top layer is not glass when θ > 0 (MCML's closed-form Rsp
+    /// with multiple reflections in a glass layer holds at normal incidence only).
+    pub fn validate_for(&self, sample: &Sample) -> Result<()> {
+        if !(self.theta_deg.is_finite() && (0.0..90.0).contains(&self.theta_deg)) {
+            return Err(McError::invalid(
+                "incidence angle",
+                self.theta_deg,
+                "must be in [0, 90) degrees",
+            ));
+        }
+        if self.theta_deg > 0.0 && sample.layers.len() > 1 && sample.layers[0].is_glass() {
+            return Err(McError::invalid(
+                "incidence angle",
+                self.theta_deg,
+                "oblique incidence through a glass top layer is not supported",
+            ));
+        }
+        Ok(())
     }
 }

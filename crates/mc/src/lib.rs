@@ -3,9 +3,11 @@
 //! tissues", Comput. Methods Programs Biomed. 47, 1995).
 //!
 //! Conventions: lengths in cm, coefficients in cm⁻¹; +z points into the sample; a pencil beam
-//! enters at the origin at normal incidence. `Rd(r)` is the diffuse reflectance per unit area
-//! [cm⁻²], excluding the specular reflection, exactly as MCML's `Rd_r`. Every tallied number
-//! comes with its standard error.
+//! enters at the origin, at normal incidence as in MCML or at a polar angle θ ([`Incidence`]).
+//! `Rd(r)` is the diffuse reflectance per unit area [cm⁻²], excluding the specular reflection,
+//! exactly as MCML's `Rd_r`. Every tallied number comes with its standard error from per-photon
+//! second moments, except A(r, z) where a run sums it as MCML does (`TallySet::absorption_rz_se`
+//! off): its standard errors are then NaN, marked not estimated.
 //!
 //! Main types: [`Sample`] and [`Layer`] (the medium), [`Grid`] (MCML's tally grid), [`RunSpec`]
 //! (one run), [`Output`] (normalized results), [`Material`] (RGB coefficients of a named
@@ -26,18 +28,22 @@
 //! assert!((out.rd.value - 0.09739).abs() < 5.0 * out.rd.se);
 //! ```
 
-#![warn(missing_docs)]
+#![deny(missing_docs)]
+// Units are written in brackets as in the papers, [cm⁻¹]; rustdoc would take them for links.
+#![allow(rustdoc::broken_intra_doc_links)]
 
 pub mod artist;
 mod batch;
 pub mod bench;
 mod cfmt;
+mod channel;
 mod config;
 mod error;
 pub mod exitance;
 mod fresnel;
 mod grid;
 pub mod incidence;
+mod job;
 mod lanes;
 mod layer;
 mod material;
@@ -58,7 +64,8 @@ pub use config::{GridRule, SimConfig};
 pub use error::{McError, Result};
 pub use fresnel::{cos_critical, fresnel, specular};
 pub use grid::Grid;
-pub use layer::{Layer, Sample};
+pub use job::chunk_count;
+pub use layer::{Incidence, Layer, Sample};
 pub use material::{CHANNELS, Material};
 pub use output::{Estimate, Output};
 pub use phase::{pdf_cos_theta, sample_cos_theta};
@@ -68,7 +75,7 @@ pub use photon::{
 };
 pub use rng::CHUNK_PHOTONS;
 pub use simulate::{
-    ROUND_CHUNKS, RunSpec, accumulate, accumulate_batch, batch_outputs, chunk_count,
-    relative_error, run, run_at, run_batch, run_batch_at, run_batch_to_error,
+    ROUND_CHUNKS, RunSpec, accumulate, accumulate_batch, batch_outputs, relative_error, run,
+    run_at, run_batch, run_batch_at, run_batch_to_error,
 };
 pub use tally::{Accumulator, Layout, TallySet};

@@ -16,10 +16,10 @@
 
 use serde::Deserialize;
 
+use crate::artist::Artist;
 use crate::error::{McError, Result};
 
-/// Channel names, in order.
-pub const CHANNELS: [&str; 3] = ["R", "G", "B"];
+pub use crate::channel::CHANNELS;
 
 /// A named homogeneous material, coefficients in cm⁻¹.
 #[derive(Clone, Debug, PartialEq)]
@@ -92,7 +92,7 @@ impl Material {
         };
         let (sigma_a, sigma_s) = match (f.sigma_a, f.sigma_s, f.color, f.radius) {
             (Some(a), Some(s), None, None) => (a.map(|x| x / to_cm), s.map(|x| x / to_cm)),
-            (None, None, Some(color), Some(radius)) => crate::artist::Artist {
+            (None, None, Some(color), Some(radius)) => Artist {
                 color,
                 radius: radius.map(|r| r * to_cm),
             }
@@ -166,7 +166,12 @@ impl Material {
     /// Transport mean free path 1/(σa + σs(1−g)) of channel `c` [cm] (thesis Table 6.1);
     /// infinite for a non-interacting channel.
     pub fn mfp(&self, c: usize) -> f64 {
-        1.0 / (self.sigma_a[c] + self.sigma_s[c] * (1.0 - self.g[c]))
+        self.layer(c, f64::INFINITY).transport_mfp()
+    }
+
+    /// The artist parameters of the material ([`Artist::of_coefficients`]).
+    pub fn artist(&self) -> Artist {
+        Artist::of_coefficients(self.sigma_a, self.sigma_s, self.g)
     }
 
     /// The layer of channel `c` with the given thickness [cm].

@@ -11,7 +11,7 @@ use rand::RngExt;
 use rand_distr::{Distribution, Exp1};
 
 use crate::fresnel::{COS_ZERO, cos_critical, fresnel, specular};
-use crate::incidence::Incidence;
+use crate::layer::Incidence;
 use crate::layer::Sample;
 use crate::phase::sample_cos_theta;
 

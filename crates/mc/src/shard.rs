@@ -17,8 +17,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::batch::BatchSpec;
 use crate::error::{McError, Result};
+use crate::job::chunk_count;
 use crate::rng::CHUNK_PHOTONS;
-use crate::simulate::chunk_count;
 use crate::tally::{Accumulator, Layout};
 
 /// A shard: which chunks, of which run, and their sums (one accumulator per batch group).

@@ -1,8 +1,5 @@
-//! The run driver: splits N photons into fixed chunks of [`CHUNK_PHOTONS`], traces the chunks in
-//! parallel on the caller's rayon pool, each with its own random stream derived from (seed,
-//! chunk), and sums the chunk tallies exactly. The same seed therefore gives bit-identical results
-//! with any thread count, and a run can be cut into shards (disjoint chunk ranges) whose sums
-//! merge into exactly the unsharded run.
+//! Runs: MCML's single-channel run, batches of channels and error-targeted runs, all on the
+//! chunked, thread-count-independent driver of [`crate::job`].
 //!
 //! Error-targeted runs trace rounds of [`ROUND_CHUNKS`] chunks and stop after the first round at
 //! which the target is met; the decision depends only on the tallies, so it is as reproducible as
@@ -10,30 +7,20 @@
 
 use std::ops::Range;
 
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicU64, Ordering};
-
-use crate::rng::Rng;
-
 use crate::batch::{BatchSpec, GroupJob};
 use crate::error::{McError, Result};
 use crate::grid::Grid;
-use crate::incidence::Incidence;
+use crate::job::{Job, accumulate_job, chunk_count};
 use crate::lanes::trace_photons;
+use crate::layer::Incidence;
 use crate::layer::Sample;
 use crate::output::Output;
 use crate::photon::Medium;
-use crate::rng::{CHUNK_PHOTONS, chunk_rng};
+use crate::rng::Rng;
 use crate::tally::{Accumulator, Layout, McmlScorer, Tally, TallySet};
 
 /// Chunks per round of an error-targeted run.
 pub const ROUND_CHUNKS: u64 = 4;
-
-/// Something that traces photons into a tally: an MCML run or a batch group.
-pub(crate) trait Job: Sync {
-    fn layout(&self) -> Layout;
-    fn trace_chunk(&self, tally: &mut Tally, rng: &mut Rng, photons: u64);
-}
 
 /// One single-channel simulation of a layered sample: what MCML calls a run.
 #[derive(Clone, Debug, PartialEq)]
@@ -91,52 +78,6 @@ impl Job for McmlJob<'_> {
         let mut scorer = McmlScorer::new(tally, self.spec.grid);
         trace_photons(&self.medium, rng, &mut scorer, photons);
     }
-}
-
-/// Number of chunks a run of `photons` is split into.
-pub fn chunk_count(photons: u64) -> u64 {
-    photons.div_ceil(CHUNK_PHOTONS)
-}
-
-/// Traces chunks `chunks` of a run of `photons` and returns their exact sums. `progress` is called
-/// after each chunk with the photons just finished.
-///
-/// One worker per pool thread, each with one reusable chunk tally, takes the next chunk index from
-/// a shared counter and drains its tally into the shared accumulator: exact sums make the result
-/// independent of which worker traced which chunk.
-fn accumulate_job<J: Job>(
-    job: &J,
-    photons: u64,
-    seed: u64,
-    chunks: Range<u64>,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Accumulator {
-    let layout = job.layout();
-    let acc = Mutex::new(Accumulator::new(layout));
-    let next = AtomicU64::new(chunks.start);
-    let workers = rayon::current_num_threads()
-        .min((chunks.end - chunks.start) as usize)
-        .max(1);
-    rayon::scope(|scope| {
-        for _ in 0..workers {
-            scope.spawn(|_| {
-                let mut tally = Tally::new(layout);
-                loop {
-                    let c = next.fetch_add(1, Ordering::Relaxed);
-                    if c >= chunks.end {
-                        break;
-                    }
-                    let n = CHUNK_PHOTONS.min(photons - c * CHUNK_PHOTONS);
-                    job.trace_chunk(&mut tally, &mut chunk_rng(seed, c), n);
-                    tally.drain_into(
-                        &mut acc.lock().expect("no worker panics while holding the lock"),
-                    );
-                    progress(n);
-                }
-            });
-        }
-    });
-    acc.into_inner().expect("workers are done")
 }
 
 /// Runs an MCML run and normalizes it.
