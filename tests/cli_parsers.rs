@@ -248,3 +248,47 @@ fn hostile_files_are_refused_with_the_field() {
         !d.join("never").exists() || std::fs::read_dir(d.join("never")).unwrap().next().is_none()
     );
 }
+
+/// A path that never ends (`/dev/zero`) is refused through the input cap, not read forever: as a
+/// material, an MCML input, a config, a profile, a kernel and a scene mesh.
+#[cfg(unix)]
+#[test]
+fn endless_inputs_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let z = "/dev/zero";
+    // A mesh is named by its .obj suffix: a link so named that leads to the endless device.
+    std::os::unix::fs::symlink(z, d.join("zero.obj")).unwrap();
+    for (what, args, needle) in [
+        ("material", vec!["simulate", z, "--out", "never"], "cap"),
+        ("mci", vec!["simulate", "--mci", z, "--out", "never"], "cap"),
+        (
+            "config",
+            vec!["simulate", "skin1", "--config", z, "--out", "never"],
+            "cap",
+        ),
+        ("profile", vec!["fit", z, "--out", "never"], "cap"),
+        (
+            "kernel",
+            vec!["export", z, "--format", "wgsl", "--out", "k.wgsl"],
+            "cap",
+        ),
+        (
+            "mesh",
+            vec![
+                "render",
+                "--scene",
+                "zero.obj",
+                "--material",
+                "skin1",
+                "--out",
+                "never",
+            ],
+            "regular file",
+        ),
+    ] {
+        let o = sss(&args, d);
+        let named = if what == "mesh" { "zero.obj" } else { z };
+        assert_refused(&o, what, &[named, needle]);
+    }
+}

@@ -2,21 +2,7 @@
 //! machine without any adapter skips them; under CI=true it fails.
 
 mod common;
-use common::sss;
-
-fn no_adapter(o: &std::process::Output) -> bool {
-    let e = String::from_utf8_lossy(&o.stderr);
-    if e.contains("no GPU adapter") {
-        assert_ne!(
-            std::env::var("CI").as_deref(),
-            Ok("true"),
-            "CI=true and {e}"
-        );
-        eprintln!("skipping: {e}");
-        return true;
-    }
-    false
-}
+use common::{no_adapter, sss};
 
 #[test]
 fn render_writes_png_and_pfm_and_compares_every_model() {

@@ -3,6 +3,8 @@
 //! scripts/references/requirements.txt (`.ci/run` installs them); outside CI a machine without
 //! them skips, under CI=true it fails.
 
+mod common;
+
 use std::process::Command;
 
 #[test]
@@ -17,7 +19,7 @@ fn mitsuba_references_agree() {
             Ok("true"),
             "CI=true and Mitsuba 3 is not importable: pip install -r scripts/references/requirements.txt"
         );
-        eprintln!("skipping: Mitsuba 3 is not installed");
+        common::report_skip("Mitsuba 3 is not installed");
         return;
     }
     let out = tempfile::tempdir().unwrap();
@@ -111,7 +113,7 @@ fn mitsuba_references_agree() {
     // the Monte Carlo noise of the ρ(θ)/ρ(0) table (10⁵ photons per angle: Skin1 B's ρ(0) ± 0.55 %,
     // which moves B's energy by about 1 %). Measured 0.990 / 0.997 / 1.018, 0.991 / 1.012 / 1.028
     // and 0.994 / 1.013 / 1.034 with tables that differ only in their random numbers: B sits
-    // ≈ 3 % high (reported in the README), the rest within 2 %. Allowed 4 %.
+    // ≈ 3 % high (reported in docs/measurements.md), the rest within 2 %. Allowed 4 %.
     let incidence = models
         .iter()
         .find(|m| m["model"] == "preint-incidence")

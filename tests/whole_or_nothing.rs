@@ -3,7 +3,7 @@
 //! and the profile folder exactly as they were — no folder created, no file written.
 
 mod common;
-use common::{small_config, small_profile, sss};
+use common::{no_adapter, small_config, small_profile, sss};
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -43,20 +43,6 @@ fn failed(o: &Output, why: &str) {
 /// committed, after all the work.
 fn block(out: &Path, name: &str) {
     std::fs::create_dir_all(out.join(name).join("keep")).unwrap();
-}
-
-fn no_adapter(o: &Output) -> bool {
-    let e = String::from_utf8_lossy(&o.stderr);
-    let none = e.contains("no GPU adapter");
-    if none {
-        assert_ne!(
-            std::env::var("CI").as_deref(),
-            Ok("true"),
-            "CI=true and {e}"
-        );
-        eprintln!("skipping: {e}");
-    }
-    none
 }
 
 #[test]

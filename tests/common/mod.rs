@@ -4,6 +4,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 /// Runs `sss` with `args` in `cwd`.
+#[allow(dead_code)] // not every test binary that includes `common` runs `sss`
 pub fn sss(args: &[&str], cwd: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_sss"))
         .args(args)
@@ -38,4 +39,34 @@ pub fn small_profile(dir: &Path) {
         dir,
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// Says that the running test was skipped, on the process's own stderr: libtest captures only
+/// `print!` and `eprint!`, so the line shows in `cargo test`'s output (a skip is never a silent
+/// pass).
+#[allow(dead_code)] // not every test binary that includes `common` skips
+pub fn report_skip(reason: &str) {
+    use std::io::Write;
+    let name = std::thread::current()
+        .name()
+        .unwrap_or("a test")
+        .to_string();
+    let _ = writeln!(std::io::stderr().lock(), "SKIPPED {name}: {reason}");
+}
+
+/// Whether `sss` stopped for want of a GPU adapter; then the test is skipped (said on stderr),
+/// except under CI=true, where that fails.
+#[allow(dead_code)] // not every test binary that includes `common` renders
+pub fn no_adapter(o: &Output) -> bool {
+    let e = String::from_utf8_lossy(&o.stderr);
+    let none = e.contains("no GPU adapter");
+    if none {
+        assert_ne!(
+            std::env::var("CI").as_deref(),
+            Ok("true"),
+            "CI=true and {e}"
+        );
+        report_skip(e.trim());
+    }
+    none
 }

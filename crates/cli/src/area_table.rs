@@ -64,7 +64,7 @@ pub fn run(a: AreaTableArgs) -> Result<()> {
     }
     let (source, rd): (String, [RadialFn; 3]) = match &a.profile {
         Some(path) => {
-            let text = std::fs::read_to_string(path)
+            let text = crate::files::read_text(path)
                 .with_context(|| format!("cannot read {}", path.display()))?;
             let p = std::sync::Arc::new(Profile::from_csv(&text, &path.display().to_string())?);
             let f = |c: usize| -> RadialFn {
@@ -124,7 +124,7 @@ pub fn run(a: AreaTableArgs) -> Result<()> {
     let mut files = Outputs::default();
     files.add(&table_path, bytes);
     files.add(&header_path, serde_json::to_string_pretty(&header)?);
-    files.add(&plot, fit::plot::area_effect(&curves, &n.slug)?);
+    files.add(&plot, report::plot::area_effect(&curves, &n.slug)?);
     files.commit()?;
     eprintln!(
         "{}×{} area table of {} ({source}, r_max {r_max:.3} cm) built in {seconds:.2} s → {}, {}, {}",

@@ -15,7 +15,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use fit::Profile;
-use mc::provenance::{Explicit, Provenance, provenance_path};
+use mc::provenance::{self, Explicit, Provenance, Reuse, provenance_path};
 
 use crate::files::Outputs;
 use crate::library::{self, Named};
@@ -58,9 +58,14 @@ impl ProfileSource {
         self.profiles.clone().unwrap_or_else(crate::default_out)
     }
 
-    /// The seed asked for, or the thesis's 1 (also the seed of render's own `mc` tables).
-    pub fn seed(&self) -> u64 {
-        self.seed.unwrap_or(1)
+    /// The seed of every run: `--seed`, else the run settings' (`--config`, default the thesis's).
+    pub fn seed(&self) -> Result<u64> {
+        Ok(self.seed_in(&library::config(self.config.as_deref())?))
+    }
+
+    /// [`Self::seed`] with the run settings already read.
+    pub fn seed_in(&self, config: &mc::SimConfig) -> u64 {
+        self.seed.unwrap_or(config.seed)
     }
 
     fn explicit(&self) -> Explicit {
@@ -88,40 +93,20 @@ impl ProfileSource {
         );
         let spec = config.batch(&[&n.material], photons, seed, true)?;
         let asked = Provenance::of(&spec, 0, &n.slug, None);
-        let explicit = self.explicit();
         if csv.exists() {
             let sidecar = provenance_path(&csv);
-            let reuse = if sidecar.exists() {
-                let text = std::fs::read_to_string(&sidecar)
-                    .with_context(|| format!("cannot read {}", sidecar.display()))?;
-                let have = Provenance::from_json(&text, &sidecar.display().to_string())?;
-                let differ = have.mismatches(&asked, explicit);
-                if differ.is_empty() {
-                    eprintln!("reusing {name} ({})", have.describe());
-                } else {
-                    eprintln!(
-                        "{name} does not match what was asked ({}): simulating again",
-                        differ.join("; ")
-                    );
+            let have = sidecar
+                .exists()
+                .then(|| read_provenance(&sidecar))
+                .transpose()?;
+            match provenance::reuse(&name, &sidecar, have.as_ref(), &asked, self.explicit()) {
+                Reuse::Use(why) => {
+                    eprintln!("{why}");
+                    let text = crate::files::read_text(&csv)
+                        .with_context(|| format!("cannot read {name}"))?;
+                    return Ok(Profile::from_csv(&text, &name)?);
                 }
-                differ.is_empty()
-            } else if explicit.any() {
-                eprintln!(
-                    "{name} has no provenance ({} is missing), and --photons, --seed or --config was given: simulating again",
-                    sidecar.display()
-                );
-                false
-            } else {
-                eprintln!(
-                    "reusing {name} without provenance (no {}): its material, photons and seed are unknown; give --photons or --seed to simulate again",
-                    sidecar.display()
-                );
-                true
-            };
-            if reuse {
-                let text =
-                    std::fs::read_to_string(&csv).with_context(|| format!("cannot read {name}"))?;
-                return Ok(Profile::from_csv(&text, &name)?);
+                Reuse::Replace(why) => eprintln!("{why}: simulating again"),
             }
         }
         let bar = progress::photons(
@@ -142,4 +127,14 @@ impl ProfileSource {
         out.add(csv, text);
         Ok(p)
     }
+}
+
+/// The provenance file of a cached profile.
+pub fn read_provenance(sidecar: &std::path::Path) -> Result<Provenance> {
+    let text = crate::files::read_text(sidecar)
+        .with_context(|| format!("cannot read {}", sidecar.display()))?;
+    Ok(Provenance::from_json(
+        &text,
+        &sidecar.display().to_string(),
+    )?)
 }

@@ -70,7 +70,7 @@ pub fn run(a: EvalArgs) -> Result<()> {
             plots(&p, &ev, &n.slug, dir, &mut out)?;
             out.add(
                 dir.join(format!("{}.pareto.png", n.slug)),
-                fit::pareto::plot(&pareto, &n.slug)?,
+                report::pareto::plot(&pareto, &n.slug)?,
             );
         }
         if !a.json {
@@ -115,24 +115,24 @@ pub fn plots(
     ];
     out.add(
         dir.join(format!("{slug}.profile.png")),
-        fit::plot::profile(p, slug)?,
+        report::plot::profile(p, slug)?,
     );
     out.add(
         dir.join(format!("{slug}.slices_rank1.png")),
-        fit::plot::slices(ev, &RANK1, slug)?,
+        report::plot::slices(ev, &RANK1, slug)?,
     );
     out.add(
         dir.join(format!("{slug}.slices_multipass.png")),
-        fit::plot::slices(ev, &multipass, slug)?,
+        report::plot::slices(ev, &multipass, slug)?,
     );
     out.add(
         dir.join(format!("{slug}.singular_values.png")),
-        fit::plot::singular_values(ev, slug)?,
+        report::plot::singular_values(ev, slug)?,
     );
     for s in [Signal::Edge, Signal::CircleSquares] {
         out.add(
             dir.join(format!("{slug}.conv_{}.png", s.name())),
-            fit::plot::convolutions(ev, &RANK1, s, 10.0, slug)?,
+            report::plot::convolutions(ev, &RANK1, s, 10.0, slug)?,
         );
     }
     Ok(())

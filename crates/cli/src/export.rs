@@ -32,7 +32,7 @@ pub struct ExportArgs {
 }
 
 pub fn run(a: ExportArgs) -> Result<()> {
-    let text = std::fs::read_to_string(&a.kernel)
+    let text = crate::files::read_text(&a.kernel)
         .with_context(|| format!("cannot read kernel {}", a.kernel.display()))?;
     let k = ShaderKernel::from_toml(&text, &a.kernel.display().to_string())?;
     let source = export(&k, a.format, a.unit);

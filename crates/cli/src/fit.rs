@@ -227,7 +227,7 @@ pub fn plain(model: KernelModel) -> ModelArgs {
 }
 
 pub fn run(a: FitArgs) -> Result<()> {
-    let text = std::fs::read_to_string(&a.profile)
+    let text = crate::files::read_text(&a.profile)
         .with_context(|| format!("cannot read profile {}", a.profile.display()))?;
     let p = Profile::from_csv(&text, &a.profile.display().to_string())?;
     let material = a.material.clone().unwrap_or_else(|| {

@@ -45,7 +45,7 @@ pub struct Named {
 /// `.toml`), else a built-in name (case-insensitive).
 pub fn material(arg: &str) -> Result<Named> {
     if arg.ends_with(".toml") || arg.contains('/') || arg.contains('\\') {
-        let text = std::fs::read_to_string(arg)
+        let text = crate::files::read_text(arg)
             .with_context(|| format!("cannot read material file {arg}"))?;
         let material = Material::from_toml(&text, arg)?;
         let slug = Path::new(arg)
@@ -85,7 +85,7 @@ pub fn all() -> Result<Vec<Named>> {
 pub fn config(path: Option<&Path>) -> Result<SimConfig> {
     match path {
         Some(p) => {
-            let text = std::fs::read_to_string(p)
+            let text = crate::files::read_text(p)
                 .with_context(|| format!("cannot read config file {}", p.display()))?;
             Ok(SimConfig::from_toml(&text, &p.display().to_string())?)
         }

@@ -114,7 +114,7 @@ pub fn compare_profiles(a: CompareArgs) -> Result<()> {
             .collect();
         files.add(
             &plot,
-            fit::plot::profile_comparison(&mc, &labelled, mfp, &n.slug)?,
+            report::plot::profile_comparison(&mc, &labelled, mfp, &n.slug)?,
         );
         if !a.json {
             println!(

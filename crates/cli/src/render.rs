@@ -13,7 +13,7 @@ use gpu::{
     AlbedoMode, DepthMode, DipoleSetup, Gpu, GpuKernel, Light, RenderParams, Scatter, Scene,
     Shading,
 };
-use serde_json::json;
+use serde_json::{Value, json};
 
 use crate::cache::ProfileSource;
 use crate::files::Outputs;
@@ -34,7 +34,7 @@ fn table_spec(
     source: &ProfileSource,
 ) -> Result<mc::BatchSpec> {
     let config = library::config(source.config.as_deref())?;
-    Ok(config.batch(&[&named.material], photons, source.seed(), true)?)
+    Ok(config.batch(&[&named.material], photons, source.seed_in(&config), true)?)
 }
 
 /// The material's angle tables (`gpu::AngleTables::from_mc`, printed on stderr): the incidence
@@ -84,25 +84,26 @@ fn angle_tables(
 }
 
 /// The material's translucency table (`gpu::Translucency::from_mc`, printed on stderr), `photons`
-/// per channel and thickness, with the profiles' seed and run settings; ρ from `profile`.
+/// per channel and thickness, with the profiles' seed and run settings; ρ from a half-space run
+/// of `gpu::RHO_PHOTONS` (`Translucency::rho_of`), not from a whole profile.
 fn translucency_table(
     named: &library::Named,
-    profile: &Profile,
     photons: u64,
     source: &ProfileSource,
 ) -> Result<gpu::Translucency> {
     let spec = table_spec(named, photons, source)?;
-    let rho = [0, 1, 2].map(|c| profile.total(c));
+    let context = || format!("--translucency: {}", named.slug);
     let bar = crate::progress::photons(
-        photons * spec.groups().len() as u64 * gpu::TRANSLUCENCY_STEPS as u64,
+        (gpu::RHO_PHOTONS + photons * gpu::TRANSLUCENCY_STEPS as u64) * spec.groups().len() as u64,
         "translucency table",
     );
-    let t = gpu::Translucency::from_mc(&spec, rho, &|k| bar.inc(k))
-        .with_context(|| format!("--translucency: {}", named.slug))?;
+    let rho = gpu::Translucency::rho_of(&spec, &|k| bar.inc(k)).with_context(context)?;
+    let t = gpu::Translucency::from_mc(&spec, rho.map(|r| r.value), &|k| bar.inc(k))
+        .with_context(context)?;
     bar.finish_and_clear();
     eprintln!(
-        "translucency table of {} (slab Tt(d) / ρ; ρ = {:.3} {:.3} {:.3}):",
-        named.slug, rho[0], rho[1], rho[2]
+        "translucency table of {} (slab Tt(d) / ρ; ρ = {:.3} {:.3} {:.3} ± {:.3} {:.3} {:.3}):",
+        named.slug, rho[0].value, rho[1].value, rho[2].value, rho[0].se, rho[1].se, rho[2].se
     );
     for (k, row) in t.table.iter().enumerate() {
         let d = t.first_cm as f64 * (t.ratio as f64).powi(k as i32);
@@ -545,224 +546,187 @@ fn kernel_of(p: &Profile, slug: &str, model: KernelModel, taps: usize) -> Result
 /// The kernel of the smallest rank (1: pre-integration, 2–6: SVD, renormalized) whose image RMS
 /// meets `target` (see `--error-target`), else rank 6 with a warning; prints each rank tried.
 fn kernel_for_target(p: &Profile, slug: &str, taps: usize, target: f64) -> Result<ShaderKernel> {
-    let judge = fit::select::Judge::new(p);
-    let mut best = None;
-    for rank in 1..=6usize {
-        let model = gpu::bench::rank_model(rank);
-        let scored = judge.fit_and_score(model, slug, taps)?;
-        let e = scored.error();
-        let met = e <= target;
+    let ladder = fit::select::Judge::new(p).smallest_rank(target, slug, taps)?;
+    for (i, (rank, scored)) in ladder.tried.iter().enumerate() {
+        let chosen = ladder.met && i + 1 == ladder.tried.len();
         eprintln!(
-            "{slug}: rank {rank} ({model}, {taps} taps) image RMS {e:.5}{}",
-            if met { " ≤ target: chosen" } else { "" }
+            "{slug}: rank {rank} ({}, {taps} taps) image RMS {:.5}{}",
+            scored.model,
+            scored.error(),
+            if chosen { " ≤ target: chosen" } else { "" }
         );
-        best = Some(scored.kernel);
-        if met {
-            return Ok(best.expect("set above"));
+    }
+    if !ladder.met {
+        eprintln!(
+            "warning: {slug}: no rank up to {} meets --error-target {target}: using rank {}",
+            fit::select::MAX_RANK,
+            fit::select::MAX_RANK
+        );
+    }
+    Ok(ladder.chosen().kernel.clone())
+}
+
+/// The request's fields by the flags that set them, so that a refusal names the flag.
+const FLAGS: [(&str, &str); 19] = [
+    ("width", "--width"),
+    ("height", "--height"),
+    ("taps", "--taps"),
+    ("error_target", "--error-target"),
+    ("jitter", "--jitter"),
+    ("sss_width", "--sss-width"),
+    ("exposure", "--exposure"),
+    ("tolerance_cm", "--tolerance"),
+    ("specular", "--specular"),
+    ("ambient", "--ambient"),
+    ("fov_deg", "--fov"),
+    ("object_albedo", "--object-albedo"),
+    ("floor_albedo", "--floor-albedo"),
+    ("lights", "--light"),
+    ("materials", "--material"),
+    ("fast_blur", "--blur fast"),
+    ("method", "--method"),
+    ("camera", "--camera/--target"),
+    ("scene", "--scene"),
+];
+
+/// A `gpu` refusal with the request's field replaced by the flag that set it.
+fn flagged(e: gpu::GpuError) -> anyhow::Error {
+    match e {
+        gpu::GpuError::Invalid {
+            field,
+            value,
+            reason,
+        } => {
+            let flag = FLAGS
+                .iter()
+                .find(|(f, _)| *f == field)
+                .map_or(field.as_str(), |(_, flag)| flag);
+            anyhow::anyhow!("invalid {flag} {value}: {reason}")
+        }
+        e => e.into(),
+    }
+}
+
+/// The render the flags ask for, as `gpu` checks it.
+fn request(a: &RenderArgs, materials: usize) -> gpu::RenderRequest {
+    gpu::RenderRequest {
+        scene: a.scene.clone(),
+        width: a.width,
+        height: a.height,
+        taps: a.taps,
+        error_target: a.error_target,
+        jitter: a.jitter,
+        sss_width: a.sss_width,
+        exposure: a.exposure,
+        tolerance_cm: a.tolerance,
+        method: match a.method {
+            Method::Separable => gpu::Method::Separable,
+            Method::DirectionalDipole => gpu::Method::DirectionalDipole,
+            Method::AreaGather => gpu::Method::AreaGather,
+            Method::SurfaceGather => gpu::Method::SurfaceGather,
+        },
+        materials,
+        fast_blur: a.blur == BlurPath::Fast,
+        lights: a.lights.clone(),
+        camera: a.camera,
+        target: a.target,
+        fov_deg: a.fov,
+        object_albedo: a.object_albedo.clone(),
+        floor_albedo: a.floor_albedo,
+        boxes: a.boxes.clone(),
+        specular: a.specular,
+        ambient: a.ambient,
+    }
+}
+
+/// The set-up of a method that replaces the separable kernels, if one is asked for.
+enum Gather {
+    Dipole(Box<gpu::DipoleSetup>),
+    Area(Box<gpu::AreaGatherSetup>),
+    Surface(Box<gpu::SurfaceGatherSetup>),
+}
+
+impl Gather {
+    fn of(named: &library::Named, a: &RenderArgs, files: &mut Outputs) -> Result<Option<Gather>> {
+        Ok(match a.method {
+            Method::Separable => None,
+            Method::DirectionalDipole => {
+                Some(Gather::Dipole(Box::new(dipole_setup(named, a, files)?)))
+            }
+            Method::AreaGather => Some(Gather::Area(Box::new(area_setup(named, a, files)?))),
+            Method::SurfaceGather => {
+                Some(Gather::Surface(Box::new(surface_setup(named, a, files)?)))
+            }
+        })
+    }
+
+    fn scatter(&self) -> Scatter<'_> {
+        match self {
+            Gather::Dipole(s) => Scatter::DirectionalDipole(s),
+            Gather::Area(s) => Scatter::AreaGather(s),
+            Gather::Surface(s) => Scatter::SurfaceGather(s),
         }
     }
-    eprintln!("warning: {slug}: no rank up to 6 meets --error-target {target}: using rank 6");
-    Ok(best.expect("six ranks tried"))
-}
 
-fn png_rgba(width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>> {
-    let mut out = Vec::new();
-    {
-        let mut enc = png::Encoder::new(&mut out, width, height);
-        enc.set_color(png::ColorType::Rgba);
-        enc.set_depth(png::BitDepth::Eight);
-        enc.write_header()?.write_image_data(rgba)?;
+    /// What the method is, for the closing line.
+    fn describe(&self) -> String {
+        match self {
+            Gather::Surface(s) => format!(
+                "surface gather of the {} Monte Carlo BSSRDF ({} samples × {} frames per pixel and light, r* = {:.3} cm)",
+                bssrdf_name(s.bssrdf),
+                s.sampling.samples,
+                s.sampling.frames,
+                s.sampling.radius_cm
+            ),
+            Gather::Area(s) => format!(
+                "area gather ({} taps reaching {:.0} px{})",
+                s.pattern.taps().len(),
+                s.pattern.reach_px(),
+                if s.pattern.brighten {
+                    ", √i brightening"
+                } else {
+                    ""
+                }
+            ),
+            Gather::Dipole(d) => format!(
+                "directional dipole ({} samples × {} frames per pixel and light, r* = {:.3} cm)",
+                d.sampling.samples, d.sampling.frames, d.sampling.radius_cm
+            ),
+        }
     }
-    Ok(out)
-}
 
-/// Portable float map (little-endian, bottom row first), the linear image for comparisons.
-fn pfm(width: u32, height: u32, rgba: &[[f32; 4]]) -> Vec<u8> {
-    let mut out = format!("PF\n{width} {height}\n-1.0\n").into_bytes();
-    for y in (0..height as usize).rev() {
-        for p in &rgba[y * width as usize..(y + 1) * width as usize] {
-            for c in &p[..3] {
-                out.extend_from_slice(&c.to_le_bytes());
+    /// The method's settings for the JSON summary.
+    fn json(&self) -> Value {
+        match self {
+            Gather::Area(s) => {
+                json!({"area_gather": {"inner": s.pattern.inner, "layers": s.pattern.layers, "taps": s.pattern.taps().len(), "reach_px": s.pattern.reach_px(), "brighten": s.pattern.brighten, "r_max_cm": s.kernel.r_max_cm(), "table": gpu::area_gather::AREA_TABLE_SIZE}})
+            }
+            Gather::Surface(s) => {
+                json!({"surface_gather": {"bssrdf": bssrdf_name(s.bssrdf), "samples": s.sampling.samples, "frames": s.sampling.frames, "radius_cm": s.sampling.radius_cm, "light_map": s.sampling.map_size, "seed": s.sampling.seed}})
+            }
+            Gather::Dipole(d) => {
+                json!({"dipole": {"samples": d.sampling.samples, "frames": d.sampling.frames, "radius_cm": d.sampling.radius_cm, "light_map": d.sampling.map_size, "scale": d.scale}})
             }
         }
     }
-    out
 }
 
-pub fn run(mut a: RenderArgs) -> Result<()> {
-    if a.width == 0 || a.height == 0 || a.width > 16384 || a.height > 16384 {
-        bail!(
-            "invalid --width/--height {}×{}: each must lie in 1..=16384",
-            a.width,
-            a.height
-        );
+fn bssrdf_name(b: gpu::Bssrdf) -> &'static str {
+    match b {
+        gpu::Bssrdf::Radial => "radial",
+        gpu::Bssrdf::Directional => "directional",
     }
-    if a.taps == 0 || a.taps > 1025 {
-        bail!("invalid --taps {}: must be in 1..=1025", a.taps);
-    }
-    if let Some(t) = a.error_target
-        && !(t.is_finite() && t > 0.0)
-    {
-        bail!("invalid --error-target {t}: must be a positive image RMS");
-    }
-    if let Some(j) = a.jitter
-        && !(0.0..=1.0).contains(&j)
-    {
-        bail!("invalid --jitter {j}: must be in [0, 1]");
-    }
-    let positive = |v: f32, zero_ok: bool| v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0));
-    if !(positive(a.sss_width, true) && positive(a.exposure, false)) {
-        bail!(
-            "invalid --sss-width {} / --exposure {}: must be ≥ 0 / > 0",
-            a.sss_width,
-            a.exposure
-        );
-    }
-    if a.tolerance.is_some_and(|t| !(t.is_finite() && t > 0.0)) {
-        bail!(
-            "invalid --tolerance {:?}: must be positive [cm]",
-            a.tolerance
-        );
-    }
-    let emitters = gpu::emitters(&a.lights).len();
-    if matches!(a.method, Method::DirectionalDipole | Method::SurfaceGather)
-        && (emitters > gpu::DISC_LIGHTS || a.lights.iter().any(|l| matches!(l, Light::Area { .. })))
-    {
-        bail!(
-            "invalid --light: the directional dipole and the surface gather take at most {} directional or point lights, no area light",
-            gpu::DISC_LIGHTS
-        );
-    }
-    if emitters > gpu::MAX_EMITTERS {
-        bail!(
-            "invalid --light: {} given, {emitters} point lights once each area light is split into its {} cells; at most {}",
-            a.lights.len(),
-            gpu::AREA_CELLS * gpu::AREA_CELLS,
-            gpu::MAX_EMITTERS
-        );
-    }
-    if let Some(f) = a.fov
-        && !(f > 1.0 && f < 170.0)
-    {
-        bail!("invalid --fov {f}: must lie in (1, 170) degrees");
-    }
-    let mut scene = Scene::named(&a.scene)?;
-    if let Some(c) = a.camera {
-        scene.camera.position = c;
-    }
-    if let Some(t) = a.target {
-        scene.camera.target = t;
-    }
-    if let Some(f) = a.fov {
-        scene.camera.fov_y_deg = f;
-    }
-    if !a.lights.is_empty() {
-        scene.lights = a.lights.clone();
-    }
-    let names: Vec<&str> = a.material.split(',').map(str::trim).collect();
-    let materials = scene.material_count().max(1);
-    if names.len() != materials {
-        bail!(
-            "invalid --material {:?}: --scene {} has {materials} SSS material(s), give one name per material separated by commas",
-            a.material,
-            a.scene
-        );
-    }
-    if materials > 1 && (a.kernel.is_some() || a.compare_models || a.bench) {
-        bail!(
-            "--kernel, --compare-models and --bench take a scene of one SSS material (--scene {} has {materials})",
-            a.scene
-        );
-    }
-    if materials > 1 && a.blur == BlurPath::Fast {
-        bail!(
-            "--blur fast takes one SSS material (--scene {} has {materials}): its samples do not know their material",
-            a.scene
-        );
-    }
-    if materials > 1 && a.method != Method::Separable {
-        bail!(
-            "--method directional-dipole, area-gather and surface-gather render one SSS material per frame"
-        );
-    }
-    if ![0, 1, materials].contains(&a.object_albedo.len()) {
-        bail!(
-            "invalid --object-albedo: given {} times, expected once or once per material ({materials})",
-            a.object_albedo.len()
-        );
-    }
-    for (field, v) in a
-        .object_albedo
-        .iter()
-        .map(|v| ("--object-albedo", v))
-        .chain(a.floor_albedo.iter().map(|v| ("--floor-albedo", v)))
-    {
-        if !(v.min_element() >= 0.0 && v.max_element() <= 1.0) {
-            bail!("invalid {field} {v}: each channel must lie in [0, 1]");
-        }
-    }
-    for vert in &mut scene.mesh.vertices {
-        let albedo = if vert.strength > 0.0 {
-            a.object_albedo
-                .get(vert.material as usize)
-                .or(a.object_albedo.first())
-                .copied()
-        } else {
-            a.floor_albedo
-        };
-        if let Some(v) = albedo {
-            vert.albedo = v.into();
-        }
-    }
-    for &(lo, hi) in &a.boxes {
-        scene.mesh.append(&gpu::Mesh::cuboid(lo, hi, [0.0; 3], 0.0));
-    }
-    for (field, v) in [("--specular", a.specular), ("--ambient", a.ambient)] {
-        if v.is_some_and(|x| !(x.is_finite() && x >= 0.0)) {
-            bail!("invalid {field} {v:?}: must be finite and ≥ 0");
-        }
-    }
-    if let Some(v) = a.specular {
-        scene.specular = v;
-    }
-    if let Some(v) = a.ambient {
-        scene.ambient = Vec3::splat(v);
-    }
-    if (scene.camera.position - scene.camera.target).length() <= 0.0 {
-        bail!("invalid --camera/--target: they coincide");
-    }
-    let all_named = names
-        .iter()
-        .map(|n| library::material(n))
-        .collect::<Result<Vec<_>>>()?;
-    let named = &all_named[0];
-    // Nothing is written outside --out unless --profiles says where.
-    a.source.profiles.get_or_insert_with(|| a.out.clone());
-    let kernel_file = match &a.kernel {
-        Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("cannot read {}", path.display()))?;
-            Some(ShaderKernel::from_toml(&text, &path.display().to_string())?)
-        }
-        None => None,
-    };
-    let mut files = Outputs::default();
-    let dipole = match a.method {
-        Method::DirectionalDipole => Some(dipole_setup(named, &a, &mut files)?),
-        _ => None,
-    };
-    let area = match a.method {
-        Method::AreaGather => Some(area_setup(named, &a, &mut files)?),
-        _ => None,
-    };
-    let surface = match a.method {
-        Method::SurfaceGather => Some(surface_setup(named, &a, &mut files)?),
-        _ => None,
-    };
-    let gpu = Gpu::new()?;
-    eprintln!("GPU: {}", gpu.adapter_name);
+}
+
+/// The renderer's settings: image, albedo, depth test, blur path and each material's shading
+/// tables (incidence and exit tables, translucency, η).
+fn params(
+    a: &RenderArgs,
+    all_named: &[library::Named],
+    kernel_file: Option<&ShaderKernel>,
+) -> Result<RenderParams> {
     let mut shading = [Shading::default(); gpu::MAX_MATERIALS];
-    for (s, n) in shading.iter_mut().zip(&all_named) {
+    for (s, n) in shading.iter_mut().zip(all_named) {
         let tables = angle_tables(
             n,
             a.incidence_photons,
@@ -771,12 +735,9 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
             a.exit_aware == OnOff::On && !a.no_sss,
         )?;
         let translucency = match a.translucency.unwrap_or(OnOff::On) {
-            OnOff::On if a.method == Method::Separable && !a.no_sss => Some(translucency_table(
-                n,
-                &a.source.profile(n, &mut files)?,
-                a.translucency_photons,
-                &a.source,
-            )?),
+            OnOff::On if a.method == Method::Separable && !a.no_sss => {
+                Some(translucency_table(n, a.translucency_photons, &a.source)?)
+            }
             _ => None,
         };
         *s = Shading {
@@ -786,7 +747,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
             eta: n.material.eta as f32,
         };
     }
-    let params = RenderParams {
+    Ok(RenderParams {
         width: a.width,
         height: a.height,
         albedo: match a.albedo {
@@ -804,7 +765,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         tolerance_cm: a.tolerance,
         jitter: a
             .jitter
-            .or(kernel_file.as_ref().map(|k| k.jitter as f32))
+            .or(kernel_file.map(|k| k.jitter as f32))
             .unwrap_or(0.0),
         fixed_depth: None,
         exposure: a.exposure,
@@ -813,103 +774,150 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         half_res: a.resolution == Resolution::Half,
         fast: a.blur == BlurPath::Fast,
         shading,
-    };
-    if a.bench {
-        match &dipole {
-            Some(setup) => bench_dipole(&gpu, &scene, setup, &named.slug, &a)?,
-            None => {
-                let p = a.source.profile(named, &mut files)?;
-                bench(&gpu, &scene, &p, &named.slug, area.as_ref(), &a)?
-            }
-        }
-        return files.commit();
-    }
-    // One kernel per material: --kernel, or pre-integration fitted to each material's profile.
-    let kernels: Vec<ShaderKernel> = match kernel_file {
-        _ if a.no_sss || a.method != Method::Separable => Vec::new(),
-        Some(k) => vec![k],
+    })
+}
+
+/// One kernel per material for the separable method: --kernel, or pre-integration (or the
+/// smallest rank meeting --error-target) fitted to each material's profile.
+fn kernels(
+    a: &RenderArgs,
+    all_named: &[library::Named],
+    kernel_file: Option<ShaderKernel>,
+    files: &mut Outputs,
+) -> Result<Vec<ShaderKernel>> {
+    match kernel_file {
+        _ if a.no_sss || a.method != Method::Separable => Ok(Vec::new()),
+        Some(k) => Ok(vec![k]),
         None => all_named
             .iter()
             .map(|n| {
-                let p = a.source.profile(n, &mut files)?;
+                let p = a.source.profile(n, files)?;
                 match a.error_target {
                     Some(t) => kernel_for_target(&p, &n.slug, a.taps, t),
                     None => kernel_of(&p, &n.slug, KernelModel::Preint, a.taps),
                 }
             })
-            .collect::<Result<_>>()?,
-    };
-    let gpu_kernels = kernels
-        .iter()
-        .map(GpuKernel::from_shader_kernel)
-        .collect::<std::result::Result<Vec<_>, _>>()?;
-    let start = std::time::Instant::now();
-    let scatter = match (&dipole, &area, &surface) {
-        (Some(setup), _, _) => Scatter::DirectionalDipole(setup),
-        (_, Some(setup), _) => Scatter::AreaGather(setup),
-        (_, _, Some(setup)) => Scatter::SurfaceGather(setup),
-        _ if gpu_kernels.is_empty() => Scatter::None,
-        _ => Scatter::Separable(&gpu_kernels),
-    };
-    let frame = gpu::render(&gpu, &scene, scatter, &params)?;
-    let seconds = start.elapsed().as_secs_f64();
-    let png_path = a.out.join("render.png");
-    files.add(
-        &png_path,
-        png_rgba(frame.width, frame.height, &frame.display)?,
-    );
-    files.add(
-        a.out.join("render.pfm"),
-        pfm(frame.width, frame.height, &frame.linear),
-    );
-    let what = match (&dipole, kernels.first()) {
-        _ if let Some(s) = &surface => format!(
-            "surface gather of the {} Monte Carlo BSSRDF ({} samples × {} frames per pixel and light, r* = {:.3} cm)",
-            match s.bssrdf {
-                gpu::Bssrdf::Radial => "radial",
-                gpu::Bssrdf::Directional => "directional",
-            },
-            s.sampling.samples,
-            s.sampling.frames,
-            s.sampling.radius_cm
-        ),
-        _ if area.is_some() => {
-            let p = area.as_ref().map(|s| s.pattern).unwrap_or_default();
-            format!(
-                "area gather ({} taps reaching {:.0} px{})",
-                p.taps().len(),
-                p.reach_px(),
-                if p.brighten { ", √i brightening" } else { "" }
-            )
-        }
-        (Some(d), _) => format!(
-            "directional dipole ({} samples × {} frames per pixel and light, r* = {:.3} cm)",
-            d.sampling.samples, d.sampling.frames, d.sampling.radius_cm
-        ),
+            .collect(),
+    }
+}
+
+/// A kernel file named by --kernel.
+fn read_kernel(path: &std::path::Path) -> Result<ShaderKernel> {
+    let text =
+        crate::files::read_text(path).with_context(|| format!("cannot read {}", path.display()))?;
+    Ok(ShaderKernel::from_toml(&text, &path.display().to_string())?)
+}
+
+/// What scattered the light, for the closing line.
+fn describe(gather: Option<&Gather>, kernels: &[ShaderKernel], materials: &str) -> String {
+    match (gather, kernels.first()) {
+        (Some(g), _) => g.describe(),
         (None, Some(k)) => format!(
             "{} kernel ({} pass(es) × {} taps){}",
             k.model,
             k.pass.len(),
             k.taps,
             if kernels.len() > 1 {
-                format!(" per material ({})", a.material)
+                format!(" per material ({materials})")
             } else {
                 String::new()
             }
         ),
         (None, None) => "no SSS".to_string(),
+    }
+}
+
+/// The JSON summary's settings of the method: the kernels, each gather's (null when not used)
+/// and the materials' translucency tables.
+fn settings_json(gather: Option<&Gather>, kernels: &[ShaderKernel], shading: &[Shading]) -> Value {
+    let mut v = json!({
+        "kernel": kernels.first().map(|k| k.model.to_string()),
+        "kernels": kernels.iter().map(|k| json!({"model": k.model.to_string(), "passes": k.pass.len(), "taps": k.taps})).collect::<Vec<_>>(),
+        "area_gather": null, "surface_gather": null, "dipole": null,
+        "translucency": shading.iter().map(|s| s.translucency.as_ref().map(|t| json!({"first_cm": t.first_cm, "ratio": t.ratio, "tt_over_rho": t.table}))).collect::<Vec<_>>(),
+    });
+    if let (Some(m), Some(Value::Object(g))) = (v.as_object_mut(), gather.map(Gather::json)) {
+        m.extend(g);
+    }
+    v
+}
+
+pub fn run(mut a: RenderArgs) -> Result<()> {
+    let names: Vec<&str> = a.material.split(',').map(str::trim).collect();
+    let scene = request(&a, names.len()).scene().map_err(flagged)?;
+    if names.len() > 1 && (a.kernel.is_some() || a.compare_models || a.bench) {
+        bail!(
+            "--kernel, --compare-models and --bench take a scene of one SSS material (--scene {} has {})",
+            a.scene,
+            names.len()
+        );
+    }
+    let all_named = names
+        .iter()
+        .map(|n| library::material(n))
+        .collect::<Result<Vec<_>>>()?;
+    let named = &all_named[0];
+    // Nothing is written outside --out unless --profiles says where.
+    a.source.profiles.get_or_insert_with(|| a.out.clone());
+    let kernel_file = match &a.kernel {
+        Some(path) => Some(read_kernel(path)?),
+        None => None,
     };
+    let mut files = Outputs::default();
+    let gather = Gather::of(named, &a, &mut files)?;
+    let gpu = Gpu::new()?;
+    eprintln!("GPU: {}", gpu.adapter_name);
+    let params = params(&a, &all_named, kernel_file.as_ref())?;
+    if a.bench {
+        match &gather {
+            Some(Gather::Dipole(setup)) => bench_dipole(&gpu, &scene, setup, &named.slug, &a)?,
+            _ => {
+                let p = a.source.profile(named, &mut files)?;
+                let area = match &gather {
+                    Some(Gather::Area(s)) => Some(s.as_ref()),
+                    _ => None,
+                };
+                bench(&gpu, &scene, &p, &named.slug, area, &a)?
+            }
+        }
+        return files.commit();
+    }
+    let kernels = kernels(&a, &all_named, kernel_file, &mut files)?;
+    let gpu_kernels = kernels
+        .iter()
+        .map(GpuKernel::from_shader_kernel)
+        .collect::<std::result::Result<Vec<_>, _>>()?;
+    let start = std::time::Instant::now();
+    let scatter = match &gather {
+        Some(g) => g.scatter(),
+        None if gpu_kernels.is_empty() => Scatter::None,
+        None => Scatter::Separable(&gpu_kernels),
+    };
+    let frame = gpu::render(&gpu, &scene, scatter, &params)?;
+    let seconds = start.elapsed().as_secs_f64();
+    let png_path = a.out.join("render.png");
+    files.add(
+        &png_path,
+        report::image::png_rgba(frame.width, frame.height, &frame.display)?,
+    );
+    files.add(
+        a.out.join("render.pfm"),
+        report::image::pfm(frame.width, frame.height, &frame.linear),
+    );
+    let what = describe(gather.as_ref(), &kernels, &a.material);
     let mut summary = json!({
         "adapter": gpu.adapter_name, "scene": a.scene, "method": a.method.to_possible_value().map(|v| v.get_name().to_string()),
-        "materials": all_named.iter().map(|n| &n.slug).collect::<Vec<_>>(),
-        "kernel": kernels.first().map(|k| k.model.to_string()), "width": a.width, "height": a.height,
-        "kernels": kernels.iter().map(|k| json!({"model": k.model.to_string(), "passes": k.pass.len(), "taps": k.taps})).collect::<Vec<_>>(),
-        "area_gather": area.as_ref().map(|s| json!({"inner": s.pattern.inner, "layers": s.pattern.layers, "taps": s.pattern.taps().len(), "reach_px": s.pattern.reach_px(), "brighten": s.pattern.brighten, "r_max_cm": s.kernel.r_max_cm(), "table": gpu::area_gather::AREA_TABLE_SIZE})),
-        "surface_gather": surface.as_ref().map(|s| json!({"bssrdf": match s.bssrdf { gpu::Bssrdf::Radial => "radial", gpu::Bssrdf::Directional => "directional" }, "samples": s.sampling.samples, "frames": s.sampling.frames, "radius_cm": s.sampling.radius_cm, "light_map": s.sampling.map_size, "seed": s.sampling.seed})),
-        "dipole": dipole.as_ref().map(|d| json!({"samples": d.sampling.samples, "frames": d.sampling.frames, "radius_cm": d.sampling.radius_cm, "light_map": d.sampling.map_size, "scale": d.scale})),
-        "translucency": params.shading[..all_named.len()].iter().map(|s| s.translucency.as_ref().map(|t| json!({"first_cm": t.first_cm, "ratio": t.ratio, "tt_over_rho": t.table}))).collect::<Vec<_>>(),
+        "materials": all_named.iter().map(|n| &n.slug).collect::<Vec<_>>(), "width": a.width, "height": a.height,
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
     });
+    let settings = settings_json(
+        gather.as_ref(),
+        &kernels,
+        &params.shading[..all_named.len()],
+    );
+    if let (Some(m), Value::Object(extra)) = (summary.as_object_mut(), settings) {
+        m.extend(extra);
+    }
     if a.compare_models {
         let p = a.source.profile(named, &mut files)?;
         summary["compare"] = compare(&gpu, &scene, &params, &p, named, &a, &mut files)?;
@@ -923,10 +931,8 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         png_path.display()
     );
     if a.compare_models {
-        eprintln!(
-            "comparison sheet → {}",
-            a.out.join("compare_sheet.png").display()
-        );
+        let sheet = a.out.join("compare_sheet.png");
+        eprintln!("comparison sheet → {}", sheet.display());
     }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&summary)?);
@@ -1003,7 +1009,10 @@ fn compare(
         let e = k.error.rms_rel_all;
         table(line(label, &k.error));
         let png = a.out.join(format!("{label}.png"));
-        files.add(&png, png_rgba(base.width, base.height, &k.display)?);
+        files.add(
+            &png,
+            report::image::png_rgba(base.width, base.height, &k.display)?,
+        );
         rows.push(json!({"model": label, "image_rms_rel": e, "image_rms_rel_rgb": k.error.rms_rel, "png": png}));
     }
     let sheet = a.out.join("compare_sheet.png");
@@ -1019,7 +1028,10 @@ fn compare(
     ];
     let lambert = [("no SSS (Lambert)", l)];
     let all: Vec<_> = lambert.into_iter().chain(shown).collect();
-    files.add(&sheet, cmp.sheet(title, &all, a.exposure)?);
+    files.add(
+        &sheet,
+        report::sheet::comparison_sheet(&cmp, title, &all, a.exposure)?,
+    );
     let v = json!({ "cm_per_px": cmp.scale.cm_per_px, "models": rows, "sheet": sheet });
     files.add(
         a.out.join("compare.json"),
@@ -1085,7 +1097,7 @@ fn dipole_setup(
     let media: [fit::analytic::Medium; 3] =
         [0, 1, 2].map(|c| fit::analytic::Medium::channel(&named.material, c));
     let mut setup = DipoleSetup::new(&media)?;
-    sampling(&mut setup.sampling, a);
+    sampling(&mut setup.sampling, a)?;
     setup
         .validate()
         .context("invalid --samples/--frames/--dipole-radius/--light-map")?;
@@ -1112,14 +1124,18 @@ fn dipole_setup(
 
 /// The disc gathers' sampling flags (--samples, --frames, --light-map, --frame-seed or --seed,
 /// --dipole-radius where given) over a method's defaults.
-fn sampling(s: &mut gpu::Sampling, a: &RenderArgs) {
+fn sampling(s: &mut gpu::Sampling, a: &RenderArgs) -> Result<()> {
     s.samples = a.samples;
     s.frames = a.frames;
     s.map_size = a.light_map;
-    s.seed = a.frame_seed.unwrap_or(a.source.seed() as u32);
+    s.seed = match a.frame_seed {
+        Some(seed) => seed,
+        None => a.source.seed()? as u32,
+    };
     if let Some(r) = a.dipole_radius {
         s.radius_cm = r;
     }
+    Ok(())
 }
 
 /// The surface gather's Monte Carlo tables for the material (`gpu::SurfaceGatherSetup::from_mc`:
@@ -1158,7 +1174,7 @@ fn surface_setup(
     let mut setup = gpu::SurfaceGatherSetup::from_mc(&spec, &profile, bssrdf, &|k| bar.inc(k))
         .with_context(|| format!("--method surface-gather: {}", named.slug))?;
     bar.finish_and_clear();
-    sampling(&mut setup.sampling, a);
+    sampling(&mut setup.sampling, a)?;
     setup
         .validate()
         .context("invalid --samples/--frames/--dipole-radius/--light-map")?;

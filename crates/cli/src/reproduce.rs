@@ -10,8 +10,8 @@ use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use fit::Profile;
 use fit::evaluate::{ImageSize, evaluate};
-use fit::reproduce::{MAIN, MitsubaImages, Published, RenderedTables, Report};
-use mc::provenance::{Explicit, Provenance, provenance_path};
+use mc::provenance::{self, Explicit, Provenance, Reuse, provenance_path};
+use report::reproduce::{MAIN, MitsubaImages, Published, RenderedTables, Report};
 
 use crate::files::Outputs;
 use crate::{eval, library, parse_count, progress, simulate};
@@ -58,7 +58,7 @@ pub struct ReproduceArgs {
 
 /// The image comparisons against Mitsuba in a `--references` file.
 fn read_references(path: &std::path::Path) -> Result<Vec<MitsubaImages>> {
-    let text = std::fs::read_to_string(path)
+    let text = crate::files::read_text(path)
         .with_context(|| format!("cannot read --references {}", path.display()))?;
     MitsubaImages::parse(&text).map_err(|e| anyhow!("--references {}: {e}", path.display()))
 }
@@ -72,31 +72,20 @@ fn read_profile(
     explicit: Explicit,
 ) -> Result<(String, Option<Provenance>)> {
     let text =
-        std::fs::read_to_string(csv).with_context(|| format!("cannot read {}", csv.display()))?;
+        crate::files::read_text(csv).with_context(|| format!("cannot read {}", csv.display()))?;
     let sidecar = provenance_path(csv);
-    if !sidecar.exists() {
-        if explicit.photons {
-            bail!(
-                "{} has no provenance ({} is missing): its photon count is unknown, so it cannot stand for --photons {}",
-                csv.display(),
-                sidecar.display(),
-                asked.photons
-            );
+    let have = sidecar
+        .exists()
+        .then(|| crate::cache::read_provenance(&sidecar))
+        .transpose()?;
+    let name = csv.display().to_string();
+    match provenance::reuse(&name, &sidecar, have.as_ref(), asked, explicit) {
+        Reuse::Use(_) => Ok((text, have)),
+        Reuse::Replace(why) if have.is_none() => {
+            bail!("{why}: it cannot stand for --photons {}", asked.photons)
         }
-        return Ok((text, None));
+        Reuse::Replace(why) => bail!("{why}"),
     }
-    let json = std::fs::read_to_string(&sidecar)
-        .with_context(|| format!("cannot read {}", sidecar.display()))?;
-    let have = Provenance::from_json(&json, &sidecar.display().to_string())?;
-    let differ = have.mismatches(asked, explicit);
-    if !differ.is_empty() {
-        bail!(
-            "{} does not match what was asked: {}",
-            csv.display(),
-            differ.join("; ")
-        );
-    }
-    Ok((text, Some(have)))
 }
 
 pub fn run(a: ReproduceArgs) -> Result<()> {
@@ -218,13 +207,13 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
         if !MAIN.contains(&n.slug.as_str()) {
             files.add(
                 a.out.join(format!("{}.profile.png", n.slug)),
-                fit::plot::profile(p, &n.slug)?,
+                report::plot::profile(p, &n.slug)?,
             );
         }
     }
     let slugs: Vec<(&str, &mc::Material)> =
         all.iter().map(|n| (n.slug.as_str(), &n.material)).collect();
-    let tables = fit::reproduce::tables(&slugs, &evals, &published);
+    let tables = report::reproduce::tables(&slugs, &evals, &published);
 
     // 3. Tables 6.4 and 6.5 rendered on our scenes (skipped, saying why, without an adapter).
     let rendered_tables = match gpu::Gpu::new() {
@@ -241,7 +230,7 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
                 .zip(&profiles)
                 .map(|(n, p)| (n.slug.as_str(), p))
                 .collect();
-            let r = gpu::reproduce::rendered_tables(&gpu, &with, a.quick, &published)?;
+            let r = report::rendered::rendered_tables(&gpu, &with, a.quick, &published)?;
             eprintln!("rendered Tables 6.4 and 6.5 in {:.1} s", r.seconds);
             RenderedTables::Rendered(Box::new(r))
         }
@@ -249,8 +238,8 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
 
     // 4. Fig. 5.15 and 5.17 on Skin1: their plots, numbers and claims.
     eprintln!("guided k = 1.55, b = 50 against pre-integration, and the manual w sweep (skin1) …");
-    let (n, p) = profile_of(fit::reproduce::CHAPTER5_MATERIAL);
-    let chapter5 = fit::reproduce::chapter5(&n.material, p, image, extent_mfp)?;
+    let (n, p) = profile_of(report::reproduce::CHAPTER5_MATERIAL);
+    let chapter5 = report::reproduce::chapter5(&n.material, p, image, extent_mfp)?;
     for (name, png) in chapter5.plots()? {
         files.add(a.out.join(name), png);
     }

@@ -8,11 +8,11 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use fit::analytic::Medium;
-use fit::incidence::IncidenceComparison;
 use mc::incidence::IncidenceRow;
 use mc::shard::{self, Shard};
 use mc::{BatchSpec, CHANNELS, ChannelSpec, Output};
 use rayon::prelude::*;
+use report::incidence::IncidenceComparison;
 use serde_json::{Value, json};
 
 use crate::files::Outputs;
@@ -191,7 +191,7 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
             let r_max: Vec<f64> = spec
                 .channels
                 .iter()
-                .map(|c| 3.0 / (c.layer.mu_a + c.layer.mu_s * (1.0 - c.layer.g)))
+                .map(|c| 3.0 * c.layer.transport_mfp())
                 .collect();
             mc::run_batch_to_error(&spec, e, &r_max, &|k| bar.inc(k))
         }
@@ -236,7 +236,7 @@ pub fn merge(args: MergeArgs) -> Result<()> {
         .map(|p| {
             let name = p.display().to_string();
             let text =
-                std::fs::read_to_string(p).with_context(|| format!("cannot read shard {name}"))?;
+                crate::files::read_text(p).with_context(|| format!("cannot read shard {name}"))?;
             let shard = Shard::from_json(&text, &name)?;
             Ok((name, shard))
         })
@@ -408,7 +408,7 @@ fn summary_json(
                 "rsp": o.rsp, "rd": o.rd.value, "rd_se": o.rd.se, "a": o.a.value, "a_se": o.a.se, "tt": o.tt.value, "tt_se": o.tt.se,
                 "photons": o.photons, "interactions": o.interactions,
                 "sigma_a_per_cm": l.mu_a, "sigma_s_per_cm": l.mu_s, "g": l.g, "eta": l.n, "thickness_cm": l.thickness,
-                "albedo": l.albedo(), "mfp_cm": 1.0 / (l.mu_a + l.mu_s * (1.0 - l.g)),
+                "albedo": l.albedo(), "mfp_cm": l.transport_mfp(),
             });
             (ch.to_string(), v)
         })
@@ -493,7 +493,7 @@ fn print_summary(s: &Value) {
 
 fn run_mci(path: &Path, args: &SimulateArgs) -> Result<()> {
     let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+        crate::files::read_text(path).with_context(|| format!("cannot read {}", path.display()))?;
     let mut runs = mc::mci::parse(&text, &path.display().to_string(), args.seed.unwrap_or(1))?;
     for r in &mut runs {
         if let Some(n) = args.photons {

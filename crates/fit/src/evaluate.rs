@@ -16,6 +16,7 @@ use rayon::prelude::*;
 use crate::error::Result;
 use crate::kernel2d::{Kernel2, SUPPORT_EPSILON, ground_truth};
 use crate::manual::table_a1;
+pub use crate::metrics::ImageSize;
 use crate::metrics::{ImageEval, KernelMetrics};
 use crate::model::{KernelModel, ManualParams, SkinParams};
 use crate::separable::Separable;
@@ -181,25 +182,6 @@ fn dense_slices(k: &Kernel2) -> (Vec<f64>, Vec<f64>) {
         (0..=n).map(|j| k.at(n, n + j)).collect(),
         (0..=n).map(|j| k.at(n + j, n + j)).collect(),
     )
-}
-
-/// Size of the image-space evaluation: test signals of `size` pixels, kernels binned to a
-/// half-width of at most `max_half` pixels.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ImageSize {
-    /// Side of the square test signals [px].
-    pub size: usize,
-    /// Largest half-width of the binned kernels [px].
-    pub max_half: usize,
-}
-
-impl Default for ImageSize {
-    fn default() -> Self {
-        ImageSize {
-            size: 256,
-            max_half: 128,
-        }
-    }
 }
 
 /// Evaluates every model of [`MODELS`] on every channel of a profile. `material` selects Table

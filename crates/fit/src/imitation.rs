@@ -29,9 +29,9 @@ use std::time::Instant;
 
 use crate::convolve::Image;
 use crate::error::Result;
-use crate::evaluate::ImageSize;
 use crate::kernel2d::Kernel2;
 use crate::metrics::ImageEval;
+use crate::metrics::ImageSize;
 use crate::model::KernelModel;
 use crate::separable::Separable;
 use crate::signals::Signal;

@@ -14,8 +14,8 @@ use argmin::core::{CostFunction, Error, Executor};
 use argmin::solver::neldermead::NelderMead;
 use serde::Deserialize;
 
-use crate::evaluate::ImageSize;
 use crate::kernel2d::Kernel2;
+use crate::metrics::ImageSize;
 use crate::metrics::{ImageEval, edge_response, edge_width};
 use crate::separable::Separable;
 

@@ -312,3 +312,22 @@ pub fn edge_width(m: &[f64], h: f64) -> f64 {
         }
     }
 }
+
+/// Size of the image-space evaluation: test signals of `size` pixels, kernels binned to a
+/// half-width of at most `max_half` pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ImageSize {
+    /// Side of the square test signals [px].
+    pub size: usize,
+    /// Largest half-width of the binned kernels [px].
+    pub max_half: usize,
+}
+
+impl Default for ImageSize {
+    fn default() -> Self {
+        ImageSize {
+            size: 256,
+            max_half: 128,
+        }
+    }
+}

@@ -96,6 +96,37 @@ pub fn candidates(passes: usize) -> Vec<KernelModel> {
     m
 }
 
+/// The highest rank an image-error target may climb to.
+pub const MAX_RANK: usize = 6;
+
+/// The model of rank `rank` on the ladder an image-error target climbs: 1 pre-integration, 2–6
+/// SVD rescaled to the kernel's energy.
+pub fn rank_model(rank: usize) -> KernelModel {
+    match rank {
+        1 => KernelModel::Preint,
+        _ => KernelModel::Svd {
+            rank,
+            renormalize: true,
+        },
+    }
+}
+
+/// The ladder climbed by [`Judge::smallest_rank`]: each rung tried, and the kernel chosen.
+#[derive(Clone, Debug)]
+pub struct Ladder {
+    /// Every rung tried, in order: the rank and its scored kernel.
+    pub tried: Vec<(usize, Scored)>,
+    /// Whether the last rung met the target (else it is rank [`MAX_RANK`], the best tried).
+    pub met: bool,
+}
+
+impl Ladder {
+    /// The chosen kernel: the last rung tried.
+    pub fn chosen(&self) -> &Scored {
+        &self.tried.last().expect("a ladder has a rung").1
+    }
+}
+
 /// One scored candidate.
 #[derive(Clone, Debug)]
 pub struct Scored {
@@ -176,6 +207,22 @@ impl Judge {
             image_rms: self.score(&kernel),
             kernel,
         })
+    }
+
+    /// The smallest rank of the ladder ([`rank_model`]: 1 pre-integration, 2–[`MAX_RANK`] SVD)
+    /// whose kernel of `taps` taps per pass meets the mean image RMS `target`; when none does,
+    /// rank [`MAX_RANK`] with `met` false.
+    pub fn smallest_rank(&self, target: f64, material: &str, taps: usize) -> Result<Ladder> {
+        let mut tried = Vec::new();
+        for rank in 1..=MAX_RANK {
+            let scored = self.fit_and_score(rank_model(rank), material, taps)?;
+            let met = scored.error() <= target;
+            tried.push((rank, scored));
+            if met {
+                return Ok(Ladder { tried, met });
+            }
+        }
+        Ok(Ladder { tried, met: false })
     }
 
     /// Every candidate for the budget, best (lowest mean image RMS) first.

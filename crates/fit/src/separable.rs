@@ -111,3 +111,17 @@ impl Separable {
             .sum()
     }
 }
+
+/// SSSS's quadratic offsets for `n` taps over [−range, range], centre tap included for odd n.
+pub fn offsets(n: usize, range: f64) -> Vec<f64> {
+    if n == 1 {
+        return vec![0.0];
+    }
+    let step = 2.0 * range / (n - 1) as f64;
+    (0..n)
+        .map(|i| {
+            let o = -range + i as f64 * step;
+            o.signum() * o * o / range
+        })
+        .collect()
+}

@@ -95,7 +95,7 @@ impl Skin {
     /// increasing offset. Offsets are the demo's (RANGE = 2 or 3 mm) times the width.
     pub fn kernel(&self, taps: usize) -> Vec<(f64, [f64; 3])> {
         let range = if taps > 20 { 3.0 } else { 2.0 };
-        let offs = crate::taps::offsets(taps, range);
+        let offs = crate::separable::offsets(taps, range);
         let mut k: Vec<(f64, [f64; 3])> = (0..taps)
             .map(|i| {
                 let w0 = if i > 0 {

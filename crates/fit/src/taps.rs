@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::model::{FittedKernel, KernelModel, SkinParams};
 use crate::separable::Separable;
+pub use crate::separable::offsets;
 
 /// One tap: offset [cm] and per-channel weight.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -49,20 +50,6 @@ pub struct ShaderKernel {
     pub jitter: f64,
     /// One entry per rank-1 term, each run as a horizontal then a vertical pass.
     pub pass: Vec<Pass>,
-}
-
-/// SSSS's quadratic offsets for `n` taps over [−range, range], centre tap included for odd n.
-pub fn offsets(n: usize, range: f64) -> Vec<f64> {
-    if n == 1 {
-        return vec![0.0];
-    }
-    let step = 2.0 * range / (n - 1) as f64;
-    (0..n)
-        .map(|i| {
-            let o = -range + i as f64 * step;
-            o.signum() * o * o / range
-        })
-        .collect()
 }
 
 /// ∫ from x0 to x1 of the model's 1D function as a density: sample a[i] spread uniformly over

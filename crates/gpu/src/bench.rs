@@ -6,8 +6,8 @@
 //! times are wall-clock from recording to completion, uploads included, readback not. Every
 //! time is the median of several frames on a renderer built once.
 
-use fit::select::Judge;
-use fit::{KernelModel, Profile};
+use fit::Profile;
+use fit::select::{Judge, rank_model};
 use glam::Vec3;
 use serde::Serialize;
 
@@ -148,18 +148,6 @@ pub struct SeparableBench {
     pub configs: Vec<Config>,
     /// What each skip saves on the 17-tap kernels.
     pub skips: Skips,
-}
-
-/// The model of rank `rank` on the ladder the error target climbs: 1 pre-integration, 2–6 SVD
-/// rescaled to the kernel's energy.
-pub fn rank_model(rank: usize) -> KernelModel {
-    match rank {
-        1 => KernelModel::Preint,
-        _ => KernelModel::Svd {
-            rank,
-            renormalize: true,
-        },
-    }
 }
 
 fn median(mut v: Vec<f64>) -> f64 {

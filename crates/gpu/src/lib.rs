@@ -25,7 +25,9 @@
 //! Conventions: images are row-major, top row first, RGBA f32 per pixel. A pixel at view depth z
 //! spans z/f cm with f = height/(2·tan(fov_y/2)) (`px_per_cm_at_unit_depth`).
 
-#![warn(missing_docs)]
+#![deny(missing_docs)]
+// Units are written in brackets as in the papers, [cm⁻¹]; rustdoc would take them for links.
+#![allow(rustdoc::broken_intra_doc_links)]
 
 pub mod area_gather;
 pub mod bench;
@@ -42,7 +44,7 @@ mod light;
 mod mesh;
 mod params;
 mod render;
-pub mod reproduce;
+pub mod request;
 mod scene;
 mod shading;
 mod shadow;
@@ -61,9 +63,10 @@ pub use light::{AREA_CELLS, Emitter, Light, MAX_EMITTERS, emitters};
 pub use mesh::{Mesh, Vertex};
 pub use params::{MAX_MATERIALS, RenderParams};
 pub use render::{Frame, FrameTime, Renderer, SUBPIXEL_PX, Scatter, kernel_footprint_px, render};
+pub use request::{Method, RenderRequest};
 pub use scene::{AlbedoMode, Camera, Scene};
 pub use shading::{
-    AngleTables, INCIDENCE_STEPS, Shading, TRANSLUCENCY_STEPS, Translucency,
+    AngleTables, INCIDENCE_STEPS, RHO_PHOTONS, Shading, TRANSLUCENCY_STEPS, Translucency,
     incidence_hemispherical, incidence_ratio,
 };
 pub use surface_gather::{Bssrdf, DirectionalTable, SurfaceGatherSetup};

@@ -81,6 +81,9 @@ impl MeshBuffers {
     }
 }
 
+/// The largest OBJ file read [bytes]: 1 GiB, some 20 million triangles.
+pub const MESH_CAP: u64 = 1 << 30;
+
 /// An indexed triangle list.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
@@ -212,6 +215,13 @@ impl Mesh {
         let meta = std::fs::metadata(path).map_err(|e| err(e.to_string()))?;
         if !meta.is_file() {
             return Err(err("not a regular file".into()));
+        }
+        if meta.len() > MESH_CAP {
+            return Err(err(format!(
+                "{} MiB, above the cap of {} MiB on meshes",
+                meta.len() >> 20,
+                MESH_CAP >> 20
+            )));
         }
         let file = std::fs::File::open(path).map_err(|e| err(e.to_string()))?;
         let (models, _) = tobj::load_obj_buf(

@@ -73,6 +73,9 @@ impl Default for Shading {
 /// Entries of [`Shading::incidence`] and [`Shading::exit`]: θ = 0°, 10°, …, 80°.
 pub const INCIDENCE_STEPS: usize = 9;
 
+/// Photons per channel of [`Translucency::rho_of`]'s half-space run.
+pub const RHO_PHOTONS: u64 = 200_000;
+
 /// Entries of a [`Translucency`] table.
 pub const TRANSLUCENCY_STEPS: usize = 16;
 
@@ -134,6 +137,29 @@ impl Translucency {
             .fold(f64::MAX, f64::min);
         let last = (1000f64.ln() / slowest.max(1e-12)).clamp(20.0 * first, 1e3 * first);
         (first, last)
+    }
+
+    /// ρ, the total diffuse reflectance per channel of the half-space of the material whose three
+    /// channels `spec` holds (a profile-only batch), by one `mc` run of [`RHO_PHOTONS`] per
+    /// channel: what [`Translucency::from_mc`] divides by, without simulating a whole profile
+    /// (its standard error, about 0.2 % on Skin1, is printed by the caller's table).
+    pub fn rho_of(
+        spec: &mc::BatchSpec,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<[mc::Estimate; 3]> {
+        if spec.channels.len() != 3 {
+            return Err(GpuError::invalid(
+                "translucency table: channels",
+                spec.channels.len(),
+                "one material (three channels) per table",
+            ));
+        }
+        let spec = mc::BatchSpec {
+            photons: RHO_PHOTONS,
+            ..spec.clone()
+        };
+        let out = mc::run_batch(&spec, progress)?;
+        Ok([0, 1, 2].map(|c| out[c].rd))
     }
 
     /// The table of the material whose three channels `spec` holds (a profile-only batch), by

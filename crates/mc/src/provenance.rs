@@ -175,6 +175,49 @@ impl Explicit {
     }
 }
 
+/// Whether a cached profile stands for the one asked, with the line that says why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Reuse {
+    /// Use it.
+    Use(String),
+    /// Do not: a cache simulates it again; files the user named are refused.
+    Replace(String),
+}
+
+/// The reuse policy of a profile folder, for the profile `name` (its CSV exists) whose
+/// provenance file `sidecar` holds `have` (None: there is none): with provenance, it stands for
+/// `asked` when [`Provenance::mismatches`] finds nothing; without, only when nothing was
+/// asked for explicitly (its material, photons and seed are unknown).
+pub fn reuse(
+    name: &str,
+    sidecar: &Path,
+    have: Option<&Provenance>,
+    asked: &Provenance,
+    explicit: Explicit,
+) -> Reuse {
+    match have {
+        Some(have) => {
+            let differ = have.mismatches(asked, explicit);
+            if differ.is_empty() {
+                Reuse::Use(format!("reusing {name} ({})", have.describe()))
+            } else {
+                Reuse::Replace(format!(
+                    "{name} does not match what was asked ({})",
+                    differ.join("; ")
+                ))
+            }
+        }
+        None if explicit.any() => Reuse::Replace(format!(
+            "{name} has no provenance ({} is missing), so its photons, seed and grid are unknown",
+            sidecar.display()
+        )),
+        None => Reuse::Use(format!(
+            "reusing {name} without provenance (no {}): its material, photons and seed are unknown",
+            sidecar.display()
+        )),
+    }
+}
+
 /// A count as people write it: 10000000 → "1e7", 30000 → "3e4", 12345 → "12345".
 pub fn count(n: u64) -> String {
     let zeros = (0..19)
@@ -235,5 +278,43 @@ mod tests {
         let back = Provenance::from_json(&have.to_json(), "p.json").unwrap();
         assert!(back.mismatches(&have, all).is_empty());
         assert!(Provenance::from_json("{}", "p.json").is_err());
+    }
+
+    /// The policy: provenance that matches → use; that differs → replace; none → use only when
+    /// nothing was asked for.
+    #[test]
+    fn reuse_follows_the_provenance() {
+        let config =
+            crate::SimConfig::from_toml(include_str!("../../../configs/thesis.toml"), "thesis")
+                .unwrap();
+        let m = crate::Material {
+            name: "m".into(),
+            source: String::new(),
+            sigma_a: [0.1, 0.5, 2.0],
+            sigma_s: [10.0, 20.0, 40.0],
+            g: [0.0; 3],
+            eta: 1.4,
+            thickness: None,
+        };
+        let asked = Provenance::of(&config.batch(&[&m], 1000, 1, true).unwrap(), 0, "m", None);
+        let photons = Explicit {
+            photons: true,
+            ..Explicit::default()
+        };
+        let sidecar = Path::new("m.profile.json");
+        let r = |have: Option<&Provenance>, e| reuse("m.profile.csv", sidecar, have, &asked, e);
+        assert!(matches!(r(Some(&asked), photons), Reuse::Use(_)));
+        let mut more = asked.clone();
+        more.photons = 2000;
+        assert!(matches!(r(Some(&more), Explicit::default()), Reuse::Use(_)));
+        match r(Some(&more), photons) {
+            Reuse::Replace(why) => assert!(why.contains("2e3 photons ≠ 1e3"), "{why}"),
+            u => panic!("{u:?}"),
+        }
+        assert!(matches!(r(None, Explicit::default()), Reuse::Use(_)));
+        match r(None, photons) {
+            Reuse::Replace(why) => assert!(why.contains("m.profile.json is missing"), "{why}"),
+            u => panic!("{u:?}"),
+        }
     }
 }

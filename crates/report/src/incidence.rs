@@ -4,9 +4,10 @@
 use mc::incidence::IncidenceRow;
 use serde_json::{Value, json};
 
-use crate::analytic::{Medium, Model, total_at};
+use fit::analytic::{Medium, Model, total_at};
+
 use crate::error::Result;
-use crate::plot::IncidenceCurve;
+use crate::plot::{IncidenceCurve, IncidencePoint};
 
 /// `mc`'s Rd(θ) rows of one material beside the analytic models' totals at the same angles.
 #[derive(Clone, Debug, PartialEq)]
@@ -123,9 +124,9 @@ fn json(rows: &[IncidenceRow], models: &[IncidenceCurve]) -> Value {
 }
 
 fn png(rows: &[IncidenceRow], models: &[IncidenceCurve], slug: &str) -> Result<Vec<u8>> {
-    let points: Vec<crate::plot::IncidencePoint> = rows
+    let points: Vec<IncidencePoint> = rows
         .iter()
-        .map(|r| crate::plot::IncidencePoint {
+        .map(|r| IncidencePoint {
             theta_deg: r.theta_deg,
             rd: [0, 1, 2].map(|c| r.rd[c].value),
             se: [0, 1, 2].map(|c| r.rd[c].se),

@@ -14,11 +14,11 @@ use plotters::style::{FontStyle, register_font};
 
 use mc::CHANNELS;
 
-use crate::error::{FitError, Result};
-use crate::evaluate::Evaluation;
-use crate::model::KernelModel;
-use crate::profile::Profile;
-use crate::signals::Signal;
+use crate::error::{ReportError, Result};
+use fit::KernelModel;
+use fit::Profile;
+use fit::evaluate::Evaluation;
+use fit::signals::Signal;
 
 static FONT: Once = Once::new();
 const CHANNEL_COLORS: [RGBColor; 3] = [
@@ -47,8 +47,8 @@ pub(crate) fn font() {
 
 /// `path` names the picture (e.g. "skin1 profile plot"): plots are returned as bytes, and the
 /// caller decides where they go.
-fn err(path: &str, e: impl std::fmt::Display) -> FitError {
-    FitError::Plot {
+fn err(path: &str, e: impl std::fmt::Display) -> ReportError {
+    ReportError::Plot {
         path: path.to_string(),
         message: e.to_string(),
     }
@@ -372,7 +372,7 @@ fn convolution_sheet(
     gain: f64,
     title: &str,
 ) -> Result<Sheet> {
-    let missing = |m: &KernelModel| FitError::Plot {
+    let missing = |m: &KernelModel| ReportError::Plot {
         path: format!("{title} convolution sheet"),
         message: format!("{m} was not evaluated"),
     };
@@ -394,7 +394,7 @@ fn convolution_sheet(
             rgb: px,
         }
     };
-    let first = models.first().ok_or_else(|| FitError::Plot {
+    let first = models.first().ok_or_else(|| ReportError::Plot {
         path: format!("{title} convolution sheet"),
         message: "no models to show".into(),
     })?;
@@ -933,7 +933,7 @@ pub fn incidence(
     title: &str,
 ) -> Result<Vec<u8>> {
     font();
-    let fail = |e: &dyn std::fmt::Display| FitError::Plot {
+    let fail = |e: &dyn std::fmt::Display| ReportError::Plot {
         path: format!("{title} incidence plot"),
         message: e.to_string(),
     };
@@ -1131,7 +1131,7 @@ pub fn incidence(
 /// of guided optimization with k = 1.55, b = 50, and of the other compared models; bottom, each
 /// model's image-space distance to pre-integration on the shaded test signal (log scale, one
 /// marker per channel). As PNG bytes.
-pub fn imitation(im: &crate::imitation::Imitation, title: &str) -> Result<Vec<u8>> {
+pub fn imitation(im: &fit::imitation::Imitation, title: &str) -> Result<Vec<u8>> {
     png_of(
         (1500, 960),
         &format!("{title} guided-vs-preint plot"),
@@ -1142,7 +1142,7 @@ pub fn imitation(im: &crate::imitation::Imitation, title: &str) -> Result<Vec<u8
 fn draw_imitation(
     root: Area<'_>,
     path: &str,
-    im: &crate::imitation::Imitation,
+    im: &fit::imitation::Imitation,
     title: &str,
 ) -> Result<()> {
     let root = page(
@@ -1155,7 +1155,7 @@ fn draw_imitation(
     let (top, bottom) = root.split_vertically(520);
     // The models drawn as curves: the imitation, Fig. 5.15c–d, the thesis's default, SVD rank-1.
     let drawn = [
-        crate::imitation::IMITATION,
+        fit::imitation::IMITATION,
         KernelModel::Guided { k: 0.0, b: 50.0 },
         KernelModel::Guided { k: 2.0, b: 50.0 },
         KernelModel::Guided { k: 1.0, b: 0.0 },
@@ -1301,7 +1301,7 @@ fn draw_imitation(
 /// against the ground truth (dots); bottom left, the image-space error against w per channel;
 /// bottom right, the edge's 10–90 % width relative to the ground truth's against w. The w of
 /// `sweep.params` (Table A.1's) is marked. As PNG bytes.
-pub fn w_sweep(sweep: &crate::manual::WSweep, title: &str) -> Result<Vec<u8>> {
+pub fn w_sweep(sweep: &fit::WSweep, title: &str) -> Result<Vec<u8>> {
     png_of(
         (1500, 960),
         &format!("{title} manual w sweep plot"),
@@ -1309,7 +1309,7 @@ pub fn w_sweep(sweep: &crate::manual::WSweep, title: &str) -> Result<Vec<u8>> {
     )
 }
 
-fn draw_w_sweep(root: Area<'_>, path: &str, s: &crate::manual::WSweep, title: &str) -> Result<()> {
+fn draw_w_sweep(root: Area<'_>, path: &str, s: &fit::WSweep, title: &str) -> Result<()> {
     let root = page(
         root,
         path,
@@ -1467,7 +1467,7 @@ fn draw_w_sweep(root: Area<'_>, path: &str, s: &crate::manual::WSweep, title: &s
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::evaluate::{ImageSize, RANK1, evaluate};
+    use fit::evaluate::{ImageSize, RANK1, evaluate};
 
     /// Decoded RGB8 pixels of a PNG and its size.
     fn decode(png_bytes: &[u8]) -> (u32, u32, Vec<u8>) {

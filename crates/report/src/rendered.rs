@@ -1,19 +1,18 @@
 //! The thesis's rendered tables on our scenes: Table 6.4 (image RMS of rendered cut-outs per
 //! scene and rank-1 model) and Table 6.5 rendered (SVD rank-N against d'Eon's N Gaussians at
-//! equal pass count), with the thesis's materials, measured by [`crate::compare_models`] against
+//! equal pass count), with the thesis's materials, measured by [`gpu::compare_models`] against
 //! the thesis's own ground truth (the full 2D convolution of the screen-space irradiance). Our
 //! scenes are not the thesis's scans, so the claims are compared, not the values.
 
 use std::time::Instant;
 
-use fit::reproduce::{Claim, Published, Rendered, Rendered64Row, Rendered65, Table65};
+use crate::reproduce::{Claim, Published, Rendered, Rendered64Row, Rendered65, Table65};
 use fit::taps::TapSpec;
 use fit::{KernelModel, ManualParams, Profile};
 
-use crate::context::Gpu;
-use crate::error::{GpuError, Result};
-use crate::params::RenderParams;
-use crate::scene::Scene;
+use gpu::{Gpu, RenderParams, Scene};
+
+use crate::error::{ReportError, Result};
 
 /// (thesis scene, our scene, material): the thesis rendered its Head with Skin1, the Fruit with
 /// Apple, Ketchup with Ketchup, Milk with Wholemilk and the Dragon with Marble.
@@ -67,7 +66,7 @@ pub fn rendered_tables(
             .find(|(slug, _)| *slug == material)
             .map(|(_, p)| *p)
             .ok_or_else(|| {
-                GpuError::invalid("rendered tables: profiles", material, "no profile given")
+                ReportError::invalid("rendered tables: profiles", material, "no profile given")
             })?;
         let scene = Scene::named(scene_name)?;
         // The first scene (the Head's analogue) also holds Table 6.5's ranks.
@@ -76,7 +75,7 @@ pub fn rendered_tables(
             models.extend((2..=ranks).map(svd_n));
             models.extend((1..=ranks).map(|n| KernelModel::Deon { n }));
         }
-        let cmp = crate::compare_models(gpu, &scene, &base, p, material, &models, spec)?;
+        let cmp = gpu::compare_models(gpu, &scene, &base, p, material, &models, spec)?;
         let err = |m: KernelModel| {
             cmp.kernels[models.iter().position(|&x| x == m).expect("rendered")]
                 .error

@@ -11,6 +11,7 @@
 
 mod beam_diffusion;
 mod better_dipole;
+pub mod burley;
 mod dipole;
 mod directional_dipole;
 pub mod fresnel_moments;
@@ -20,9 +21,9 @@ pub use better_dipole::BetterDipole;
 pub use dipole::Dipole;
 pub use directional_dipole::{DipoleConstants, DirectionalDipole, SurfacePoint};
 
-use crate::burley::Burley;
 use crate::error::{FitError, Result};
 use crate::profile::Profile;
+use burley::Burley;
 
 /// One channel's optical coefficients.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -12,10 +12,22 @@ pub fn gpu() -> Option<Gpu> {
         Ok(g) => Some(g),
         Err(e) if std::env::var("CI").as_deref() == Ok("true") => panic!("CI=true and {e}"),
         Err(e) => {
-            eprintln!("skipping GPU test: {e}");
+            report_skip(&e.to_string());
             None
         }
     }
+}
+
+/// Says that the running test was skipped, on the process's own stderr: libtest captures only
+/// `print!` and `eprint!`, so the line shows in `cargo test`'s output (a skip is never a silent
+/// pass).
+pub fn report_skip(reason: &str) {
+    use std::io::Write;
+    let name = std::thread::current()
+        .name()
+        .unwrap_or("a GPU test")
+        .to_string();
+    let _ = writeln!(std::io::stderr().lock(), "SKIPPED {name}: {reason}");
 }
 
 /// A 40 × 40 cm slab y ∈ [−thickness, 0] of SSS material, seen from (0, camera_y, 0) through a

@@ -1,17 +1,17 @@
 //! Chapter 5's figures that the tables do not cover, on Skin1 (the thesis's example material
 //! throughout chapter 5): Fig. 5.14–5.15, guided optimization with k = 1.55, b = 50 imitating
-//! pre-integration ([`crate::imitation`]), and Fig. 5.17, the manual model's w sweep with Table
-//! A.1's Gaussians ([`crate::WSweep`]); their numbers, plots and claims.
+//! pre-integration ([`fit::imitation`]), and Fig. 5.17, the manual model's w sweep with Table
+//! A.1's Gaussians ([`fit::WSweep`]); their numbers, plots and claims.
 
 use std::time::Instant;
 
 use serde::Serialize;
 
 use super::{Claim, ModelName};
-use crate::error::{FitError, Result};
-use crate::evaluate::ImageSize;
-use crate::imitation::{IMITATION, Imitation};
-use crate::{KernelModel, Profile, WSweep, ground_truth, table_a1};
+use crate::error::{ReportError, Result};
+use fit::imitation::{IMITATION, Imitation};
+use fit::metrics::ImageSize;
+use fit::{KernelModel, Profile, WSweep, ground_truth, table_a1};
 
 /// The material of chapter 5's figures.
 pub const MATERIAL: &str = "skin1";
@@ -163,7 +163,7 @@ pub fn chapter5(
     // Fig. 5.17: Table A.1's τ_n, τ_f on the profile's own grid, as Table 6.3's manual kernel.
     let t = Instant::now();
     let params = table_a1(MATERIAL).ok_or_else(|| {
-        FitError::invalid("Table A.1 material", MATERIAL, "Table A.1 has no such row")
+        ReportError::invalid("Table A.1 material", MATERIAL, "Table A.1 has no such row")
     })?;
     let table_w = params[0].w;
     let truths: Vec<_> = (0..3).map(|c| ground_truth(profile, c, None)).collect();

@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 
 use super::{MAIN, MitsubaImages, RenderedTables, Report};
-use crate::evaluate::RANK1;
+use fit::evaluate::RANK1;
 
 /// A table cell with our value above the published one (grey).
 fn cell(ours: f64, published: f64) -> String {

@@ -1,8 +1,8 @@
 //! The thesis's tables and figures regenerated (`sss reproduce`), as a typed [`Report`]: each of
 //! our numbers beside the published one (`configs/thesis_published.toml`), the thesis's
 //! qualitative claims checked on both ([`Claim`]), and the report page rendered from the fields
-//! ([`Report::html`]). Table 6.2–6.3, 6.5 and 5.1 come from [`crate::evaluate`] ([`tables`]),
-//! Fig. 5.15 and 5.17 from [`crate::imitation`] and [`crate::WSweep`] ([`chapter5`]); the
+//! ([`Report::html`]). Table 6.2–6.3, 6.5 and 5.1 come from [`fit::evaluate`] ([`tables`]),
+//! Fig. 5.15 and 5.17 from [`fit::imitation`] and [`fit::WSweep`] ([`chapter5`]); the
 //! rendered Tables 6.4–6.5 ([`RenderedTables`]) are measured by the `gpu` crate, and the
 //! comparisons against Mitsuba 3 ([`MitsubaImages`]) are read from `scripts/references`.
 
@@ -14,7 +14,7 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use crate::KernelModel;
+use fit::KernelModel;
 
 pub use chapter5::{
     Chapter5, Fig515, Fig515Model, Fig517, KSpread, MATERIAL as CHAPTER5_MATERIAL, chapter5,
@@ -77,7 +77,7 @@ pub struct PublishedRank1 {
 }
 
 impl PublishedRank1 {
-    /// The rows in the order of [`crate::evaluate::RANK1`].
+    /// The rows in the order of [`fit::evaluate::RANK1`].
     pub fn rows(&self) -> [[f64; 3]; 4] {
         [self.svd1, self.preint, self.guided_k1, self.manual]
     }
@@ -456,7 +456,7 @@ mod tests {
     /// guided k = 1, manual.
     #[test]
     fn published_rows_follow_rank1() {
-        use crate::evaluate::RANK1;
+        use fit::evaluate::RANK1;
         assert!(matches!(
             RANK1,
             [

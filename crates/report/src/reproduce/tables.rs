@@ -3,8 +3,8 @@
 use serde::Serialize;
 
 use super::{Claim, MAIN, ModelName, Published};
-use crate::KernelModel;
-use crate::evaluate::{Evaluation, RANK1, Row};
+use fit::KernelModel;
+use fit::evaluate::{Evaluation, RANK1, Row};
 
 /// Table 6.2: one material's coefficients [cm⁻¹] with its derived albedo and mean free path.
 #[derive(Clone, Debug, PartialEq, Serialize)]

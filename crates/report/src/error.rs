@@ -1,0 +1,54 @@
+//! Typed errors of the `report` crate; each names the offending picture, field or value.
+
+use fit::FitError;
+use gpu::GpuError;
+
+/// What can go wrong while drawing a plot or building a report.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// A plot could not be drawn.
+    #[error("plot {path}: {message}")]
+    Plot {
+        /// What the picture is, e.g. `skin1 Pareto plot` (plots are returned as bytes, so this
+        /// names the picture, not a file).
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
+
+    /// An input of a report is unusable (a missing profile or table row).
+    #[error("invalid {field} = {value}: {reason}")]
+    Invalid {
+        /// The input's name.
+        field: String,
+        /// The offending value, as text.
+        value: String,
+        /// Why it was refused.
+        reason: String,
+    },
+
+    /// The numerics underneath failed.
+    #[error(transparent)]
+    Fit(#[from] FitError),
+
+    /// A render underneath failed.
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+}
+
+impl ReportError {
+    pub(crate) fn invalid(
+        field: impl Into<String>,
+        value: impl ToString,
+        reason: impl Into<String>,
+    ) -> Self {
+        ReportError::Invalid {
+            field: field.into(),
+            value: value.to_string(),
+            reason: reason.into(),
+        }
+    }
+}
+
+/// Result with [`ReportError`].
+pub type Result<T> = std::result::Result<T, ReportError>;
