@@ -35,8 +35,8 @@ use wgpu::util::DeviceExt;
 
 use crate::context::{Gpu, bind, cleared_depth, mesh_pipeline, pixels, texture};
 use crate::error::{GpuError, Result};
-use crate::gbuffer::GBuffer;
-use crate::mesh::MeshBuffers;
+use crate::recording::Recording;
+use crate::target::Target;
 use crate::timing::Timer;
 
 /// The gather's shader with the shared kernel lookup prepended.
@@ -495,23 +495,25 @@ impl AreaGather {
         pass.dispatch_workgroups(groups.0, groups.1, 1);
     }
 
-    /// Records the surface pass, the pyramid and the gather of `gbuffer`'s SSS light into
-    /// `scattered` (0 on pixels without SSS, as the separable passes leave them).
-    #[allow(clippy::too_many_arguments)]
+    /// Records the surface pass, the pyramid and the gather of the target's SSS light into its
+    /// scattered light (0 on pixels without SSS, as the separable passes leave them).
     pub(crate) fn encode(
         &self,
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
-        mesh: &MeshBuffers,
-        view_proj: glam::Mat4,
-        camera_pos: glam::Vec3,
+        rec: &mut Recording,
+        target: &Target,
         setup: &AreaGatherSetup,
         sss_width: f32,
-        (w, h): (u32, u32),
-        gbuffer: &GBuffer,
-        scattered: &wgpu::Buffer,
-        timer: &mut Option<&mut Timer>,
     ) -> Result<Gathered> {
+        let Target {
+            camera_view_proj: view_proj,
+            size: (w, h),
+            mesh,
+            gbuffer,
+            scattered,
+            ..
+        } = *target;
+        let camera_pos = target.scene.camera.position;
+        let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
         setup.pattern.validate()?;
         if !(sss_width.is_finite() && sss_width > 0.0) {
             return Err(GpuError::invalid(

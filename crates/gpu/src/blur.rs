@@ -7,6 +7,7 @@ use wgpu::util::DeviceExt;
 
 use crate::context::{Gpu, pixels, texture};
 use crate::error::{GpuError, Result};
+use crate::recording::Recording;
 
 /// A kernel as the shader takes it: per pass, the RGB sign and the taps (RGB weight, offset [cm]).
 #[derive(Clone, Debug, PartialEq)]
@@ -267,6 +268,18 @@ pub(crate) const BLUR_FAST_WGSL: &str = concat!(
 const FAST_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// The compiled blur pipelines: the exact path, the fast path and its packing pass.
+/// What one blur reads and writes: the image size [px], the light to scatter, the geometry
+/// (depth, SSS strength, material per pixel), a scratch buffer for the horizontal passes and the
+/// result.
+#[derive(Clone, Copy)]
+pub(crate) struct BlurIo<'a> {
+    pub size: (u32, u32),
+    pub src: &'a wgpu::Buffer,
+    pub geometry: &'a wgpu::Buffer,
+    pub tmp: &'a wgpu::Buffer,
+    pub dst: &'a wgpu::Buffer,
+}
+
 pub(crate) struct Blur {
     pipeline: wgpu::ComputePipeline,
     fast: wgpu::ComputePipeline,
@@ -302,20 +315,21 @@ impl Blur {
     /// depth into a texture and keeps the horizontal result in another (`tmp` unused). `dst` is
     /// cleared first. With `timer`, each 1D pass gets begin/end timestamps. The fast path takes
     /// one kernel (one material).
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn encode(
         &self,
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
+        rec: &mut Recording,
         kernels: &[GpuKernel],
         params: &BlurParams,
-        (width, height): (u32, u32),
-        src: &wgpu::Buffer,
-        geometry: &wgpu::Buffer,
-        tmp: &wgpu::Buffer,
-        dst: &wgpu::Buffer,
-        timer: &mut Option<&mut crate::timing::Timer>,
+        io: &BlurIo,
     ) -> Result<()> {
+        let BlurIo {
+            size: (width, height),
+            src,
+            geometry,
+            tmp,
+            dst,
+        } = *io;
+        let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
         if params.fast && kernels.len() != 1 {
             return Err(GpuError::invalid(
                 "materials",
@@ -576,20 +590,16 @@ pub fn blur_image(
     let (src, geom) = (upload(image), upload(geometry));
     let (tmp, dst) = (pixels(gpu, n, "tmp"), pixels(gpu, n, "dst"));
     let blur = Blur::new(gpu);
-    let mut enc = gpu.device.create_command_encoder(&Default::default());
-    blur.encode(
-        gpu,
-        &mut enc,
-        kernels,
-        params,
-        (width, height),
-        &src,
-        &geom,
-        &tmp,
-        &dst,
-        &mut None,
-    )?;
-    gpu.queue.submit([enc.finish()]);
+    let mut rec = Recording::untimed(gpu);
+    let io = BlurIo {
+        size: (width, height),
+        src: &src,
+        geometry: &geom,
+        tmp: &tmp,
+        dst: &dst,
+    };
+    blur.encode(&mut rec, kernels, params, &io)?;
+    rec.submit();
     let bytes = gpu.read_buffer(&dst, (n * 16) as u64)?;
     Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&bytes).to_vec())
 }

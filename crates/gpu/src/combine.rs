@@ -6,7 +6,7 @@ use wgpu::util::DeviceExt;
 use crate::context::{Gpu, compute_pipeline, pixels};
 use crate::gbuffer::GBuffer;
 use crate::params::RenderParams;
-use crate::timing::Timer;
+use crate::recording::Recording;
 
 /// The final image: linear radiance (RGBA f32) and tone-mapped sRGB (RGBA8) per pixel.
 pub(crate) struct Combined {
@@ -34,13 +34,12 @@ impl Combine {
     /// `params`.
     pub(crate) fn encode(
         &self,
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
+        rec: &mut Recording,
         params: &RenderParams,
         scattered: &wgpu::Buffer,
         g: &GBuffer,
-        timer: &mut Option<&mut Timer>,
     ) -> Combined {
+        let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
         let dev = &gpu.device;
         let (w, h, exposure) = (params.width, params.height, params.exposure);
         let n = (w * h) as usize;

@@ -17,10 +17,10 @@
 use fit::analytic::{DipoleConstants, DirectionalDipole, Medium};
 use wgpu::util::DeviceExt;
 
-use crate::context::Gpu;
-use crate::disc_gather::{Model, Sampling, Target, gather_wgsl};
+use crate::disc_gather::{DiscPipelines, Model, Sampling, gather_wgsl};
 use crate::error::{GpuError, Result};
-use crate::timing::Timer;
+use crate::recording::Recording;
+use crate::target::Target;
 
 /// Settings of the directional-dipole method for one material.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -154,15 +154,15 @@ pub(crate) const DIPOLE_WGSL: &str = gather_wgsl!("shaders/dipole.wgsl");
 pub(crate) const DIPOLE_UNIFORM_SIZE: usize = 7 * 16;
 const _: () = assert!(std::mem::size_of::<DipoleUniform>() == DIPOLE_UNIFORM_SIZE);
 
-/// Encodes the method's passes (the disc gather's maps and frames) adding π·L_o into `out`.
+/// Encodes the method's passes (the disc gather's maps and frames) adding π·L_o into the
+/// target's scattered light.
 pub(crate) fn encode(
-    gpu: &Gpu,
-    enc: &mut wgpu::CommandEncoder,
+    rec: &mut Recording,
     target: &Target,
     setup: &DipoleSetup,
-    out: &wgpu::Buffer,
-    timer: &mut Option<&mut Timer>,
+    pipelines: &DiscPipelines,
 ) -> Result<()> {
+    let gpu = rec.gpu;
     setup.validate()?;
     let k = &setup.channels;
     let rgb = |f: &dyn Fn(&DipoleConstants) -> f64| {
@@ -198,7 +198,7 @@ pub(crate) fn encode(
         wgsl: DIPOLE_WGSL,
         buffers: vec![&ubuf],
     };
-    crate::disc_gather::encode(gpu, enc, target, &setup.sampling, &model, out, timer)
+    crate::disc_gather::encode(rec, target, &setup.sampling, &model, pipelines)
 }
 
 #[cfg(test)]

@@ -19,14 +19,16 @@
 //! frames the image is their mean; frames differ only in their random numbers, which depend on
 //! the pixel, the frame and the seed alone.
 
+use std::sync::{Mutex, OnceLock};
+
 use glam::Mat4;
 use wgpu::util::DeviceExt;
 
 use crate::context::{Gpu, cleared_depth, compute_pipeline, mesh_pipeline, texture};
 use crate::error::{GpuError, Result};
 use crate::mesh::MeshBuffers;
-use crate::scene::Scene;
-use crate::timing::Timer;
+use crate::recording::Recording;
+use crate::target::Target;
 
 /// The lights the disc gather holds: directional and point lights only (an area light's cells
 /// would need their own emission lobe and many more light maps).
@@ -134,6 +136,44 @@ const MAP_FORMATS: [wgpu::TextureFormat; 2] = [
     wgpu::TextureFormat::Rgba32Float,
 ];
 
+/// The disc gathers' pipelines, compiled on first use and kept for every later frame of the
+/// [`crate::Renderer`] that holds them: the position/normal map pipeline and one accumulation
+/// pipeline per model's WGSL (the directional dipole's, the Monte Carlo BSSRDF's).
+#[derive(Default)]
+pub(crate) struct DiscPipelines {
+    maps: OnceLock<wgpu::RenderPipeline>,
+    models: Mutex<Vec<(&'static str, wgpu::ComputePipeline)>>,
+}
+
+impl DiscPipelines {
+    fn maps(&self, dev: &wgpu::Device) -> &wgpu::RenderPipeline {
+        self.maps.get_or_init(|| {
+            let module = dev.create_shader_module(wgpu::include_wgsl!("shaders/dipole_maps.wgsl"));
+            mesh_pipeline(dev, &module, "gather maps", &MAP_FORMATS)
+        })
+    }
+
+    fn model(&self, dev: &wgpu::Device, model: &Model) -> wgpu::ComputePipeline {
+        let mut models = self.models.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((_, p)) = models
+            .iter()
+            .find(|(wgsl, _)| std::ptr::eq(*wgsl, model.wgsl))
+        {
+            return p.clone();
+        }
+        let p = compute_pipeline(
+            dev,
+            wgpu::ShaderModuleDescriptor {
+                label: Some(model.label),
+                source: wgpu::ShaderSource::Wgsl(model.wgsl.into()),
+            },
+            model.label,
+        );
+        models.push((model.wgsl, p.clone()));
+        p
+    }
+}
+
 /// Position and normal maps, one array layer per view.
 struct Maps {
     position: wgpu::Texture,
@@ -142,6 +182,7 @@ struct Maps {
 
 fn draw_maps(
     gpu: &Gpu,
+    pipeline: &wgpu::RenderPipeline,
     enc: &mut wgpu::CommandEncoder,
     mesh: &MeshBuffers,
     views: &[Mat4],
@@ -163,8 +204,6 @@ fn draw_maps(
         normal: texture("gather normals", MAP_FORMATS[1]),
     };
     let depth = texture("gather depth", wgpu::TextureFormat::Depth32Float);
-    let module = dev.create_shader_module(wgpu::include_wgsl!("shaders/dipole_maps.wgsl"));
-    let pipeline = mesh_pipeline(dev, &module, "gather maps", &MAP_FORMATS);
     for (layer, vp) in views.iter().enumerate() {
         let ubuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("gather map view"),
@@ -209,38 +248,38 @@ fn draw_maps(
             depth_stencil_attachment: Some(cleared_depth(&dv)),
             ..Default::default()
         });
-        pass.set_pipeline(&pipeline);
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &bind, &[]);
         mesh.draw(&mut pass);
     }
     maps
 }
 
-/// Where the gather draws: the scene, the camera's projection, the image size, the mesh.
-pub(crate) struct Target<'a> {
-    pub scene: &'a Scene,
-    pub camera_view_proj: Mat4,
-    pub size: (u32, u32),
-    pub mesh: &'a MeshBuffers,
-}
-
 /// Encodes the gather's passes: the camera's and each light's position/normal maps, then
-/// `sampling.frames` accumulation passes of `model` adding π·L_o/frames into `out` (which is
-/// cleared first).
+/// `sampling.frames` accumulation passes of `model` adding π·L_o/frames into the target's
+/// scattered light (which is cleared first).
 pub(crate) fn encode(
-    gpu: &Gpu,
-    enc: &mut wgpu::CommandEncoder,
+    rec: &mut Recording,
     target: &Target,
     sampling: &Sampling,
     model: &Model,
-    out: &wgpu::Buffer,
-    timer: &mut Option<&mut Timer>,
+    pipelines: &DiscPipelines,
 ) -> Result<()> {
+    let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
+    let out = target.scattered;
     sampling.validate()?;
     let dev = &gpu.device;
     let (w, h) = target.size;
     let scene = target.scene;
-    let cam = draw_maps(gpu, enc, target.mesh, &[target.camera_view_proj], (w, h));
+    let maps = pipelines.maps(dev);
+    let cam = draw_maps(
+        gpu,
+        maps,
+        enc,
+        target.mesh,
+        &[target.camera_view_proj],
+        (w, h),
+    );
     let emitters = scene.emitters();
     if emitters.len() > DISC_LIGHTS || emitters.iter().any(|e| e.cell.is_some()) {
         return Err(GpuError::invalid(
@@ -251,7 +290,7 @@ pub(crate) fn encode(
     }
     let light_vps: Vec<Mat4> = emitters.iter().map(|l| scene.light_view_proj(l)).collect();
     let size = sampling.map_size;
-    let lights = draw_maps(gpu, enc, target.mesh, &light_vps, (size, size));
+    let lights = draw_maps(gpu, maps, enc, target.mesh, &light_vps, (size, size));
     let mut u_lights = [GatherLight {
         view_proj: Mat4::IDENTITY.to_cols_array_2d(),
         pos_or_dir: [0.0; 4],
@@ -276,14 +315,7 @@ pub(crate) fn encode(
         size: [w, h, emitters.len() as u32, sampling.samples],
         frame: [0, sampling.seed, size, 0],
     };
-    let pipeline = compute_pipeline(
-        dev,
-        wgpu::ShaderModuleDescriptor {
-            label: Some(model.label),
-            source: wgpu::ShaderSource::Wgsl(model.wgsl.into()),
-        },
-        model.label,
-    );
+    let pipeline = pipelines.model(dev, model);
     let array = |t: &wgpu::Texture, dim| {
         t.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(dim),

@@ -12,9 +12,9 @@ use crate::context::{Gpu, cleared_depth, compute_pipeline, mesh_pipeline, pixels
 use crate::light::MAX_EMITTERS;
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
+use crate::recording::Recording;
 use crate::scene::{AlbedoMode, Scene};
 use crate::shading::{INCIDENCE_STEPS, Shading, TRANSLUCENCY_STEPS, incidence_hemispherical};
-use crate::timing::Timer;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -197,18 +197,16 @@ impl GBufferPass {
     /// Records the scene pass and the unpacking; `plain`: no albedo split and no SSS shading
     /// tables (the disc gathers, [`crate::disc_gather`], bring their own colour and angular
     /// dependence).
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn encode(
         &self,
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
+        rec: &mut Recording,
         scene: &Scene,
         mesh: &MeshBuffers,
         shadow_maps: &wgpu::Texture,
         params: &RenderParams,
         plain: bool,
-        timer: &mut Option<&mut Timer>,
     ) -> GBuffer {
+        let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
         let dev = &gpu.device;
         let (w, h) = (params.width, params.height);
         let cam = &scene.camera;

@@ -6,7 +6,7 @@
 use wgpu::util::DeviceExt;
 
 use crate::context::Gpu;
-use crate::timing::Timer;
+use crate::recording::Recording;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -46,17 +46,15 @@ impl HalfRes {
     }
 
     /// Records one pass of `pipeline` over `(x, y)` pixels with `buffers` at their bindings.
-    #[allow(clippy::too_many_arguments)]
     fn pass(
         &self,
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
+        rec: &mut Recording,
         pipeline: &wgpu::ComputePipeline,
         label: &str,
         (x, y): (u32, u32),
         buffers: &[(u32, &wgpu::Buffer)],
-        timer: &mut Option<&mut Timer>,
     ) {
+        let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
         let entries: Vec<wgpu::BindGroupEntry> = buffers
             .iter()
             .map(|(b, buf)| wgpu::BindGroupEntry {
@@ -80,47 +78,38 @@ impl HalfRes {
 
     /// Records the downsampling of `diffuse` and `geometry` (full resolution `size`) into
     /// `half_diffuse` and `half_geometry`, the blur's input at [`half_size`].
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn down(
         &self,
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
+        rec: &mut Recording,
         size: (u32, u32),
         tolerance_cm: f32,
         full: (&wgpu::Buffer, &wgpu::Buffer),
         half: (&wgpu::Buffer, &wgpu::Buffer),
-        timer: &mut Option<&mut Timer>,
     ) -> wgpu::Buffer {
-        let u = self.uniform(gpu, size, tolerance_cm);
+        let u = self.uniform(rec.gpu, size, tolerance_cm);
         self.pass(
-            gpu,
-            enc,
+            rec,
             &self.down,
             "half-res down",
             half_size(size),
             &[(0, &u), (1, full.0), (2, full.1), (3, half.0), (4, half.1)],
-            timer,
         );
         u
     }
 
     /// Records the upsampling of the blurred `half_scattered` into `scattered` (full resolution),
     /// with the uniform [`HalfRes::down`] returned.
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn up(
         &self,
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
+        rec: &mut Recording,
         size: (u32, u32),
         uniform: &wgpu::Buffer,
         full: (&wgpu::Buffer, &wgpu::Buffer),
         half: (&wgpu::Buffer, &wgpu::Buffer),
         scattered: &wgpu::Buffer,
-        timer: &mut Option<&mut Timer>,
     ) {
         self.pass(
-            gpu,
-            enc,
+            rec,
             &self.up,
             "half-res up",
             size,
@@ -132,7 +121,6 @@ impl HalfRes {
                 (6, scattered),
                 (7, half.1),
             ],
-            timer,
         );
     }
 

@@ -43,6 +43,7 @@ mod half;
 mod light;
 mod mesh;
 mod params;
+mod recording;
 mod render;
 pub mod request;
 mod scene;
@@ -50,6 +51,7 @@ mod shading;
 mod shadow;
 mod splat;
 pub mod surface_gather;
+mod target;
 mod timing;
 
 pub use area_gather::{AreaGatherSetup, AreaKernel, GatherPattern};

@@ -3,21 +3,23 @@
 //! and the recombination (`combine.rs`), and reads the images back.
 
 use crate::area_gather::{AreaGather, AreaGatherSetup};
-use crate::blur::{Blur, BlurParams, GpuKernel};
+use crate::blur::{Blur, BlurIo, BlurParams, GpuKernel};
 use crate::combine::Combine;
 use crate::context::{Gpu, pixels};
 use crate::dipole::DipoleSetup;
-use crate::disc_gather::{DISC_LIGHTS, Target};
+use crate::disc_gather::{DISC_LIGHTS, DiscPipelines};
 use crate::error::{GpuError, Result};
 use crate::gbuffer::{GBufferPass, camera_view_proj};
 use crate::half::{HalfRes, half_size};
 use crate::light::{AREA_CELLS, MAX_EMITTERS};
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
+use crate::recording::Recording;
 use crate::scene::Scene;
 use crate::shadow::ShadowPass;
 use crate::splat::Splats;
 use crate::surface_gather::SurfaceGatherSetup;
+use crate::target::Target;
 use crate::timing::{PassTime, Timer};
 
 /// How the diffuse light of SSS surfaces is scattered.
@@ -42,6 +44,17 @@ pub enum Scatter<'a> {
     /// The material's own Monte Carlo BSSRDF (radial or directional) integrated per pixel over
     /// lit surface points ([`crate::surface_gather`]), like the directional dipole.
     SurfaceGather(&'a SurfaceGatherSetup),
+}
+
+impl Scatter<'_> {
+    /// Whether the method gathers over the lit surface through the lights' maps (the directional
+    /// dipole and the surface gather, [`crate::disc_gather`]).
+    fn gathers_lit_surface(&self) -> bool {
+        matches!(
+            self,
+            Scatter::DirectionalDipole(_) | Scatter::SurfaceGather(_)
+        )
+    }
 }
 
 /// The largest kernel footprint [px] (its farthest tap from the pixel) that
@@ -122,6 +135,7 @@ pub struct Renderer {
     area: AreaGather,
     splats: Splats,
     combine: Combine,
+    disc: DiscPipelines,
 }
 
 /// A recorded frame's buffers.
@@ -134,7 +148,7 @@ struct Recorded {
 }
 
 impl Renderer {
-    /// Compiles every pipeline.
+    /// Compiles every pipeline (the disc gathers' on their first frame, and kept).
     pub fn new(gpu: &Gpu) -> Renderer {
         Renderer {
             shadow: ShadowPass::new(gpu),
@@ -144,6 +158,7 @@ impl Renderer {
             area: AreaGather::new(gpu),
             splats: Splats::new(gpu),
             combine: Combine::new(gpu),
+            disc: DiscPipelines::default(),
         }
     }
 
@@ -228,270 +243,50 @@ impl Renderer {
         scatter: Scatter,
         params: &RenderParams,
     ) -> Result<Recorded> {
-        let disc = matches!(
-            scatter,
-            Scatter::DirectionalDipole(_) | Scatter::SurfaceGather(_)
-        );
+        let disc = scatter.gathers_lit_surface();
+        check(gpu, scene, &scatter, params)?;
         let (w, h) = (params.width, params.height);
-        let max = gpu.device.limits().max_texture_dimension_2d;
-        if w == 0 || h == 0 || w > max || h > max {
-            return Err(GpuError::invalid(
-                "image size",
-                format!("{w}×{h}"),
-                format!("each side must lie in 1..={max}"),
-            ));
-        }
-        for light in &scene.lights {
-            light.validate()?;
-        }
-        let emitters = scene.emitters();
-        if emitters.len() > MAX_EMITTERS {
-            return Err(GpuError::invalid(
-                "lights",
-                format!("{} emitters", emitters.len()),
-                format!(
-                    "at most {MAX_EMITTERS} (an area light counts {})",
-                    AREA_CELLS * AREA_CELLS
-                ),
-            ));
-        }
-        if disc && (emitters.len() > DISC_LIGHTS || emitters.iter().any(|e| e.cell.is_some())) {
-            return Err(GpuError::invalid(
-                "lights",
-                scene.lights.len(),
-                format!(
-                    "the directional dipole and the surface gather take at most {DISC_LIGHTS} directional or point lights"
-                ),
-            ));
-        }
-        for s in &params.shading {
-            s.validate()?;
-        }
-        if let Some(v) = scene
-            .mesh
-            .vertices
-            .iter()
-            .find(|v| v.material as usize >= MAX_MATERIALS)
-        {
-            return Err(GpuError::invalid(
-                "vertex material",
-                v.material,
-                format!("must be below {MAX_MATERIALS}"),
-            ));
-        }
-        let used = scene.material_count();
-        match scatter {
-            Scatter::Separable(kernels)
-                if kernels.len() < used || kernels.len() > MAX_MATERIALS =>
-            {
-                return Err(GpuError::invalid(
-                    "kernels",
-                    kernels.len(),
-                    format!("one per SSS material: the scene uses {used}, at most {MAX_MATERIALS}"),
-                ));
-            }
-            Scatter::DirectionalDipole(_) | Scatter::AreaGather(_) | Scatter::SurfaceGather(_)
-                if used > 1 =>
-            {
-                return Err(GpuError::invalid(
-                    "materials",
-                    used,
-                    "the directional dipole and the area and surface gathers render one SSS material per frame",
-                ));
-            }
-            _ => {}
-        }
-        if !(params.sss_width.is_finite() && params.sss_width >= 0.0) {
-            return Err(GpuError::invalid(
-                "sss width",
-                params.sss_width,
-                "must be finite and ≥ 0",
-            ));
-        }
         let n = (w * h) as usize;
-        let dev = &gpu.device;
-        let limit = dev
-            .limits()
-            .max_storage_buffer_binding_size
-            .min(dev.limits().max_buffer_size);
-        if n as u64 * 16 > limit {
-            return Err(GpuError::invalid(
-                "image size",
-                format!("{w}×{h}"),
-                format!(
-                    "needs {} MB per buffer, the adapter allows {} MB",
-                    (n * 16) >> 20,
-                    limit >> 20
-                ),
-            ));
-        }
         let mesh = MeshBuffers::upload(gpu, &scene.mesh);
-        let mut timer = Timer::new(gpu);
-        let mut enc = dev.create_command_encoder(&Default::default());
-        let shadow_maps = self
-            .shadow
-            .encode(gpu, &mut enc, scene, &mesh, &mut timer.as_mut());
-        let gbuffer = self.gbuffer.encode(
-            gpu,
-            &mut enc,
-            scene,
-            &mesh,
-            &shadow_maps,
-            params,
-            disc,
-            &mut timer.as_mut(),
-        );
+        let mut rec = Recording::timed(gpu);
+        let shadow_maps = self.shadow.encode(&mut rec, scene, &mesh);
+        let gbuffer = self
+            .gbuffer
+            .encode(&mut rec, scene, &mesh, &shadow_maps, params, disc);
         let scattered = pixels(gpu, n, "scattered");
-        // Where the disc gathers draw.
         let target = Target {
             scene,
             camera_view_proj: camera_view_proj(scene, (w, h)),
             size: (w, h),
             mesh: &mesh,
+            gbuffer: &gbuffer,
+            scattered: &scattered,
         };
         let mut surface = None;
         match scatter {
-            Scatter::Separable(given) => {
-                // Half resolution: the blur's pixels are 2×2 of the image's.
-                let px = if params.half_res { 0.5 } else { 1.0 };
-                let kernels: Vec<GpuKernel> = given
-                    .iter()
-                    .enumerate()
-                    .map(|(m, k)| {
-                        let footprint = px * kernel_footprint_px(scene, m as u32, k, params);
-                        if params.skip_subpixel && footprint < SUBPIXEL_PX {
-                            k.point()
-                        } else {
-                            k.clone()
-                        }
-                    })
-                    .collect();
-                let blur_params = BlurParams {
-                    px_per_cm_at_unit_depth: px * scene.camera.px_per_cm_at_unit_depth(h),
-                    sss_width: params.sss_width,
-                    depth_mode: params.depth_mode,
-                    tolerance_cm: params.tolerance_cm,
-                    jitter: params.jitter,
-                    fixed_depth: params.fixed_depth,
-                    skip_empty: params.skip_empty,
-                    fast: params.fast,
-                };
-                if params.half_res {
-                    let size = half_size((w, h));
-                    let m = (size.0 * size.1) as usize;
-                    let [hd, hg, hs, tmp] =
-                        ["half diffuse", "half geometry", "half scattered", "tmp"]
-                            .map(|l| pixels(gpu, m, l));
-                    // Upsampling weights fall by e over the largest kernel's range.
-                    let tolerance = params.tolerance_cm.unwrap_or(
-                        params.sss_width * given.iter().map(|k| k.range_cm).fold(0.0, f32::max),
-                    );
-                    let full = (&gbuffer.diffuse, &gbuffer.geometry);
-                    let u = self.half.down(
-                        gpu,
-                        &mut enc,
-                        (w, h),
-                        tolerance,
-                        full,
-                        (&hd, &hg),
-                        &mut timer.as_mut(),
-                    );
-                    self.blur.encode(
-                        gpu,
-                        &mut enc,
-                        &kernels,
-                        &blur_params,
-                        size,
-                        &hd,
-                        &hg,
-                        &tmp,
-                        &hs,
-                        &mut timer.as_mut(),
-                    )?;
-                    self.half.up(
-                        gpu,
-                        &mut enc,
-                        (w, h),
-                        &u,
-                        full,
-                        (&hs, &hg),
-                        &scattered,
-                        &mut timer.as_mut(),
-                    );
-                } else {
-                    let tmp = pixels(gpu, n, "tmp");
-                    self.blur.encode(
-                        gpu,
-                        &mut enc,
-                        &kernels,
-                        &blur_params,
-                        (w, h),
-                        &gbuffer.diffuse,
-                        &gbuffer.geometry,
-                        &tmp,
-                        &scattered,
-                        &mut timer.as_mut(),
-                    )?;
-                }
+            Scatter::Separable(given) => self.separable(&mut rec, &target, given, params)?,
+            Scatter::DirectionalDipole(setup) => {
+                crate::dipole::encode(&mut rec, &target, setup, &self.disc)?
             }
-            Scatter::DirectionalDipole(setup) => crate::dipole::encode(
-                gpu,
-                &mut enc,
-                &target,
-                setup,
-                &scattered,
-                &mut timer.as_mut(),
-            )?,
-            Scatter::SurfaceGather(setup) => crate::surface_gather::encode(
-                gpu,
-                &mut enc,
-                &target,
-                setup,
-                &scattered,
-                &mut timer.as_mut(),
-            )?,
+            Scatter::SurfaceGather(setup) => {
+                crate::surface_gather::encode(&mut rec, &target, setup, &self.disc)?
+            }
             Scatter::AreaGather(setup) => {
-                let g = self.area.encode(
-                    gpu,
-                    &mut enc,
-                    &mesh,
-                    camera_view_proj(scene, (w, h)),
-                    scene.camera.position,
-                    setup,
-                    params.sss_width,
-                    (w, h),
-                    &gbuffer,
-                    &scattered,
-                    &mut timer.as_mut(),
-                )?;
-                self.splats.encode(
-                    gpu,
-                    &mut enc,
-                    scene,
-                    setup,
-                    params.sss_width,
-                    (w, h),
-                    &gbuffer,
-                    self.gbuffer.lighting(&gbuffer),
-                    &g,
-                    &scattered,
-                    &mut timer.as_mut(),
-                );
+                let g = self
+                    .area
+                    .encode(&mut rec, &target, setup, params.sss_width)?;
+                let lighting = self.gbuffer.lighting(&gbuffer);
+                self.splats
+                    .encode(&mut rec, &target, setup, params.sss_width, lighting, &g);
                 surface = Some(g.surface);
             }
             Scatter::None => {
-                enc.copy_buffer_to_buffer(&gbuffer.diffuse, 0, &scattered, 0, (n * 16) as u64)
+                rec.enc
+                    .copy_buffer_to_buffer(&gbuffer.diffuse, 0, &scattered, 0, (n * 16) as u64)
             }
         }
-        let combined = self.combine.encode(
-            gpu,
-            &mut enc,
-            params,
-            &scattered,
-            &gbuffer,
-            &mut timer.as_mut(),
-        );
-        gpu.queue.submit([enc.finish()]);
+        let combined = self.combine.encode(&mut rec, params, &scattered, &gbuffer);
+        let timer = rec.submit();
         Ok(Recorded {
             gbuffer,
             scattered,
@@ -500,6 +295,176 @@ impl Renderer {
             timer,
         })
     }
+
+    /// Records the separable kernels' passes on the target: one kernel per material, each
+    /// replaced by a single tap where it reaches less than [`SUBPIXEL_PX`] (with
+    /// `params.skip_subpixel`); at half resolution between a depth-aware down- and upsampling.
+    fn separable(
+        &self,
+        rec: &mut Recording,
+        target: &Target,
+        given: &[GpuKernel],
+        params: &RenderParams,
+    ) -> Result<()> {
+        let (scene, (w, h)) = (target.scene, target.size);
+        let gpu = rec.gpu;
+        // Half resolution: the blur's pixels are 2×2 of the image's.
+        let px = if params.half_res { 0.5 } else { 1.0 };
+        let kernels: Vec<GpuKernel> = given
+            .iter()
+            .enumerate()
+            .map(|(m, k)| {
+                let footprint = px * kernel_footprint_px(scene, m as u32, k, params);
+                if params.skip_subpixel && footprint < SUBPIXEL_PX {
+                    k.point()
+                } else {
+                    k.clone()
+                }
+            })
+            .collect();
+        let blur_params = BlurParams {
+            px_per_cm_at_unit_depth: px * scene.camera.px_per_cm_at_unit_depth(h),
+            sss_width: params.sss_width,
+            depth_mode: params.depth_mode,
+            tolerance_cm: params.tolerance_cm,
+            jitter: params.jitter,
+            fixed_depth: params.fixed_depth,
+            skip_empty: params.skip_empty,
+            fast: params.fast,
+        };
+        let full = (&target.gbuffer.diffuse, &target.gbuffer.geometry);
+        if !params.half_res {
+            let tmp = pixels(gpu, (w * h) as usize, "tmp");
+            let io = BlurIo {
+                size: (w, h),
+                src: full.0,
+                geometry: full.1,
+                tmp: &tmp,
+                dst: target.scattered,
+            };
+            return self.blur.encode(rec, &kernels, &blur_params, &io);
+        }
+        let size = half_size((w, h));
+        let m = (size.0 * size.1) as usize;
+        let [hd, hg, hs, tmp] =
+            ["half diffuse", "half geometry", "half scattered", "tmp"].map(|l| pixels(gpu, m, l));
+        // Upsampling weights fall by e over the largest kernel's range.
+        let tolerance = params
+            .tolerance_cm
+            .unwrap_or(params.sss_width * given.iter().map(|k| k.range_cm).fold(0.0, f32::max));
+        let u = self.half.down(rec, (w, h), tolerance, full, (&hd, &hg));
+        let io = BlurIo {
+            size,
+            src: &hd,
+            geometry: &hg,
+            tmp: &tmp,
+            dst: &hs,
+        };
+        self.blur.encode(rec, &kernels, &blur_params, &io)?;
+        self.half
+            .up(rec, (w, h), &u, full, (&hs, &hg), target.scattered);
+        Ok(())
+    }
+}
+
+/// Refuses what the renderer cannot draw, naming the field: an image the adapter cannot hold,
+/// invalid lights or too many of them (fewer for the disc gathers), invalid shading tables,
+/// vertex materials beyond [`MAX_MATERIALS`], kernels that do not match the scene's materials, a
+/// negative kernel scale.
+fn check(gpu: &Gpu, scene: &Scene, scatter: &Scatter, params: &RenderParams) -> Result<()> {
+    let disc = scatter.gathers_lit_surface();
+    let (w, h) = (params.width, params.height);
+    let max = gpu.device.limits().max_texture_dimension_2d;
+    if w == 0 || h == 0 || w > max || h > max {
+        return Err(GpuError::invalid(
+            "image size",
+            format!("{w}×{h}"),
+            format!("each side must lie in 1..={max}"),
+        ));
+    }
+    for light in &scene.lights {
+        light.validate()?;
+    }
+    let emitters = scene.emitters();
+    if emitters.len() > MAX_EMITTERS {
+        return Err(GpuError::invalid(
+            "lights",
+            format!("{} emitters", emitters.len()),
+            format!(
+                "at most {MAX_EMITTERS} (an area light counts {})",
+                AREA_CELLS * AREA_CELLS
+            ),
+        ));
+    }
+    if disc && (emitters.len() > DISC_LIGHTS || emitters.iter().any(|e| e.cell.is_some())) {
+        return Err(GpuError::invalid(
+            "lights",
+            scene.lights.len(),
+            format!(
+                "the directional dipole and the surface gather take at most {DISC_LIGHTS} directional or point lights"
+            ),
+        ));
+    }
+    for s in &params.shading {
+        s.validate()?;
+    }
+    if let Some(v) = scene
+        .mesh
+        .vertices
+        .iter()
+        .find(|v| v.material as usize >= MAX_MATERIALS)
+    {
+        return Err(GpuError::invalid(
+            "vertex material",
+            v.material,
+            format!("must be below {MAX_MATERIALS}"),
+        ));
+    }
+    let used = scene.material_count();
+    match scatter {
+        Scatter::Separable(kernels) if kernels.len() < used || kernels.len() > MAX_MATERIALS => {
+            return Err(GpuError::invalid(
+                "kernels",
+                kernels.len(),
+                format!("one per SSS material: the scene uses {used}, at most {MAX_MATERIALS}"),
+            ));
+        }
+        Scatter::DirectionalDipole(_) | Scatter::AreaGather(_) | Scatter::SurfaceGather(_)
+            if used > 1 =>
+        {
+            return Err(GpuError::invalid(
+                "materials",
+                used,
+                "the directional dipole and the area and surface gathers render one SSS material per frame",
+            ));
+        }
+        _ => {}
+    }
+    if !(params.sss_width.is_finite() && params.sss_width >= 0.0) {
+        return Err(GpuError::invalid(
+            "sss width",
+            params.sss_width,
+            "must be finite and ≥ 0",
+        ));
+    }
+    let n = (w * h) as usize;
+    let dev = &gpu.device;
+    let limit = dev
+        .limits()
+        .max_storage_buffer_binding_size
+        .min(dev.limits().max_buffer_size);
+    if n as u64 * 16 > limit {
+        return Err(GpuError::invalid(
+            "image size",
+            format!("{w}×{h}"),
+            format!(
+                "needs {} MB per buffer, the adapter allows {} MB",
+                (n * 16) >> 20,
+                limit >> 20
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Renders one frame with a [`Renderer`] built for it (to render many, build one and keep it).

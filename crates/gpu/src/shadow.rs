@@ -7,8 +7,8 @@ use wgpu::util::DeviceExt;
 
 use crate::context::{Gpu, cleared_depth, mesh_pipeline, texture};
 use crate::mesh::MeshBuffers;
+use crate::recording::Recording;
 use crate::scene::Scene;
-use crate::timing::Timer;
 
 /// Side of each shadow map [texels]: 2048, or 1024 beyond 16 emitters (an area light's cells),
 /// which keeps the maps within 256 MB.
@@ -35,12 +35,11 @@ impl ShadowPass {
     /// stay cleared.
     pub(crate) fn encode(
         &self,
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
+        rec: &mut Recording,
         scene: &Scene,
         mesh: &MeshBuffers,
-        timer: &mut Option<&mut Timer>,
     ) -> wgpu::Texture {
+        let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
         let dev = &gpu.device;
         let emitters = scene.emitters();
         let layers = emitters.len().max(1) as u32;

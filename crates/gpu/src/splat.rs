@@ -43,8 +43,10 @@ use wgpu::util::DeviceExt;
 
 use crate::area_gather::{AreaGatherSetup, Gathered};
 use crate::context::{Gpu, bind, texture};
-use crate::gbuffer::{GBuffer, NEAR};
+use crate::gbuffer::NEAR;
+use crate::recording::Recording;
 use crate::scene::Scene;
+use crate::target::Target;
 use crate::timing::Timer;
 
 /// How far a triangle's centre may lie in view depth from the surface seen at its pixel and
@@ -237,23 +239,25 @@ impl Splats {
         }
     }
 
-    /// Records the splats of `material` and adds their upsampled light to `scattered` on the
-    /// material's pixels.
-    #[allow(clippy::too_many_arguments)]
+    /// Records the splats of `material` and adds their upsampled light to the target's scattered
+    /// light on the material's pixels.
     pub(crate) fn encode(
         &self,
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
-        scene: &Scene,
+        rec: &mut Recording,
+        target: &Target,
         setup: &AreaGatherSetup,
         sss_width: f32,
-        (w, h): (u32, u32),
-        gbuffer: &GBuffer,
         lighting: [wgpu::BindGroupEntry; 3],
         gathered: &Gathered,
-        scattered: &wgpu::Buffer,
-        timer: &mut Option<&mut Timer>,
     ) {
+        let Target {
+            scene,
+            size: (w, h),
+            gbuffer,
+            scattered,
+            ..
+        } = *target;
+        let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
         // Splats no larger than a disc of half the kernel's reach, within the table's rows.
         let reach = sss_width * setup.kernel.r_max_cm();
         let tris = triangles(scene, 0, std::f32::consts::PI * (0.5 * reach).powi(2));

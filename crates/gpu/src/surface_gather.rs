@@ -22,11 +22,11 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::context::Gpu;
-use crate::disc_gather::{Model, Sampling, Target, gather_wgsl};
+use crate::disc_gather::{DiscPipelines, Model, Sampling, gather_wgsl};
 use crate::error::{GpuError, Result};
+use crate::recording::Recording;
 use crate::shading::{AngleTables, INCIDENCE_STEPS};
-use crate::timing::Timer;
+use crate::target::Target;
 
 /// Which Monte Carlo BSSRDF the surface gather integrates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -416,13 +416,12 @@ fn rgb(v: [f64; 3]) -> [f32; 4] {
 
 /// Encodes the surface gather's passes adding π·L_o into `out`.
 pub(crate) fn encode(
-    gpu: &Gpu,
-    enc: &mut wgpu::CommandEncoder,
+    rec: &mut Recording,
     target: &Target,
     setup: &SurfaceGatherSetup,
-    out: &wgpu::Buffer,
-    timer: &mut Option<&mut Timer>,
+    pipelines: &DiscPipelines,
 ) -> Result<()> {
+    let gpu = rec.gpu;
     setup.validate()?;
     let (total, shares) = (setup.profile_total(), setup.shares());
     let directional = setup
@@ -500,5 +499,5 @@ pub(crate) fn encode(
         wgsl: MC_BSSRDF_WGSL,
         buffers: vec![&ubuf, &pbuf, &cbuf, &dbuf],
     };
-    crate::disc_gather::encode(gpu, enc, target, &setup.sampling, &model, out, timer)
+    crate::disc_gather::encode(rec, target, &setup.sampling, &model, pipelines)
 }
