@@ -7,7 +7,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use fit::Profile;
 use fit::analytic::{Medium, Model, Radial};
-use fit::area_table::{AreaTable, RadialTable, cutoff_radius, gathered_energy};
+use fit::area_table::AreaTable;
 use serde_json::json;
 
 use crate::files::Outputs;
@@ -51,10 +51,7 @@ pub fn run(a: AreaTableArgs) -> Result<()> {
     }
     let n = library::material(&a.material)?;
     let media = [0, 1, 2].map(|c| Medium::channel(&n.material, c));
-    let r_max = media
-        .iter()
-        .map(|m| cutoff_radius(m, a.q_min))
-        .fold(0.0, f64::max);
+    let r_max = fit::area_table::r_max(&media, a.q_min);
     if r_max <= 0.0 {
         bail!(
             "invalid --q-min = {}: the source term of {} never exceeds it",
@@ -74,36 +71,16 @@ pub fn run(a: AreaTableArgs) -> Result<()> {
             (path.display().to_string(), [f(0), f(1), f(2)])
         }
         None => {
-            let radial: Vec<Radial> = media
-                .iter()
-                .map(|m| a.model.radial(m))
-                .collect::<fit::Result<_>>()?;
+            let [r, g, b] = media.each_ref().map(|m| a.model.radial(m));
             let f = |r: Radial| -> RadialFn { Box::new(move |x| r.rd(x.max(1e-12))) };
-            let mut it = radial.into_iter();
-            let mut next = || f(it.next().expect("three channels"));
-            (a.model.name().to_string(), [next(), next(), next()])
+            (a.model.name().to_string(), [f(r?), f(g?), f(b?)])
         }
     };
     let start = std::time::Instant::now();
     let table = AreaTable::build([&*rd[0], &*rd[1], &*rd[2]], r_max, a.size, a.size);
     let seconds = start.elapsed().as_secs_f64();
 
-    // The zoom effect: pitches from a tenth of the shortest transport MFP to r_max/8.
-    let l_min = media
-        .iter()
-        .map(|m| m.transport_mfp())
-        .fold(f64::INFINITY, f64::min);
-    let (p0, p1) = (0.1 * l_min, r_max / 8.0);
-    let curves = [0, 1, 2].map(|c| {
-        let radial = RadialTable::new(&*rd[c], r_max);
-        (0..24)
-            .map(|k| {
-                let pitch = p0 * (p1 / p0).powf(k as f64 / 23.0);
-                let (point, area) = gathered_energy(&table, &radial, c, pitch);
-                (pitch, point, area)
-            })
-            .collect::<Vec<_>>()
-    });
+    let curves = fit::area_table::zoom_effect(&table, [&*rd[0], &*rd[1], &*rd[2]], &media);
 
     let mut bytes = Vec::with_capacity(a.size * a.size * 12);
     for k in 0..a.size * a.size {

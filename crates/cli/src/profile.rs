@@ -44,17 +44,7 @@ pub fn profile(a: ProfileArgs) -> Result<()> {
     let grid = config.grid_for(&n.material)?;
     let nr = grid.nr - 1;
     let p = fit::analytic::profile(a.model, &n.material, grid.dr, nr)?;
-    // MCML's last bin holds everything beyond the grid, spread over the last annulus.
-    let overflow = [0, 1, 2].map(|c| {
-        let radial = a
-            .model
-            .radial(&Medium::channel(&n.material, c))
-            .expect("validated by profile()");
-        let (edge, far) = (nr as f64 * grid.dr, 1e4 * grid.dr * grid.nr as f64);
-        let tail = radial.total(far) - radial.total(edge);
-        let area = std::f64::consts::PI * (2 * nr + 1) as f64 * grid.dr * grid.dr;
-        ((tail / area).max(0.0), 0.0)
-    });
+    let overflow = fit::analytic::overflow(a.model, &n.material, grid.dr, nr)?.map(|v| (v, 0.0));
     let name = format!("{}.{}.profile.csv", n.slug, a.model.name());
     let out = match &a.out {
         Some(o) => out_file(o, &name),

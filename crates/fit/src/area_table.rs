@@ -124,6 +124,41 @@ fn gl16() -> &'static [(f64, f64)] {
     })
 }
 
+/// A material's table extent: the largest [`cutoff_radius`] of its three channels [cm] (0 when
+/// no channel's source term reaches `q_min`).
+pub fn r_max(media: &[Medium; 3], q_min: f64) -> f64 {
+    media
+        .iter()
+        .map(|m| cutoff_radius(m, q_min))
+        .fold(0.0, f64::max)
+}
+
+/// The zoom effect the table removes, per channel: at 24 pixel pitches [cm] spaced
+/// geometrically from a tenth of the shortest transport mean free path of `media` to r_max/8,
+/// the energy a screen-space gather collects point-sampled and area pre-integrated
+/// ([`gathered_energy`]): `(pitch, point, area)`.
+pub fn zoom_effect(
+    table: &AreaTable,
+    rd: [&(dyn Fn(f64) -> f64 + Sync); 3],
+    media: &[Medium; 3],
+) -> [Vec<(f64, f64, f64)>; 3] {
+    let l_min = media
+        .iter()
+        .map(|m| m.transport_mfp())
+        .fold(f64::INFINITY, f64::min);
+    let (p0, p1) = (0.1 * l_min, table.r_max / 8.0);
+    [0, 1, 2].map(|c| {
+        let radial = RadialTable::new(rd[c], table.r_max);
+        (0..24)
+            .map(|k| {
+                let pitch = p0 * (p1 / p0).powf(k as f64 / 23.0);
+                let (point, area) = gathered_energy(table, &radial, c, pitch);
+                (pitch, point, area)
+            })
+            .collect()
+    })
+}
+
 /// Where the source term α′σt′e^{−σt′r} [cm⁻¹] falls to `q_min` [cm⁻¹] (0 if it starts below).
 pub fn cutoff_radius(m: &Medium, q_min: f64) -> f64 {
     let st = m.sigma_t_reduced();

@@ -220,6 +220,11 @@ impl Translucency {
         Ok(t)
     }
 
+    /// The k-th tabulated thickness d_k = first·ratio^k [cm].
+    pub fn thickness_cm(&self, k: usize) -> f64 {
+        self.first_cm as f64 * (self.ratio as f64).powi(k as i32)
+    }
+
     /// Tt(d)/ρ at thickness `d_cm` (what the scene shader evaluates).
     pub fn at(&self, d_cm: f32) -> [f32; 3] {
         let (i, f) = self.position(d_cm);

@@ -250,6 +250,20 @@ pub fn total_at(model: Model, m: &Medium, theta_deg: f64) -> Result<f64> {
     })
 }
 
+/// MCML's overflow bin for [`profile`]'s grid: Rd [cm⁻²] of everything beyond the `nr` bins of
+/// width `dr` [cm] (integrated to 10⁴ times the grid's extent), spread over the annulus of bin
+/// `nr`, as MCML's last bin holds the photons beyond its grid.
+pub fn overflow(model: Model, material: &mc::Material, dr: f64, nr: usize) -> Result<[f64; 3]> {
+    let (edge, far) = (nr as f64 * dr, 1e4 * dr * (nr + 1) as f64);
+    let area = std::f64::consts::PI * (2 * nr + 1) as f64 * dr * dr;
+    let mut out = [0.0; 3];
+    for (c, o) in out.iter_mut().enumerate() {
+        let radial = model.radial(&Medium::channel(material, c))?;
+        *o = ((radial.total(far) - radial.total(edge)) / area).max(0.0);
+    }
+    Ok(out)
+}
+
 /// The profile of `model` for a material on MCML's radial grid (bin width `dr` [cm], `nr` bins):
 /// each value is the annulus average, as MC bins count photons, placed at MCML's optimal
 /// coordinate; standard errors are 0.
