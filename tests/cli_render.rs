@@ -627,8 +627,7 @@ fn render_translucency_lights_the_fins_from_behind_with_the_materials_table() {
     )
     .unwrap();
     let rho = [0, 1, 2].map(|c| profile.total(c));
-    let path = format!("{}/../../materials/skin1.toml", env!("CARGO_MANIFEST_DIR"));
-    let m = mc::Material::from_toml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
+    let m = mc::Material::builtin("skin1").unwrap();
     let spec = mc::BatchSpec {
         n_above: 1.0,
         n_below: 1.0,

@@ -12,10 +12,10 @@ use std::time::Duration;
 use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
 use fit::evaluate::MODELS;
 use fit::{Burley, Kernel2, KernelModel};
-use sss_benches::{skin1_profile, truths};
+use sss_benches::skin1_profile;
 
 fn fits(c: &mut Criterion) {
-    let truths = truths(&skin1_profile(None));
+    let truths = fit::ground_truths(&skin1_profile(None));
     let mut group = c.benchmark_group("fit");
     group.sampling_mode(SamplingMode::Flat);
     for model in MODELS {

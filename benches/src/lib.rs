@@ -1,40 +1,22 @@
 //! Shared setup of the `sss-benches` criterion benchmarks (`benches/mc.rs`, `fit.rs`,
-//! `eval.rs`): the built-in materials and the thesis run settings (Table 6.1), read from the
-//! repository's `materials/` and `configs/` with `mc`'s own loaders, a single-channel run on the
+//! `eval.rs`): the built-in materials and the thesis run settings (Table 6.1) from `mc`, a single-channel run on the
 //! thesis grid, and the analytic Skin1 profile the `fit` and `eval` benches work on.
 //!
 //! Lengths in cm, coefficients in cm⁻¹, as in `mc` and `fit`. Setup panics with the file and the
 //! reason when an input is missing or invalid: a benchmark has nothing to report an error to.
 
-use std::path::{Path, PathBuf};
-
+use fit::Profile;
 use fit::analytic::Model;
-use fit::{Kernel2, Profile, ground_truth};
 use mc::{Material, RunSpec, Sample, SimConfig, TallySet};
 
-/// The repository root (the parent of this package).
-fn repo_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("benches/ sits in the repository root")
-        .to_path_buf()
-}
-
-fn read(relative: &str) -> String {
-    let path = repo_root().join(relative);
-    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()))
-}
-
-/// The built-in material `materials/{slug}.toml`.
+/// The built-in material `slug` (`mc::builtin`).
 pub fn material(slug: &str) -> Material {
-    let file = format!("materials/{slug}.toml");
-    Material::from_toml(&read(&file), &file).unwrap_or_else(|e| panic!("{e}"))
+    Material::builtin(slug).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// The thesis's run settings, `configs/thesis.toml` (Table 6.1).
+/// The thesis's run settings (Table 6.1).
 pub fn thesis_config() -> SimConfig {
-    let file = "configs/thesis.toml";
-    SimConfig::from_toml(&read(file), file).unwrap_or_else(|e| panic!("{e}"))
+    SimConfig::thesis().unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// One channel `c` of a material as `sss bench mc` traces it: a half-space on the material's
@@ -66,9 +48,4 @@ pub fn skin1_profile(reach_mfp: Option<f64>) -> Profile {
     }
     let grid = config.grid_for(&m).unwrap_or_else(|e| panic!("{e}"));
     fit::analytic::profile(Model::Pbd, &m, grid.dr, grid.nr).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// The normalized 2D ground truth of every channel of a profile (R, G, B).
-pub fn truths(p: &Profile) -> Vec<Kernel2> {
-    (0..3).map(|c| ground_truth(p, c, None)).collect()
 }

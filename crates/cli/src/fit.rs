@@ -6,7 +6,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use fit::skin::Skin;
 use fit::taps::{ShaderKernel, TapSpec};
-use fit::{FittedKernel, KernelModel, Manual, ManualParams, Profile, SkinParams, ground_truth};
+use fit::{FittedKernel, KernelModel, Manual, ManualParams, Profile, SkinParams};
 use serde_json::json;
 
 use crate::files::{Outputs, out_file};
@@ -202,7 +202,7 @@ pub fn build_kernel(
     spec: TapSpec,
 ) -> Result<(ShaderKernel, FittedKernel)> {
     spec.validate()?;
-    let truths: Vec<fit::Kernel2> = (0..3).map(|c| ground_truth(p, c, None)).collect();
+    let truths: Vec<fit::Kernel2> = fit::ground_truths(p);
     let fitted = model
         .resolve(&truths, material)?
         .fit_truths(&truths, material)?;

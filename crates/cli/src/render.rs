@@ -106,7 +106,7 @@ fn translucency_table(
         named.slug, rho[0].value, rho[1].value, rho[2].value, rho[0].se, rho[1].se, rho[2].se
     );
     for (k, row) in t.table.iter().enumerate() {
-        let d = t.first_cm as f64 * (t.ratio as f64).powi(k as i32);
+        let d = t.thickness_cm(k);
         eprintln!("  {d:>8.4} cm  {:.4} {:.4} {:.4}", row[0], row[1], row[2]);
     }
     Ok(t)

@@ -14,7 +14,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::error::Result;
-use crate::kernel2d::{Kernel2, SUPPORT_EPSILON, ground_truth};
+use crate::kernel2d::{Kernel2, SUPPORT_EPSILON, ground_truths};
 use crate::manual::table_a1;
 pub use crate::metrics::ImageSize;
 use crate::metrics::{ImageEval, KernelMetrics};
@@ -187,7 +187,7 @@ fn dense_slices(k: &Kernel2) -> (Vec<f64>, Vec<f64>) {
 /// Evaluates every model of [`MODELS`] on every channel of a profile. `material` selects Table
 /// A.1 rows for `manual`.
 pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Result<Evaluation> {
-    let truths: Vec<Kernel2> = (0..3).map(|c| ground_truth(p, c, None)).collect();
+    let truths: Vec<Kernel2> = ground_truths(p);
     // (model, kernel per channel, fit seconds per channel) of every separable model, in MODELS
     // order. SVD rank N and d'Eon up to N Gaussians hold every lower rank: one fit each.
     let mut kernels: Vec<(KernelModel, Vec<Separable>, [f64; 3])> = Vec::new();

@@ -49,6 +49,12 @@ impl Kernel2 {
     }
 }
 
+/// The normalized ground truths of `p`'s three channels ([`ground_truth`] at the profile's
+/// length).
+pub fn ground_truths(p: &Profile) -> Vec<Kernel2> {
+    (0..3).map(|c| ground_truth(p, c, None)).collect()
+}
+
 /// The normalized ground truth of channel `c`, half-width `half` samples (default: the profile's
 /// length, so the axes reach its last radius).
 pub fn ground_truth(p: &Profile, c: usize, half: Option<usize>) -> Kernel2 {

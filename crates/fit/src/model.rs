@@ -25,7 +25,7 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use rayon::prelude::*;
 
 use crate::error::{FitError, Result};
-use crate::kernel2d::{Kernel2, ground_truth};
+use crate::kernel2d::{Kernel2, ground_truths};
 use crate::manual::{Manual, table_a1};
 use crate::profile::Profile;
 use crate::separable::Separable;
@@ -230,7 +230,7 @@ impl KernelModel {
     /// Table A.1 rows for `manual`.
     pub fn fit(&self, p: &Profile, material: &str) -> Result<FittedKernel> {
         self.validate()?;
-        let truths: Vec<Kernel2> = (0..3).map(|c| ground_truth(p, c, None)).collect();
+        let truths: Vec<Kernel2> = ground_truths(p);
         self.fit_truths(&truths, material)
     }
 

@@ -9,7 +9,7 @@ use std::str::FromStr;
 use rayon::prelude::*;
 
 use crate::error::{FitError, Result};
-use crate::kernel2d::{Kernel2, ground_truth};
+use crate::kernel2d::{Kernel2, ground_truths};
 use crate::metrics::ImageEval;
 use crate::model::{KernelModel, ManualParams, SkinParams};
 use crate::profile::Profile;
@@ -156,7 +156,7 @@ impl Judge {
     /// Builds the normalized ground truths of `p`'s three channels and their image evaluators
     /// (test signals of 256 px, kernels binned to a half-width of at most 128 px).
     pub fn new(p: &Profile) -> Self {
-        let truths: Vec<Kernel2> = (0..3).map(|c| ground_truth(p, c, None)).collect();
+        let truths: Vec<Kernel2> = ground_truths(p);
         let evals = truths
             .par_iter()
             .map(|k| ImageEval::new(k, 256, 128))

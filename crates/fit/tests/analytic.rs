@@ -7,8 +7,7 @@ use fit::profile_compare::compare;
 use mc::{BatchSpec, ChannelSpec, Grid, Material, TallySet};
 
 fn material(name: &str) -> Material {
-    let path = format!("{}/../../materials/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-    Material::from_toml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap()
+    Material::builtin(name).unwrap()
 }
 
 fn media() -> Vec<Medium> {

@@ -8,8 +8,7 @@ use nalgebra::{Rotation3, Vector3};
 use std::f64::consts::PI;
 
 fn material(name: &str) -> Material {
-    let path = format!("{}/../../materials/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-    Material::from_toml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap()
+    Material::builtin(name).unwrap()
 }
 
 fn medium(sigma_a: f64, sigma_s: f64, g: f64, eta: f64) -> Medium {

@@ -5,7 +5,7 @@
 
 use fit::evaluate::ImageSize;
 use fit::metrics::{edge_response, edge_width};
-use fit::{Kernel2, Manual, WSweep, ground_truth, table_a1};
+use fit::{Kernel2, Manual, WSweep, table_a1};
 
 mod common;
 
@@ -47,7 +47,7 @@ fn the_edge_of_a_gaussian_is_its_cumulative_distribution() {
 #[test]
 fn raising_w_moves_skin1_from_far_to_near_scattering() {
     let (p, mfp) = common::skin1_quick();
-    let truths: Vec<Kernel2> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
+    let truths: Vec<Kernel2> = fit::ground_truths(&p);
     let w: Vec<f64> = (0..=10).map(|i| i as f64 / 10.0).collect();
     let s = WSweep::measure(&truths, table_a1("skin1").unwrap(), &w, &[0.1, 0.9], IMAGE).unwrap();
     for c in 0..3 {

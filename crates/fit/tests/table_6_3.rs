@@ -9,8 +9,7 @@ use fit::{Guided, Profile, ground_truth, preint, svd, table_a1};
 use mc::{BatchSpec, ChannelSpec, Grid, Material, TallySet};
 
 fn material(name: &str) -> Material {
-    let path = format!("{}/../../materials/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-    Material::from_toml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap()
+    Material::builtin(name).unwrap()
 }
 
 #[test]

@@ -9,7 +9,7 @@ use fit::taps::{ShaderKernel, TapSpec};
 #[test]
 fn more_taps_come_closer_to_the_full_kernel() {
     let (p, _) = common::skin1_quick();
-    let truths: Vec<_> = (0..3).map(|c| fit::ground_truth(&p, c, None)).collect();
+    let truths: Vec<_> = fit::ground_truths(&p);
     let fitted = KernelModel::Preint.fit_truths(&truths, "skin1").unwrap();
     let error = |taps| {
         let spec = TapSpec {

@@ -116,7 +116,7 @@ pub fn compare_models(
     models: &[KernelModel],
     spec: TapSpec,
 ) -> Result<Comparison> {
-    let truths: Vec<fit::Kernel2> = (0..3).map(|c| fit::ground_truth(p, c, None)).collect();
+    let truths: Vec<fit::Kernel2> = fit::ground_truths(p);
     let kernels = models
         .iter()
         .map(|m| {
@@ -137,7 +137,7 @@ pub fn compare_kernels(
     p: &Profile,
     kernels: &[ShaderKernel],
 ) -> Result<Comparison> {
-    let truths: Vec<fit::Kernel2> = (0..3).map(|c| fit::ground_truth(p, c, None)).collect();
+    let truths: Vec<fit::Kernel2> = fit::ground_truths(p);
     compare_with(gpu, scene, base, p, &truths, kernels)
 }
 

@@ -51,8 +51,7 @@ fn tables_match_chandrasekhar_for_an_isotropic_half_space() {
         eta: 1.0,
         thickness: None,
     };
-    let config =
-        mc::SimConfig::from_toml(include_str!("../../../configs/thesis.toml"), "thesis").unwrap();
+    let config = mc::SimConfig::thesis().unwrap();
     let spec = config.batch(&[&material], 100_000, 11, true).unwrap();
     let t = AngleTables::from_mc(&spec, true, true, &|_| {}).unwrap();
     let n = 2000;

@@ -99,7 +99,7 @@ fn max_abs(v: &[f64]) -> f64 {
 fn blur_passes_equal_the_cpu_separable_convolution() {
     let Some(gpu) = gpu() else { return };
     let p = profile();
-    let ks: Vec<_> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
+    let ks: Vec<_> = fit::ground_truths(&p);
     let seps: Vec<_> = ks.iter().map(|k| svd(k, 3).0).collect();
     let kernel = ShaderKernel::from_separable(
         fit::KernelModel::Svd {
@@ -153,7 +153,7 @@ fn blur_passes_equal_the_cpu_separable_convolution() {
 fn preintegrated_edge_matches_the_2d_ground_truth_on_the_gpu() {
     let Some(gpu) = gpu() else { return };
     let p = profile();
-    let ks: Vec<_> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
+    let ks: Vec<_> = fit::ground_truths(&p);
     let seps: Vec<_> = ks.iter().map(preint).collect();
     let kernel = ShaderKernel::dense(
         fit::KernelModel::Preint,
@@ -191,7 +191,7 @@ fn preintegrated_edge_matches_the_2d_ground_truth_on_the_gpu() {
 fn depth_discontinuities_stop_bleeding() {
     let Some(gpu) = gpu() else { return };
     let p = profile();
-    let ks: Vec<_> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
+    let ks: Vec<_> = fit::ground_truths(&p);
     let seps: Vec<_> = ks.iter().map(preint).collect();
     let kernel = preint_kernel(33, 0.95);
     let (w, h) = (80usize, 8usize);
@@ -420,7 +420,7 @@ fn jittering_thirteen_taps_removes_their_banding() {
 fn signed_svd_terms_stay_bounded_at_a_material_border() {
     let Some(gpu) = gpu() else { return };
     let p = profile();
-    let ks: Vec<_> = (0..3).map(|c| ground_truth(&p, c, None)).collect();
+    let ks: Vec<_> = fit::ground_truths(&p);
     let seps: Vec<_> = ks.iter().map(|k| svd(k, 3).0).collect();
     let kernel = GpuKernel::from_shader_kernel(&ShaderKernel::from_separable(
         fit::KernelModel::Svd {

@@ -32,8 +32,7 @@ fn skin1() -> mc::Material {
 }
 
 fn spec(photons: u64, seed: u64) -> mc::BatchSpec {
-    let config =
-        mc::SimConfig::from_toml(include_str!("../../../configs/thesis.toml"), "thesis").unwrap();
+    let config = mc::SimConfig::thesis().unwrap();
     config.batch(&[&skin1()], photons, seed, true).unwrap()
 }
 
@@ -255,8 +254,7 @@ fn the_directional_bssrdf_carries_light_forward_across_a_shadow_edge() {
         eta: 1.0,
         ..skin1()
     };
-    let config =
-        mc::SimConfig::from_toml(include_str!("../../../configs/thesis.toml"), "thesis").unwrap();
+    let config = mc::SimConfig::thesis().unwrap();
     let s = config.batch(&[&material], PHOTONS, 7, true).unwrap();
     let out = mc::run_batch(
         &config.batch(&[&material], 4 * PHOTONS, 101, true).unwrap(),

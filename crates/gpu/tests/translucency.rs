@@ -141,8 +141,7 @@ fn table_from_mc_lies_between_the_beer_lambert_bounds() {
         eta: 1.0,
         thickness: None,
     };
-    let config =
-        mc::SimConfig::from_toml(include_str!("../../../configs/thesis.toml"), "thesis").unwrap();
+    let config = mc::SimConfig::thesis().unwrap();
     let photons = 20_000;
     let spec = config.batch(&[&material], photons, 5, true).unwrap();
     let t = Translucency::from_mc(&spec, [1.0; 3], &|_| {}).unwrap();

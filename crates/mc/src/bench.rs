@@ -213,8 +213,7 @@ mod tests {
     /// same walks in mean free paths shares them.
     #[test]
     fn measurements_are_complete() {
-        let config =
-            SimConfig::from_toml(include_str!("../../../configs/thesis.toml"), "thesis").unwrap();
+        let config = SimConfig::thesis().unwrap();
         let m = Material {
             name: "m".into(),
             source: String::new(),

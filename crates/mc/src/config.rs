@@ -56,7 +56,15 @@ pub struct GridRule {
     pub na: usize,
 }
 
+/// The thesis's run settings (Table 6.1), `configs/thesis.toml`, compiled in.
+pub const THESIS_TOML: &str = include_str!("../../../configs/thesis.toml");
+
 impl SimConfig {
+    /// The thesis's run settings ([`THESIS_TOML`]).
+    pub fn thesis() -> Result<Self> {
+        Self::from_toml(THESIS_TOML, "configs/thesis.toml")
+    }
+
     /// Parses and validates a config TOML; `source_name` is used in error messages.
     pub fn from_toml(text: &str, source_name: &str) -> Result<Self> {
         let c: SimConfig = toml::from_str(text).map_err(|e| McError::toml(text, source_name, e))?;
@@ -188,8 +196,7 @@ mod tests {
     /// the tallies follow `profile_only`; a zero photon count is refused.
     #[test]
     fn batch_lays_out_three_channels_per_material() {
-        let config =
-            SimConfig::from_toml(include_str!("../../../configs/thesis.toml"), "thesis").unwrap();
+        let config = SimConfig::thesis().unwrap();
         let (a, b) = (material("a", None), material("b", Some(0.2)));
         let spec = config.batch(&[&a, &b], 1000, 7, true).unwrap();
         assert_eq!(spec.channels.len(), 6);

@@ -35,6 +35,7 @@
 pub mod artist;
 mod batch;
 pub mod bench;
+pub mod builtin;
 mod cfmt;
 mod channel;
 mod config;
@@ -60,7 +61,7 @@ pub mod slab;
 mod tally;
 
 pub use batch::{BatchSpec, ChannelSpec, QUASI_INFINITE_MFP};
-pub use config::{GridRule, SimConfig};
+pub use config::{GridRule, SimConfig, THESIS_TOML};
 pub use error::{McError, Result};
 pub use fresnel::{cos_critical, fresnel, specular};
 pub use grid::Grid;

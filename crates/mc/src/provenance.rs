@@ -250,9 +250,7 @@ mod tests {
 
     #[test]
     fn only_asked_settings_must_match() {
-        let config =
-            crate::SimConfig::from_toml(include_str!("../../../configs/thesis.toml"), "thesis")
-                .unwrap();
+        let config = crate::SimConfig::thesis().unwrap();
         let m = crate::Material {
             name: "m".into(),
             source: String::new(),
@@ -284,9 +282,7 @@ mod tests {
     /// nothing was asked for.
     #[test]
     fn reuse_follows_the_provenance() {
-        let config =
-            crate::SimConfig::from_toml(include_str!("../../../configs/thesis.toml"), "thesis")
-                .unwrap();
+        let config = crate::SimConfig::thesis().unwrap();
         let m = crate::Material {
             name: "m".into(),
             source: String::new(),

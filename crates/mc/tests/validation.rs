@@ -181,31 +181,10 @@ fn h_solver(a: f64) -> impl Fn(f64) -> f64 {
     move |mu: f64| step(&h, mu)
 }
 
-/// Gauss–Legendre nodes and weights on [0, 1] (Newton iteration on Legendre polynomials).
+/// Gauss–Legendre nodes and weights on [0, 1] (`gauss-quad`'s rule on [−1, 1], mapped).
 fn gauss_legendre_01(n: usize) -> (Vec<f64>, Vec<f64>) {
-    let mut x = Vec::new();
-    let mut w = Vec::new();
-    for i in 0..n {
-        let mut z = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-        let mut dp = 0.0;
-        for _ in 0..100 {
-            let (mut p0, mut p1) = (1.0, z);
-            for k in 2..=n {
-                let p2 = ((2 * k - 1) as f64 * z * p1 - (k - 1) as f64 * p0) / k as f64;
-                p0 = p1;
-                p1 = p2;
-            }
-            dp = n as f64 * (z * p1 - p0) / (z * z - 1.0);
-            let dz = p1 / dp;
-            z -= dz;
-            if dz.abs() < 1e-15 {
-                break;
-            }
-        }
-        x.push(0.5 * (z + 1.0));
-        w.push(1.0 / ((1.0 - z * z) * dp * dp));
-    }
-    (x, w)
+    let rule = gauss_quad::legendre::GaussLegendre::new(n.try_into().expect("n > 0"));
+    rule.iter().map(|(x, w)| (0.5 * (x + 1.0), 0.5 * w)).unzip()
 }
 
 #[test]

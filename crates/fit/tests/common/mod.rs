@@ -4,8 +4,7 @@
 /// --quick`'s grid (dr = smallest MFP / 6 [cm], out to 10 of the largest MFP), with the
 /// material's mean free path per channel [cm].
 pub fn skin1_quick() -> (fit::Profile, [f64; 3]) {
-    let path = format!("{}/../../materials/skin1.toml", env!("CARGO_MANIFEST_DIR"));
-    let m = mc::Material::from_toml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
+    let m = mc::Material::builtin("skin1").unwrap();
     let mfp = [0, 1, 2].map(|c| m.mfp(c));
     let lo = mfp.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = mfp.iter().copied().fold(0.0, f64::max);

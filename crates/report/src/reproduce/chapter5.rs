@@ -166,7 +166,7 @@ pub fn chapter5(
         ReportError::invalid("Table A.1 material", MATERIAL, "Table A.1 has no such row")
     })?;
     let table_w = params[0].w;
-    let truths: Vec<_> = (0..3).map(|c| ground_truth(profile, c, None)).collect();
+    let truths: Vec<_> = fit::ground_truths(profile);
     let swept: Vec<f64> = (0..=20).map(|i| f64::from(i) / 20.0).collect();
     let sweep = WSweep::measure(&truths, params, &swept, &[0.1, table_w, 0.9], image)?;
     let fig_5_17 = Fig517 {
