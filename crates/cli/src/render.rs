@@ -365,7 +365,8 @@ pub struct RenderArgs {
     dipole_radius: Option<f32>,
 
     /// directional-dipole: its energy, as published (overestimates total reflectance, e.g.
-    /// Skin1 at η = 1 by 1.6–2.8×) or rescaled per channel to the Monte Carlo profile's total Rd
+    /// Skin1's by 1.5–2.5× at its η = 1.3, 1.6–2.3× at η = 1, R to B) or rescaled per channel to
+    /// the Monte Carlo profile's total Rd
     #[arg(long, value_enum, default_value_t = DipoleEnergy::MonteCarlo)]
     dipole_energy: DipoleEnergy,
 
