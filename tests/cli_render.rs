@@ -553,29 +553,10 @@ fn render_with_the_area_gather_splats_light_through_thin_parts() {
 #[test]
 fn render_translucency_lights_the_fins_from_behind_with_the_materials_table() {
     let dir = tempfile::tempdir().unwrap();
-    let common = [
-        "--scene",
-        "fin",
-        "--light",
-        "dir:-1,0,0",
-        "--floor-albedo",
-        "0,0,0",
-        "--ambient",
-        "0",
-        "--specular",
-        "0",
-        "--width",
-        "160",
-        "--height",
-        "90",
-        "--photons",
-        "30000",
-        "--profiles",
-        "p",
-    ];
     let run = |extra: &[&str], out: &str| {
         let mut args = vec!["render"];
-        args.extend(common);
+        args.extend(FINS_FROM_BEHIND);
+        args.extend(["--photons", "30000", "--profiles", "p"]);
         args.extend(extra);
         args.extend(["--out", out, "--json"]);
         sss(&args, dir.path())

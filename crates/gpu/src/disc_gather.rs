@@ -280,14 +280,8 @@ pub(crate) fn encode(
         &[target.camera_view_proj],
         (w, h),
     );
+    // At most DISC_LIGHTS point or directional emitters: `Renderer::record` checked them.
     let emitters = scene.emitters();
-    if emitters.len() > DISC_LIGHTS || emitters.iter().any(|e| e.cell.is_some()) {
-        return Err(GpuError::invalid(
-            "lights",
-            scene.lights.len(),
-            format!("the disc gather takes at most {DISC_LIGHTS} directional or point lights"),
-        ));
-    }
     let light_vps: Vec<Mat4> = emitters.iter().map(|l| scene.light_view_proj(l)).collect();
     let size = sampling.map_size;
     let lights = draw_maps(gpu, maps, enc, target.mesh, &light_vps, (size, size));

@@ -7,11 +7,10 @@ use crate::blur::{Blur, BlurIo, BlurParams, GpuKernel};
 use crate::combine::Combine;
 use crate::context::{Gpu, pixels};
 use crate::dipole::DipoleSetup;
-use crate::disc_gather::{DISC_LIGHTS, DiscPipelines};
+use crate::disc_gather::DiscPipelines;
 use crate::error::{GpuError, Result};
 use crate::gbuffer::{GBufferPass, camera_view_proj};
 use crate::half::{HalfRes, half_size};
-use crate::light::{AREA_CELLS, MAX_EMITTERS};
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
 use crate::recording::Recording;
@@ -382,29 +381,7 @@ fn check(gpu: &Gpu, scene: &Scene, scatter: &Scatter, params: &RenderParams) -> 
             format!("each side must lie in 1..={max}"),
         ));
     }
-    for light in &scene.lights {
-        light.validate()?;
-    }
-    let emitters = scene.emitters();
-    if emitters.len() > MAX_EMITTERS {
-        return Err(GpuError::invalid(
-            "lights",
-            format!("{} emitters", emitters.len()),
-            format!(
-                "at most {MAX_EMITTERS} (an area light counts {})",
-                AREA_CELLS * AREA_CELLS
-            ),
-        ));
-    }
-    if disc && (emitters.len() > DISC_LIGHTS || emitters.iter().any(|e| e.cell.is_some())) {
-        return Err(GpuError::invalid(
-            "lights",
-            scene.lights.len(),
-            format!(
-                "the directional dipole and the surface gather take at most {DISC_LIGHTS} directional or point lights"
-            ),
-        ));
-    }
+    crate::request::check_lights(&scene.lights, disc)?;
     for s in &params.shading {
         s.validate()?;
     }

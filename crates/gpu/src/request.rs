@@ -163,28 +163,7 @@ impl RenderRequest {
                 ));
             }
         }
-        let count = emitters(&self.lights).len();
-        if self.method.gathers_lit_surface()
-            && (count > DISC_LIGHTS || self.lights.iter().any(|l| matches!(l, Light::Area { .. })))
-        {
-            return Err(GpuError::invalid(
-                "lights",
-                self.lights.len(),
-                format!(
-                    "the directional dipole and the surface gather take at most {DISC_LIGHTS} directional or point lights, no area light"
-                ),
-            ));
-        }
-        if count > MAX_EMITTERS {
-            return Err(GpuError::invalid(
-                "lights",
-                self.lights.len(),
-                format!(
-                    "{count} point lights once each area light is split into its {} cells; at most {MAX_EMITTERS}",
-                    AREA_CELLS * AREA_CELLS
-                ),
-            ));
-        }
+        check_lights(&self.lights, self.method.gathers_lit_surface())?;
         Ok(())
     }
 
@@ -270,6 +249,38 @@ impl RenderRequest {
         }
         Ok(scene)
     }
+}
+
+/// Refuses lights the renderer cannot draw, naming the field `lights`: an invalid light, more
+/// emitters than [`MAX_EMITTERS`] (an area light counts [`AREA_CELLS`]²), and, for the methods
+/// that gather over the lit surface, more than [`DISC_LIGHTS`] or any area light.
+pub(crate) fn check_lights(lights: &[Light], gathers_lit_surface: bool) -> Result<()> {
+    for light in lights {
+        light.validate()?;
+    }
+    let count = emitters(lights).len();
+    if gathers_lit_surface
+        && (count > DISC_LIGHTS || lights.iter().any(|l| matches!(l, Light::Area { .. })))
+    {
+        return Err(GpuError::invalid(
+            "lights",
+            lights.len(),
+            format!(
+                "the directional dipole and the surface gather take at most {DISC_LIGHTS} directional or point lights, no area light"
+            ),
+        ));
+    }
+    if count > MAX_EMITTERS {
+        return Err(GpuError::invalid(
+            "lights",
+            lights.len(),
+            format!(
+                "{count} point lights once each area light is split into its {} cells; at most {MAX_EMITTERS}",
+                AREA_CELLS * AREA_CELLS
+            ),
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

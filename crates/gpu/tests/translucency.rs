@@ -6,8 +6,8 @@
 
 use glam::Vec3;
 use gpu::{
-    AlbedoMode, Camera, Light, MAX_MATERIALS, Mesh, RenderParams, Scatter, Scene, Shading,
-    TRANSLUCENCY_STEPS, Translucency, render,
+    AlbedoMode, Light, MAX_MATERIALS, RenderParams, Scatter, Scene, Shading, TRANSLUCENCY_STEPS,
+    Translucency, render,
 };
 
 mod common;
@@ -29,29 +29,17 @@ fn table() -> Translucency {
     }
 }
 
-/// The slab y ∈ [−thickness, 0], seen from above, lit from below at 30° from the normal.
+/// The slab y ∈ [−thickness, 0], seen from above, lit from below at 30° from the normal with an
+/// irradiance of 2.
 fn slab(thickness: f32) -> Scene {
-    Scene {
-        mesh: Mesh::cuboid(
-            Vec3::new(-20.0, -thickness, -20.0),
-            Vec3::new(20.0, 0.0, 20.0),
-            [1.0; 3],
-            1.0,
-        ),
-        camera: Camera {
-            position: Vec3::new(0.0, 100.0, 0.0),
-            target: Vec3::ZERO,
-            fov_y_deg: 4.0,
-        },
-        lights: vec![Light::Directional {
-            towards: Vec3::new(30f32.to_radians().sin(), -30f32.to_radians().cos(), 0.0),
-            irradiance: Vec3::splat(2.0),
-            shadow: true,
-        }],
-        ambient: Vec3::ZERO,
-        specular: 0.0,
-        shininess: 1.0,
-    }
+    let towards = Vec3::new(30f32.to_radians().sin(), -30f32.to_radians().cos(), 0.0);
+    let mut s = common::slab_scene(thickness, 100.0, towards);
+    s.lights = vec![Light::Directional {
+        towards,
+        irradiance: Vec3::splat(2.0),
+        shadow: true,
+    }];
+    s
 }
 
 fn centre(frame: &gpu::Frame) -> [f32; 4] {

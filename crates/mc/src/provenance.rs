@@ -248,9 +248,8 @@ mod tests {
         assert_eq!(count(100), "100");
     }
 
-    #[test]
-    fn only_asked_settings_must_match() {
-        let config = crate::SimConfig::thesis().unwrap();
+    /// A batch of one three-channel material under the thesis settings.
+    fn spec(photons: u64, seed: u64) -> BatchSpec {
         let m = crate::Material {
             name: "m".into(),
             source: String::new(),
@@ -260,7 +259,12 @@ mod tests {
             eta: 1.4,
             thickness: None,
         };
-        let spec = |photons, seed| config.batch(&[&m], photons, seed, true).unwrap();
+        let config = crate::SimConfig::thesis().unwrap();
+        config.batch(&[&m], photons, seed, true).unwrap()
+    }
+
+    #[test]
+    fn only_asked_settings_must_match() {
         let asked = Provenance::of(&spec(1000, 1), 0, "m", None);
         let have = Provenance::of(&spec(3000, 2), 0, "x", None);
         assert!(have.mismatches(&asked, Explicit::default()).is_empty());
@@ -282,17 +286,7 @@ mod tests {
     /// nothing was asked for.
     #[test]
     fn reuse_follows_the_provenance() {
-        let config = crate::SimConfig::thesis().unwrap();
-        let m = crate::Material {
-            name: "m".into(),
-            source: String::new(),
-            sigma_a: [0.1, 0.5, 2.0],
-            sigma_s: [10.0, 20.0, 40.0],
-            g: [0.0; 3],
-            eta: 1.4,
-            thickness: None,
-        };
-        let asked = Provenance::of(&config.batch(&[&m], 1000, 1, true).unwrap(), 0, "m", None);
+        let asked = Provenance::of(&spec(1000, 1), 0, "m", None);
         let photons = Explicit {
             photons: true,
             ..Explicit::default()
