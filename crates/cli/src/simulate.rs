@@ -149,9 +149,10 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
     if let Some(s) = &args.shard {
         let (i, n) = parse_shard(s)?;
         let chunks = shard::shard_chunks(photons, i - 1, n);
-        let chunk_photons =
-            (chunks.end * mc::CHUNK_PHOTONS).min(photons) - chunks.start * mc::CHUNK_PHOTONS;
-        let bar = progress::photons(chunk_photons * groups, &format!("shard {i}/{n}"));
+        let bar = progress::photons(
+            shard::chunk_photons(photons, &chunks) * groups,
+            &format!("shard {i}/{n}"),
+        );
         let accs = pool.install(|| mc::accumulate_batch(&spec, chunks.clone(), &|k| bar.inc(k)))?;
         bar.finish_and_clear();
         let path = args.out.join(format!("shard-{i}-of-{n}.json"));
@@ -187,14 +188,7 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
         ),
     );
     let outputs = pool.install(|| match args.target_error {
-        Some(e) => {
-            let r_max: Vec<f64> = spec
-                .channels
-                .iter()
-                .map(|c| 3.0 * c.layer.transport_mfp())
-                .collect();
-            mc::run_batch_to_error(&spec, e, &r_max, &|k| bar.inc(k))
-        }
+        Some(e) => mc::run_batch_to_error(&spec, e, &spec.error_radii(), &|k| bar.inc(k)),
         None => mc::run_batch(&spec, &|k| bar.inc(k)),
     })?;
     bar.finish_and_clear();
@@ -214,18 +208,16 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
             Ok(rows)
         })
         .collect::<Result<Vec<_>>>()?;
-    finish(
-        &spec,
-        &labels,
-        &outputs,
-        &incidence,
+    let run = Finished {
+        spec: &spec,
+        labels: &labels,
+        outputs: &outputs,
+        incidence: &incidence,
         seconds,
-        pool.current_num_threads(),
-        &args.out,
-        args.json,
-        !args.full,
-        args.target_error,
-    )
+        threads: pool.current_num_threads(),
+        target_error: args.target_error,
+    };
+    finish(&run, &args.out, args.json)
 }
 
 pub fn merge(args: MergeArgs) -> Result<()> {
@@ -244,18 +236,16 @@ pub fn merge(args: MergeArgs) -> Result<()> {
     let (spec, labels, accs) = shard::merge(&shards)?;
     check_labels(&labels)?;
     let outputs = mc::batch_outputs(&spec, &accs);
-    finish(
-        &spec,
-        &labels,
-        &outputs,
-        &[],
-        start.elapsed().as_secs_f64(),
-        1,
-        &args.out,
-        args.json,
-        !spec.tallies.absorption_rz,
-        None,
-    )
+    let run = Finished {
+        spec: &spec,
+        labels: &labels,
+        outputs: &outputs,
+        incidence: &[],
+        seconds: start.elapsed().as_secs_f64(),
+        threads: 1,
+        target_error: None,
+    };
+    finish(&run, &args.out, args.json)
 }
 
 /// Output files are named after the shards' labels, so they must be what `simulate` writes: one
@@ -285,21 +275,34 @@ fn check_labels(labels: &[String]) -> Result<()> {
     Ok(())
 }
 
-/// Writes each material's CSV profile with its provenance, JSON summary and .mco files (and its
-/// Rd(θ) CSV and plot when `incidence` holds a table per material), and reports.
-#[allow(clippy::too_many_arguments)]
-fn finish(
-    spec: &BatchSpec,
-    labels: &[String],
-    outputs: &[Output],
-    incidence: &[Vec<IncidenceRow>],
+/// A finished batch (simulated or merged from shards), ready to be written.
+struct Finished<'a> {
+    spec: &'a BatchSpec,
+    /// `SLUG:R`, `SLUG:G`, `SLUG:B` per material.
+    labels: &'a [String],
+    outputs: &'a [Output],
+    /// Rd(θ) per material, or empty.
+    incidence: &'a [Vec<IncidenceRow>],
+    /// The profile run's wall time [s].
     seconds: f64,
     threads: usize,
-    out: &Path,
-    json_out: bool,
-    profile_only: bool,
     target_error: Option<f64>,
-) -> Result<()> {
+}
+
+/// Writes each material's CSV profile with its provenance, JSON summary and, with A(r, z)
+/// tallied, its .mco files (and its Rd(θ) CSV and plot when `incidence` holds a table per
+/// material), and reports.
+fn finish(run: &Finished, out: &Path, json_out: bool) -> Result<()> {
+    let &Finished {
+        spec,
+        labels,
+        outputs,
+        incidence,
+        seconds,
+        threads,
+        target_error,
+    } = run;
+    let profile_only = !spec.tallies.absorption_rz;
     let mut files = Outputs::default();
     let mut summaries = Vec::new();
     for m in 0..outputs.len() / 3 {
@@ -327,17 +330,7 @@ fn finish(
                 .enumerate()
                 .map(|(c, ch)| {
                     let name = format!("{slug}.{ch}.mco");
-                    let run = mc::RunSpec {
-                        sample: mc::Sample {
-                            n_above: spec.n_above,
-                            n_below: spec.n_below,
-                            layers: vec![specs[c].layer],
-                        },
-                        grid: specs[c].grid,
-                        photons: chans[c].photons,
-                        seed: spec.seed,
-                        tallies: spec.tallies,
-                    };
+                    let run = mc::RunSpec::of_channel(spec, 3 * m + c, chans[c].photons);
                     let text = mc::mco::write(&name, &run, chans[c], seconds)?;
                     Ok((name, text))
                 })

@@ -67,7 +67,20 @@ pub struct BatchSpec {
     pub tallies: TallySet,
 }
 
+/// The radius [transport mean free paths] within which [`crate::run_batch_to_error`] judges the
+/// profile r·Rd(r) of a channel, through [`BatchSpec::error_radii`].
+pub const ERROR_RADIUS_MFP: f64 = 3.0;
+
 impl BatchSpec {
+    /// Per channel, the radius [cm] within which a run to an error target judges its profile:
+    /// [`ERROR_RADIUS_MFP`] transport mean free paths of the channel's layer.
+    pub fn error_radii(&self) -> Vec<f64> {
+        self.channels
+            .iter()
+            .map(|c| ERROR_RADIUS_MFP * c.layer.transport_mfp())
+            .collect()
+    }
+
     /// Checks every channel and count; errors name the channel and field.
     pub fn validate(&self) -> Result<()> {
         if self.channels.is_empty() {

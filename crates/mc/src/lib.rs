@@ -60,7 +60,7 @@ mod simulate;
 pub mod slab;
 mod tally;
 
-pub use batch::{BatchSpec, ChannelSpec, QUASI_INFINITE_MFP};
+pub use batch::{BatchSpec, ChannelSpec, ERROR_RADIUS_MFP, QUASI_INFINITE_MFP};
 pub use config::{GridRule, SimConfig, THESIS_TOML};
 pub use error::{McError, Result};
 pub use fresnel::{cos_critical, fresnel, specular};

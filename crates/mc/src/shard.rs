@@ -61,7 +61,7 @@ pub fn shard_chunks(photons: u64, i: u64, n: u64) -> Range<u64> {
 }
 
 /// Photons traced by chunks `chunks` of a run of `photons` (the last chunk may be partial).
-fn chunk_photons(photons: u64, chunks: &Range<u64>) -> u64 {
+pub fn chunk_photons(photons: u64, chunks: &Range<u64>) -> u64 {
     let at = |c: u64| c.saturating_mul(CHUNK_PHOTONS).min(photons);
     at(chunks.end).saturating_sub(at(chunks.start))
 }

@@ -38,6 +38,24 @@ pub struct RunSpec {
 }
 
 impl RunSpec {
+    /// The single run of a batch's `channel` with `photons` packets (as the channel's output
+    /// reports them): the ambient media, the channel's layer and grid, the batch's seed and
+    /// tallies. What MCML's `.mco` header describes for that channel.
+    pub fn of_channel(batch: &BatchSpec, channel: usize, photons: u64) -> RunSpec {
+        let c = &batch.channels[channel];
+        RunSpec {
+            sample: Sample {
+                n_above: batch.n_above,
+                n_below: batch.n_below,
+                layers: vec![c.layer],
+            },
+            grid: c.grid,
+            photons,
+            seed: batch.seed,
+            tallies: batch.tallies,
+        }
+    }
+
     /// Checks the sample, grid and photon count.
     pub fn validate(&self) -> Result<()> {
         self.sample.validate()?;
@@ -235,7 +253,7 @@ pub fn relative_error(o: &Output, r_max: f64) -> f64 {
 }
 
 /// Runs each group of a batch in rounds of [`ROUND_CHUNKS`] chunks until every channel's
-/// [`relative_error`] (with `r_max[channel]`) is at most `target`, or `spec.photons` photons are
+/// [`relative_error`] (with `r_max[channel]`, e.g. [`BatchSpec::error_radii`]) is at most `target`, or `spec.photons` photons are
 /// traced. Returns the outputs (photon counts may differ between groups).
 pub fn run_batch_to_error(
     spec: &BatchSpec,
