@@ -403,9 +403,11 @@ pub struct RenderArgs {
     #[arg(long)]
     compare_models: bool,
 
-    /// Time the SSS passes at 1920×1080 instead of rendering, on a renderer built once: 11/17/25/33
-    /// taps × rank 1 (pre-integration), 2, 3 (SVD), and what skipping pixels without SSS and
-    /// sub-pixel kernels saves (with --json: {"configs": […], "skips": {…}} only)
+    /// Time the SSS passes at --width × --height instead of rendering, on a renderer built once,
+    /// with this command's other settings (depth test, jitter, shading tables): 11/17/25/33 taps ×
+    /// rank 1 (pre-integration), 2, 3 (SVD) × full and half resolution × exact and fast path,
+    /// and what skipping pixels without SSS and sub-pixel kernels saves (with --json:
+    /// {"configs": […], "skips": {…}} only)
     #[arg(long)]
     bench: bool,
 
@@ -878,7 +880,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
                     Some(Gather::Area(s)) => Some(s.as_ref()),
                     _ => None,
                 };
-                bench(&gpu, &scene, &p, &named.slug, area, &a)?
+                bench(&gpu, &scene, (&p, &named.slug), &params, area, &a)?
             }
         }
         return files.commit();
@@ -1241,8 +1243,8 @@ fn ms(v: Option<f64>) -> String {
 fn bench(
     gpu: &Gpu,
     scene: &Scene,
-    p: &Profile,
-    slug: &str,
+    (p, slug): (&Profile, &str),
+    params: &RenderParams,
     area: Option<&gpu::AreaGatherSetup>,
     a: &RenderArgs,
 ) -> Result<()> {
@@ -1263,7 +1265,7 @@ fn bench(
             gpu.adapter_name
         );
     }
-    let b = gpu::bench::separable(gpu, scene, p, slug, a.width, a.height, a.sss_width, area)?;
+    let b = gpu::bench::separable(gpu, scene, (p, slug), params, area)?;
     table(format!(
         "SSS passes at {}×{} on {} ({slug} on {}, renderer built once, median of 5 frames)",
         a.width, a.height, gpu.adapter_name, a.scene

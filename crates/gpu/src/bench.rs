@@ -155,27 +155,19 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// Times the separable passes on `scene` at `width`×`height` with kernels fitted to `p`
-/// (`material` names it), kernels scaled by `sss_width`; with `area`, also the area gather's
-/// layered pattern and the brute-force 2D gather over the kernel's reach at the target's
-/// distance (at most 64 px).
-#[allow(clippy::too_many_arguments)]
+/// Times the separable passes on `scene` with kernels fitted to `p` (`material` names it), at
+/// the size, kernel width and settings of `base` (the bench varies the resolution and the blur
+/// path); with `area`, also the area gather's layered pattern and the brute-force 2D gather over
+/// the kernel's reach at the target's distance (at most 64 px).
 pub fn separable(
     gpu: &Gpu,
     scene: &Scene,
-    p: &Profile,
-    material: &str,
-    width: u32,
-    height: u32,
-    sss_width: f32,
+    (p, material): (&Profile, &str),
+    base: &RenderParams,
     area: Option<&AreaGatherSetup>,
 ) -> Result<SeparableBench> {
-    let params = RenderParams {
-        width,
-        height,
-        sss_width,
-        ..RenderParams::default()
-    };
+    let params = *base;
+    let (height, sss_width) = (params.height, params.sss_width);
     let renderer = Renderer::new(gpu);
     // Median over the frames of the SSS passes' GPU time (None without timestamps) and the frame.
     let measure_with =
