@@ -31,10 +31,9 @@
 //! - R′ is 0 beyond the table's r_max (where the source term α′σt′e^{−σt′r} has fallen to
 //!   10⁻⁷ cm⁻¹), and cells whose disc exceeds the table's largest are read at its last row.
 
-use wgpu::util::DeviceExt;
-
-use crate::context::{Gpu, bind, cleared_depth, mesh_pipeline, pixels, texture};
+use crate::context::{Gpu, bind, cleared_depth};
 use crate::error::{GpuError, Result};
+use crate::pool::Alloc;
 use crate::recording::Recording;
 use crate::target::Target;
 use crate::timing::Timer;
@@ -429,30 +428,12 @@ impl AreaGather {
         });
         let pipeline = |entry: &str| crate::context::entry_pipeline(dev, &module, entry, entry);
         AreaGather {
-            surface: mesh_pipeline(dev, &surface, "surface", &[SURFACE_FORMAT]),
+            surface: crate::mesh::pipeline(dev, &surface, "surface", &[SURFACE_FORMAT]),
             level0: pipeline("level0"),
             reduce: pipeline("reduce"),
             gather: pipeline("gather"),
             lookup: pipeline("lookup"),
         }
-    }
-
-    fn uniform(gpu: &Gpu, label: &str, bytes: &[u8]) -> wgpu::Buffer {
-        gpu.device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: bytes,
-                usage: wgpu::BufferUsages::UNIFORM,
-            })
-    }
-
-    fn storage(gpu: &Gpu, label: &str, bytes: &[u8]) -> wgpu::Buffer {
-        gpu.device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: bytes,
-                usage: wgpu::BufferUsages::STORAGE,
-            })
     }
 
     fn params(kernel: &AreaKernel, size: (u32, u32), taps: u32, scale: f32) -> Uniform {
@@ -513,7 +494,8 @@ impl AreaGather {
             ..
         } = *target;
         let camera_pos = target.scene.camera.position;
-        let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
+        let (alloc, enc, timer) = (rec.alloc, &mut rec.enc, &mut rec.timer.as_mut());
+        let gpu = alloc.gpu;
         setup.pattern.validate()?;
         if !(sss_width.is_finite() && sss_width > 0.0) {
             return Err(GpuError::invalid(
@@ -528,17 +510,15 @@ impl AreaGather {
             view_proj: view_proj.to_cols_array_2d(),
             camera_pos: camera_pos.extend(GRAZING).into(),
         };
-        let vbuf = Self::uniform(gpu, "surface view", bytemuck::bytes_of(&view));
-        let target = texture(
-            dev,
+        let vbuf = alloc.uniform("surface view", bytemuck::bytes_of(&view));
+        let target = alloc.texture(
             "surface",
             (w, h, 1),
             SURFACE_FORMAT,
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         );
         let target_view = target.create_view(&Default::default());
-        let depth = texture(
-            dev,
+        let depth = alloc.texture(
             "surface depth",
             (w, h, 1),
             wgpu::TextureFormat::Depth32Float,
@@ -578,9 +558,9 @@ impl AreaGather {
         let params = Self::params(&setup.kernel, (w, h), taps.len() as u32, sss_width);
         let lv = levels((w, h));
         let texels = lv.iter().map(|l| (l[1] * l[2]) as usize).sum::<usize>();
-        let ubuf = Self::uniform(gpu, "gather params", bytemuck::bytes_of(&params));
-        let [light, pos] = ["light pyramid", "position pyramid"].map(|l| pixels(gpu, texels, l));
-        let surface = pixels(gpu, (w * h) as usize, "surface");
+        let ubuf = alloc.uniform("gather params", bytemuck::bytes_of(&params));
+        let [light, pos] = ["light pyramid", "position pyramid"].map(|l| alloc.pixels(texels, l));
+        let surface = alloc.pixels((w * h) as usize, "surface");
         let groups = |x: u32, y: u32| (x.div_ceil(8), y.div_ceil(8));
         Self::dispatch(
             gpu,
@@ -607,7 +587,7 @@ impl AreaGather {
                 src: pair[0],
                 dst: pair[1],
             };
-            let rbuf = Self::uniform(gpu, "reduce", bytemuck::bytes_of(&r));
+            let rbuf = alloc.uniform("reduce", bytemuck::bytes_of(&r));
             Self::dispatch(
                 gpu,
                 enc,
@@ -619,12 +599,8 @@ impl AreaGather {
             );
         }
         // The gather.
-        let tbuf = Self::storage(gpu, "taps", bytemuck::cast_slice(&taps));
-        let table = Self::storage(
-            gpu,
-            "area table",
-            bytemuck::cast_slice(&setup.kernel.values),
-        );
+        let tbuf = alloc.storage("taps", bytemuck::cast_slice(&taps));
+        let table = alloc.storage("area table", bytemuck::cast_slice(&setup.kernel.values));
         Self::dispatch(
             gpu,
             enc,
@@ -664,10 +640,11 @@ impl AreaGather {
             return Ok(Vec::new());
         }
         let params = Self::params(kernel, (1, 1), 0, scale);
-        let ubuf = Self::uniform(gpu, "lookup params", bytemuck::bytes_of(&params));
-        let table = Self::storage(gpu, "area table", bytemuck::cast_slice(&kernel.values));
-        let pbuf = Self::storage(gpu, "points", bytemuck::cast_slice(points));
-        let out = pixels(gpu, points.len(), "values");
+        let alloc = Alloc::fresh(gpu);
+        let ubuf = alloc.uniform("lookup params", bytemuck::bytes_of(&params));
+        let table = alloc.storage("area table", bytemuck::cast_slice(&kernel.values));
+        let pbuf = alloc.storage("points", bytemuck::cast_slice(points));
+        let out = alloc.pixels(points.len(), "values");
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,

@@ -3,9 +3,7 @@
 //! d'Eon sums of Gaussians and rank-1 kernels all run the same way. A material's passes write only
 //! its own pixels and take no light from another material's (see [`crate::Scatter::Separable`]).
 
-use wgpu::util::DeviceExt;
-
-use crate::context::{Gpu, pixels, texture};
+use crate::context::Gpu;
 use crate::error::{GpuError, Result};
 use crate::recording::Recording;
 
@@ -329,7 +327,8 @@ impl Blur {
             tmp,
             dst,
         } = *io;
-        let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
+        let (alloc, enc, timer) = (rec.alloc, &mut rec.enc, &mut rec.timer.as_mut());
+        let gpu = alloc.gpu;
         if params.fast && kernels.len() != 1 {
             return Err(GpuError::invalid(
                 "materials",
@@ -341,14 +340,14 @@ impl Blur {
         // The fast path's textures: the packed source and the horizontal result.
         let textures = params.fast.then(|| {
             let texture = |label| {
-                texture(
-                    &gpu.device,
-                    label,
-                    (width, height, 1),
-                    FAST_FORMAT,
-                    wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
-                )
-                .create_view(&Default::default())
+                alloc
+                    .texture(
+                        label,
+                        (width, height, 1),
+                        FAST_FORMAT,
+                        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+                    )
+                    .create_view(&Default::default())
             };
             [texture("blur source"), texture("blur horizontal")]
         });
@@ -366,13 +365,7 @@ impl Blur {
                 .map(move |(p, pass)| (m, k, p, pass))
         });
         for (material, k, p, (sign, taps)) in passes {
-            let taps_buf = gpu
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("taps"),
-                    contents: bytemuck::cast_slice(taps),
-                    usage: wgpu::BufferUsages::STORAGE,
-                });
+            let taps_buf = alloc.storage("taps", bytemuck::cast_slice(taps));
             let sum = taps.iter().fold([0.0f32; 4], |a, t| {
                 [a[0] + t[0], a[1] + t[1], a[2] + t[2], 0.0]
             });
@@ -386,13 +379,7 @@ impl Blur {
                         },
                 )
                 .max(1e-12);
-            let cells = gpu
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("tap cells"),
-                    contents: bytemuck::cast_slice(&cells_of[material][p]),
-                    usage: wgpu::BufferUsages::STORAGE,
-                });
+            let cells = alloc.storage("tap cells", bytemuck::cast_slice(&cells_of[material][p]));
             for horizontal in [true, false] {
                 let u = Uniform {
                     width,
@@ -412,13 +399,7 @@ impl Blur {
                     skip_empty: params.skip_empty as u32,
                     _pad: [0; 3],
                 };
-                let ubuf = gpu
-                    .device
-                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("blur params"),
-                        contents: bytemuck::bytes_of(&u),
-                        usage: wgpu::BufferUsages::UNIFORM,
-                    });
+                let ubuf = alloc.uniform("blur params", bytemuck::bytes_of(&u));
                 fn buffer(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
                     wgpu::BindGroupEntry {
                         binding,
@@ -579,18 +560,12 @@ pub fn blur_image(
             ),
         ));
     }
-    let upload = |data: &[[f32; 4]]| {
-        gpu.device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("upload"),
-                contents: bytemuck::cast_slice(data),
-                usage: wgpu::BufferUsages::STORAGE,
-            })
-    };
-    let (src, geom) = (upload(image), upload(geometry));
-    let (tmp, dst) = (pixels(gpu, n, "tmp"), pixels(gpu, n, "dst"));
-    let blur = Blur::new(gpu);
     let mut rec = Recording::untimed(gpu);
+    let alloc = rec.alloc;
+    let upload = |data: &[[f32; 4]]| alloc.storage("upload", bytemuck::cast_slice(data));
+    let (src, geom) = (upload(image), upload(geometry));
+    let (tmp, dst) = (alloc.pixels(n, "tmp"), alloc.pixels(n, "dst"));
+    let blur = Blur::new(gpu);
     let io = BlurIo {
         size: (width, height),
         src: &src,

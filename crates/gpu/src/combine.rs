@@ -1,9 +1,7 @@
 //! Recombination: the scattered diffuse light (the unscattered on pixels without SSS) × the
 //! post-scatter albedo + specular, then exposure, tone curve and sRGB (combine.wgsl).
 
-use wgpu::util::DeviceExt;
-
-use crate::context::{Gpu, compute_pipeline, pixels};
+use crate::context::{Gpu, compute_pipeline};
 use crate::gbuffer::GBuffer;
 use crate::params::RenderParams;
 use crate::recording::Recording;
@@ -39,24 +37,18 @@ impl Combine {
         scattered: &wgpu::Buffer,
         g: &GBuffer,
     ) -> Combined {
-        let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
-        let dev = &gpu.device;
+        let (alloc, enc, timer) = (rec.alloc, &mut rec.enc, &mut rec.timer.as_mut());
         let (w, h, exposure) = (params.width, params.height, params.exposure);
         let n = (w * h) as usize;
         let out = Combined {
-            linear: pixels(gpu, n, "linear"),
-            display: dev.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("display"),
-                size: (n * 4).max(4) as u64,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            }),
+            linear: alloc.pixels(n, "linear"),
+            // RGBA8: four pixels to a 16-byte element.
+            display: alloc.pixels(n.div_ceil(4), "display"),
         };
-        let uniform = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("combine params"),
-            contents: bytemuck::cast_slice(&[w, h, exposure.to_bits(), 0]),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
+        let uniform = alloc.uniform(
+            "combine params",
+            bytemuck::cast_slice(&[w, h, exposure.to_bits(), 0]),
+        );
         let resources = [
             &uniform,
             scattered,
@@ -75,11 +67,14 @@ impl Combine {
                 resource: b.as_entire_binding(),
             })
             .collect();
-        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &self.pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
+        let bind = alloc
+            .gpu
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: None,
+                layout: &self.pipeline.get_bind_group_layout(0),
+                entries: &entries,
+            });
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("combine"),
             timestamp_writes: timer.as_mut().map(|t| t.writes("combine")),

@@ -129,17 +129,6 @@ pub(crate) fn bind(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<
     }
 }
 
-/// Depth32 with writes and a less-than test: what every pass that draws meshes uses.
-fn depth_test() -> wgpu::DepthStencilState {
-    wgpu::DepthStencilState {
-        format: wgpu::TextureFormat::Depth32Float,
-        depth_write_enabled: Some(true),
-        depth_compare: Some(wgpu::CompareFunction::Less),
-        stencil: Default::default(),
-        bias: Default::default(),
-    }
-}
-
 /// A depth attachment cleared to the far plane (1) and kept.
 pub(crate) fn cleared_depth(
     view: &wgpu::TextureView,
@@ -163,39 +152,6 @@ pub(crate) fn pixels(gpu: &Gpu, n: usize, label: &str) -> wgpu::Buffer {
             | wgpu::BufferUsages::COPY_SRC
             | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
-    })
-}
-
-/// A render pipeline that draws meshes ([`crate::Vertex`]) with the depth test: `vs`, and `fs`
-/// into colour targets of `formats` (none: depth only, no fragment stage).
-pub(crate) fn mesh_pipeline(
-    dev: &wgpu::Device,
-    module: &wgpu::ShaderModule,
-    label: &str,
-    formats: &[wgpu::TextureFormat],
-) -> wgpu::RenderPipeline {
-    let targets: Vec<Option<wgpu::ColorTargetState>> =
-        formats.iter().map(|&f| Some(f.into())).collect();
-    dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(label),
-        layout: None,
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some("vs"),
-            compilation_options: Default::default(),
-            buffers: &[Some(crate::mesh::Vertex::layout())],
-        },
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: Some(depth_test()),
-        multisample: Default::default(),
-        fragment: (!formats.is_empty()).then(|| wgpu::FragmentState {
-            module,
-            entry_point: Some("fs"),
-            compilation_options: Default::default(),
-            targets: &targets,
-        }),
-        multiview_mask: None,
-        cache: None,
     })
 }
 

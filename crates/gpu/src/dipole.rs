@@ -15,7 +15,6 @@
 //! the colour comes from the material's coefficients.
 
 use fit::analytic::{DipoleConstants, DirectionalDipole, Medium};
-use wgpu::util::DeviceExt;
 
 use crate::disc_gather::{DiscPipelines, Model, Sampling, gather_wgsl};
 use crate::error::{GpuError, Result};
@@ -162,7 +161,6 @@ pub(crate) fn encode(
     setup: &DipoleSetup,
     pipelines: &DiscPipelines,
 ) -> Result<()> {
-    let gpu = rec.gpu;
     setup.validate()?;
     let k = &setup.channels;
     let rgb = |f: &dyn Fn(&DipoleConstants) -> f64| {
@@ -186,13 +184,9 @@ pub(crate) fn encode(
             k[0].eta as f32,
         ],
     };
-    let ubuf = gpu
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("dipole constants"),
-            contents: bytemuck::bytes_of(&uniform),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
+    let ubuf = rec
+        .alloc
+        .uniform("dipole constants", bytemuck::bytes_of(&uniform));
     let model = Model {
         label: "directional dipole",
         wgsl: DIPOLE_WGSL,

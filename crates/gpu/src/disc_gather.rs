@@ -22,11 +22,11 @@
 use std::sync::{Mutex, OnceLock};
 
 use glam::Mat4;
-use wgpu::util::DeviceExt;
 
-use crate::context::{Gpu, cleared_depth, compute_pipeline, mesh_pipeline, texture};
+use crate::context::{cleared_depth, compute_pipeline};
 use crate::error::{GpuError, Result};
 use crate::mesh::MeshBuffers;
+use crate::pool::Alloc;
 use crate::recording::Recording;
 use crate::target::Target;
 
@@ -149,7 +149,7 @@ impl DiscPipelines {
     fn maps(&self, dev: &wgpu::Device) -> &wgpu::RenderPipeline {
         self.maps.get_or_init(|| {
             let module = dev.create_shader_module(wgpu::include_wgsl!("shaders/dipole_maps.wgsl"));
-            mesh_pipeline(dev, &module, "gather maps", &MAP_FORMATS)
+            crate::mesh::pipeline(dev, &module, "gather maps", &MAP_FORMATS)
         })
     }
 
@@ -181,18 +181,18 @@ struct Maps {
 }
 
 fn draw_maps(
-    gpu: &Gpu,
+    alloc: Alloc,
     pipeline: &wgpu::RenderPipeline,
     enc: &mut wgpu::CommandEncoder,
     mesh: &MeshBuffers,
     views: &[Mat4],
     (w, h): (u32, u32),
 ) -> Maps {
-    let dev = &gpu.device;
+    let dev = &alloc.gpu.device;
     let layers = views.len().max(1) as u32;
-    let texture = |label: &str, format| {
-        texture(
-            dev,
+    // Each layer is cleared by its pass; without views nothing reads the maps.
+    let texture = |label: &'static str, format| {
+        alloc.texture(
             label,
             (w, h, layers),
             format,
@@ -205,11 +205,10 @@ fn draw_maps(
     };
     let depth = texture("gather depth", wgpu::TextureFormat::Depth32Float);
     for (layer, vp) in views.iter().enumerate() {
-        let ubuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("gather map view"),
-            contents: bytemuck::bytes_of(&vp.to_cols_array_2d()),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
+        let ubuf = alloc.uniform(
+            "gather map view",
+            bytemuck::bytes_of(&vp.to_cols_array_2d()),
+        );
         let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
             layout: &pipeline.get_bind_group_layout(0),
@@ -265,15 +264,15 @@ pub(crate) fn encode(
     model: &Model,
     pipelines: &DiscPipelines,
 ) -> Result<()> {
-    let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
+    let (alloc, enc, timer) = (rec.alloc, &mut rec.enc, &mut rec.timer.as_mut());
     let out = target.scattered;
     sampling.validate()?;
-    let dev = &gpu.device;
+    let dev = &alloc.gpu.device;
     let (w, h) = target.size;
     let scene = target.scene;
     let maps = pipelines.maps(dev);
     let cam = draw_maps(
-        gpu,
+        alloc,
         maps,
         enc,
         target.mesh,
@@ -284,7 +283,7 @@ pub(crate) fn encode(
     let emitters = scene.emitters();
     let light_vps: Vec<Mat4> = emitters.iter().map(|l| scene.light_view_proj(l)).collect();
     let size = sampling.map_size;
-    let lights = draw_maps(gpu, maps, enc, target.mesh, &light_vps, (size, size));
+    let lights = draw_maps(alloc, maps, enc, target.mesh, &light_vps, (size, size));
     let mut u_lights = [GatherLight {
         view_proj: Mat4::IDENTITY.to_cols_array_2d(),
         pos_or_dir: [0.0; 4],
@@ -331,11 +330,7 @@ pub(crate) fn encode(
             frame: [frame, sampling.seed, size, 0],
             ..base
         };
-        let ubuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("gather frame"),
-            contents: bytemuck::bytes_of(&uniform),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
+        let ubuf = alloc.uniform("gather frame", bytemuck::bytes_of(&uniform));
         let mut entries = vec![wgpu::BindGroupEntry {
             binding: 0,
             resource: ubuf.as_entire_binding(),

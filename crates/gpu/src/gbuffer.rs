@@ -6,9 +6,8 @@
 //! (× exit factor).
 
 use glam::Mat4;
-use wgpu::util::DeviceExt;
 
-use crate::context::{Gpu, cleared_depth, compute_pipeline, mesh_pipeline, pixels, texture};
+use crate::context::{Gpu, cleared_depth, compute_pipeline};
 use crate::light::MAX_EMITTERS;
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
@@ -177,7 +176,7 @@ impl GBufferPass {
             source: wgpu::ShaderSource::Wgsl(SCENE_WGSL.into()),
         });
         GBufferPass {
-            scene: mesh_pipeline(dev, &module, "scene", &FORMATS),
+            scene: crate::mesh::pipeline(dev, &module, "scene", &FORMATS),
             unpack: compute_pipeline(dev, wgpu::include_wgsl!("shaders/unpack.wgsl"), "unpack"),
             sampler: dev.create_sampler(&wgpu::SamplerDescriptor {
                 compare: Some(wgpu::CompareFunction::LessEqual),
@@ -206,8 +205,8 @@ impl GBufferPass {
         params: &RenderParams,
         plain: bool,
     ) -> GBuffer {
-        let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
-        let dev = &gpu.device;
+        let (alloc, enc, timer) = (rec.alloc, &mut rec.enc, &mut rec.timer.as_mut());
+        let dev = &alloc.gpu.device;
         let (w, h) = (params.width, params.height);
         let cam = &scene.camera;
         let emitters = scene.emitters();
@@ -255,11 +254,7 @@ impl GBufferPass {
             lights,
             materials: params.shading.map(|s| MaterialU::new(&s, plain)),
         };
-        let gbuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("globals"),
-            contents: bytemuck::bytes_of(&globals),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
+        let gbuf = alloc.uniform("globals", bytemuck::bytes_of(&globals));
         let shadow_view = shadow_maps.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
@@ -269,9 +264,8 @@ impl GBufferPass {
             layout: &self.scene.get_bind_group_layout(0),
             entries: &lighting_entries(&gbuf, &shadow_view, &self.sampler),
         });
-        let target = |label: &str, format| {
-            texture(
-                dev,
+        let target = |label: &'static str, format| {
+            alloc.texture(
                 label,
                 (w, h, 1),
                 format,
@@ -322,10 +316,10 @@ impl GBufferPass {
         }
         let n = (w * h) as usize;
         let out = GBuffer {
-            diffuse: pixels(gpu, n, "diffuse"),
-            specular: pixels(gpu, n, "specular"),
-            geometry: pixels(gpu, n, "geometry"),
-            albedo: pixels(gpu, n, "albedo"),
+            diffuse: alloc.pixels(n, "diffuse"),
+            specular: alloc.pixels(n, "specular"),
+            geometry: alloc.pixels(n, "geometry"),
+            albedo: alloc.pixels(n, "albedo"),
             globals: gbuf,
             shadow_view,
         };

@@ -3,9 +3,8 @@
 //! depth- and material-aware bilinear upsampling (half.wgsl); the final image is still composed
 //! at full resolution, so albedo and specular keep their detail.
 
-use wgpu::util::DeviceExt;
-
 use crate::context::Gpu;
+use crate::pool::Alloc;
 use crate::recording::Recording;
 
 #[repr(C)]
@@ -86,7 +85,7 @@ impl HalfRes {
         full: (&wgpu::Buffer, &wgpu::Buffer),
         half: (&wgpu::Buffer, &wgpu::Buffer),
     ) -> wgpu::Buffer {
-        let u = self.uniform(rec.gpu, size, tolerance_cm);
+        let u = Self::uniform(rec.alloc, size, tolerance_cm);
         self.pass(
             rec,
             &self.down,
@@ -124,7 +123,7 @@ impl HalfRes {
         );
     }
 
-    fn uniform(&self, gpu: &Gpu, size: (u32, u32), tolerance_cm: f32) -> wgpu::Buffer {
+    fn uniform(alloc: Alloc, size: (u32, u32), tolerance_cm: f32) -> wgpu::Buffer {
         let (hw, hh) = half_size(size);
         let u = Uniform {
             width: size.0,
@@ -134,11 +133,6 @@ impl HalfRes {
             tolerance: tolerance_cm.max(1e-6),
             _pad: [0; 3],
         };
-        gpu.device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("half-res params"),
-                contents: bytemuck::bytes_of(&u),
-                usage: wgpu::BufferUsages::UNIFORM,
-            })
+        alloc.uniform("half-res params", bytemuck::bytes_of(&u))
     }
 }

@@ -43,6 +43,7 @@ mod half;
 mod light;
 mod mesh;
 mod params;
+mod pool;
 mod recording;
 mod render;
 pub mod request;

@@ -1,5 +1,6 @@
 //! Triangle meshes in cm: the built-in shapes (sphere, ground plane, a thin fin) and Wavefront OBJ
 //! files. Each vertex carries its albedo and SSS strength (0: no scattering, e.g. the floor).
+//! Drawing them: their buffers on the GPU and the render pipeline every mesh pass uses.
 
 use std::path::Path;
 
@@ -48,26 +49,18 @@ pub(crate) struct MeshBuffers {
 }
 
 impl MeshBuffers {
-    pub(crate) fn upload(gpu: &crate::Gpu, mesh: &Mesh) -> MeshBuffers {
-        use wgpu::util::DeviceExt;
-        let buffer = |label, contents, usage| {
-            gpu.device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(label),
-                    contents,
-                    usage,
-                })
-        };
+    /// Uploads `mesh` (or takes the buffers of an identical one from the renderer's pool).
+    pub(crate) fn upload(alloc: crate::pool::Alloc, mesh: &Mesh) -> MeshBuffers {
         MeshBuffers {
-            vertices: buffer(
+            vertices: alloc.constant(
                 "vertices",
-                bytemuck::cast_slice(&mesh.vertices),
                 wgpu::BufferUsages::VERTEX,
+                bytemuck::cast_slice(&mesh.vertices),
             ),
-            indices: buffer(
+            indices: alloc.constant(
                 "indices",
-                bytemuck::cast_slice(&mesh.indices),
                 wgpu::BufferUsages::INDEX,
+                bytemuck::cast_slice(&mesh.indices),
             ),
             count: mesh.indices.len() as u32,
         }
@@ -78,6 +71,50 @@ impl MeshBuffers {
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..self.count, 0, 0..1);
+    }
+}
+
+/// A render pipeline that draws meshes ([`crate::Vertex`]) with the depth test: `vs`, and `fs`
+/// into colour targets of `formats` (none: depth only, no fragment stage).
+pub(crate) fn pipeline(
+    dev: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    label: &str,
+    formats: &[wgpu::TextureFormat],
+) -> wgpu::RenderPipeline {
+    let targets: Vec<Option<wgpu::ColorTargetState>> =
+        formats.iter().map(|&f| Some(f.into())).collect();
+    dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: None,
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[Some(Vertex::layout())],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: Some(depth_test()),
+        multisample: Default::default(),
+        fragment: (!formats.is_empty()).then(|| wgpu::FragmentState {
+            module,
+            entry_point: Some("fs"),
+            compilation_options: Default::default(),
+            targets: &targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// Depth32 with writes and a less-than test: what every pass that draws meshes uses.
+fn depth_test() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: wgpu::TextureFormat::Depth32Float,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: Default::default(),
+        bias: Default::default(),
     }
 }
 

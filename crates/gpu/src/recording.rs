@@ -1,32 +1,37 @@
-//! One frame's recording: what every pass of [`crate::Renderer`] records into (the device, the
-//! frame's one command encoder, its timestamp queries), handed to each pass in turn, so that a
-//! pass's own arguments are only what it reads and writes.
+//! One frame's recording: what every pass of [`crate::Renderer`] records into (the device, where
+//! its buffers come from, the frame's one command encoder, its timestamp queries), handed to each
+//! pass in turn, so that a pass's own arguments are only what it reads and writes.
 
 use crate::context::Gpu;
+use crate::pool::Alloc;
 use crate::timing::Timer;
 
-/// The device, the frame's command encoder and its timer (None where the adapter has no
-/// timestamp queries, or where nobody asked for times).
+/// The device, where the frame's buffers and textures come from, the frame's command encoder
+/// and its timer (None where the adapter has no timestamp queries, or where nobody asked for
+/// times).
 pub(crate) struct Recording<'a> {
     pub gpu: &'a Gpu,
+    pub alloc: Alloc<'a>,
     pub enc: wgpu::CommandEncoder,
     pub timer: Option<Timer>,
 }
 
 impl<'a> Recording<'a> {
-    /// A new encoder on `gpu`, timed where the adapter can.
-    pub fn timed(gpu: &'a Gpu) -> Self {
+    /// A new encoder on `alloc`'s device, timed where the adapter can.
+    pub fn timed(alloc: Alloc<'a>, enc: wgpu::CommandEncoder) -> Self {
         Recording {
-            gpu,
-            enc: gpu.device.create_command_encoder(&Default::default()),
-            timer: Timer::new(gpu),
+            gpu: alloc.gpu,
+            alloc,
+            enc,
+            timer: Timer::new(alloc.gpu),
         }
     }
 
-    /// A new encoder on `gpu`, untimed.
+    /// A new encoder on `gpu`, untimed, with fresh buffers.
     pub fn untimed(gpu: &'a Gpu) -> Self {
         Recording {
             gpu,
+            alloc: Alloc::fresh(gpu),
             enc: gpu.device.create_command_encoder(&Default::default()),
             timer: None,
         }

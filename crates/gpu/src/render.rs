@@ -5,7 +5,7 @@
 use crate::area_gather::{AreaGather, AreaGatherSetup};
 use crate::blur::{Blur, BlurIo, BlurParams, GpuKernel};
 use crate::combine::Combine;
-use crate::context::{Gpu, pixels};
+use crate::context::Gpu;
 use crate::dipole::DipoleSetup;
 use crate::disc_gather::DiscPipelines;
 use crate::error::{GpuError, Result};
@@ -13,6 +13,7 @@ use crate::gbuffer::{GBufferPass, camera_view_proj};
 use crate::half::{HalfRes, half_size};
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
+use crate::pool::{Alloc, FramePool};
 use crate::recording::Recording;
 use crate::scene::Scene;
 use crate::shadow::ShadowPass;
@@ -123,9 +124,8 @@ pub struct FrameTime {
     pub passes: Vec<PassTime>,
 }
 
-/// Every pipeline of the separable path, built once from the device; [`Renderer::render`] then
-/// draws any number of frames (of any size, scene and kernels). The disc gather's pipelines (the
-/// directional dipole, the surface gather) are still built per frame.
+/// Every pipeline, built once from the device (the disc gathers' on their first frame);
+/// [`Renderer::render`] then draws any number of frames (of any size, scene and kernels).
 pub struct Renderer {
     shadow: ShadowPass,
     gbuffer: GBufferPass,
@@ -135,15 +135,17 @@ pub struct Renderer {
     splats: Splats,
     combine: Combine,
     disc: DiscPipelines,
+    pool: FramePool,
 }
 
-/// A recorded frame's buffers.
-struct Recorded {
+/// A recorded frame's buffers, and its hold on the renderer's pool until they are read.
+struct Recorded<'a> {
     gbuffer: crate::gbuffer::GBuffer,
     scattered: wgpu::Buffer,
     combined: crate::combine::Combined,
     surface: Option<wgpu::Buffer>,
     timer: Option<Timer>,
+    _frame: std::sync::MutexGuard<'a, ()>,
 }
 
 impl Renderer {
@@ -158,11 +160,13 @@ impl Renderer {
             splats: Splats::new(gpu),
             combine: Combine::new(gpu),
             disc: DiscPipelines::default(),
+            pool: FramePool::default(),
         }
     }
 
     /// Renders `scene`, scattering the diffuse light of SSS surfaces as `scatter` says, and reads
-    /// the images back.
+    /// the images back. Buffers and textures are kept for the next frame, which reuses what did
+    /// not change (its size, kernels, tables, mesh); frames from several threads take turns.
     pub fn render(
         &self,
         gpu: &Gpu,
@@ -235,24 +239,27 @@ impl Renderer {
     }
 
     /// Checks the input, records every pass and submits them.
-    fn record(
-        &self,
-        gpu: &Gpu,
+    fn record<'a>(
+        &'a self,
+        gpu: &'a Gpu,
         scene: &Scene,
         scatter: Scatter,
         params: &RenderParams,
-    ) -> Result<Recorded> {
+    ) -> Result<Recorded<'a>> {
         let disc = scatter.gathers_lit_surface();
         check(gpu, scene, &scatter, params)?;
         let (w, h) = (params.width, params.height);
         let n = (w * h) as usize;
-        let mesh = MeshBuffers::upload(gpu, &scene.mesh);
-        let mut rec = Recording::timed(gpu);
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        let frame = self.pool.begin(&mut enc);
+        let alloc = Alloc::pooled(gpu, &self.pool);
+        let mesh = MeshBuffers::upload(alloc, &scene.mesh);
+        let mut rec = Recording::timed(alloc, enc);
         let shadow_maps = self.shadow.encode(&mut rec, scene, &mesh);
         let gbuffer = self
             .gbuffer
             .encode(&mut rec, scene, &mesh, &shadow_maps, params, disc);
-        let scattered = pixels(gpu, n, "scattered");
+        let scattered = alloc.pixels(n, "scattered");
         let target = Target {
             scene,
             camera_view_proj: camera_view_proj(scene, (w, h)),
@@ -292,6 +299,7 @@ impl Renderer {
             combined,
             surface,
             timer,
+            _frame: frame,
         })
     }
 
@@ -306,7 +314,7 @@ impl Renderer {
         params: &RenderParams,
     ) -> Result<()> {
         let (scene, (w, h)) = (target.scene, target.size);
-        let gpu = rec.gpu;
+        let alloc = rec.alloc;
         // Half resolution: the blur's pixels are 2×2 of the image's.
         let px = if params.half_res { 0.5 } else { 1.0 };
         let kernels: Vec<GpuKernel> = given
@@ -333,7 +341,7 @@ impl Renderer {
         };
         let full = (&target.gbuffer.diffuse, &target.gbuffer.geometry);
         if !params.half_res {
-            let tmp = pixels(gpu, (w * h) as usize, "tmp");
+            let tmp = alloc.pixels((w * h) as usize, "tmp");
             let io = BlurIo {
                 size: (w, h),
                 src: full.0,
@@ -346,7 +354,7 @@ impl Renderer {
         let size = half_size((w, h));
         let m = (size.0 * size.1) as usize;
         let [hd, hg, hs, tmp] =
-            ["half diffuse", "half geometry", "half scattered", "tmp"].map(|l| pixels(gpu, m, l));
+            ["half diffuse", "half geometry", "half scattered", "tmp"].map(|l| alloc.pixels(m, l));
         // Upsampling weights fall by e over the largest kernel's range.
         let tolerance = params
             .tolerance_cm

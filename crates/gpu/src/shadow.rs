@@ -3,9 +3,7 @@
 //! lights and the cells of area lights; [`crate::Scene`]'s `light_view_proj`). The scene pass reads them for shadows and for
 //! the thickness light crosses in thin parts.
 
-use wgpu::util::DeviceExt;
-
-use crate::context::{Gpu, cleared_depth, mesh_pipeline, texture};
+use crate::context::{Gpu, cleared_depth};
 use crate::mesh::MeshBuffers;
 use crate::recording::Recording;
 use crate::scene::Scene;
@@ -26,7 +24,7 @@ impl ShadowPass {
         let dev = &gpu.device;
         let module = dev.create_shader_module(wgpu::include_wgsl!("shaders/shadow.wgsl"));
         ShadowPass {
-            pipeline: mesh_pipeline(dev, &module, "shadow", &[]),
+            pipeline: crate::mesh::pipeline(dev, &module, "shadow", &[]),
         }
     }
 
@@ -39,12 +37,12 @@ impl ShadowPass {
         scene: &Scene,
         mesh: &MeshBuffers,
     ) -> wgpu::Texture {
-        let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
-        let dev = &gpu.device;
+        let (alloc, enc, timer) = (rec.alloc, &mut rec.enc, &mut rec.timer.as_mut());
+        let dev = &alloc.gpu.device;
         let emitters = scene.emitters();
         let layers = emitters.len().max(1) as u32;
-        let maps = texture(
-            dev,
+        // Each light's layer is cleared by its pass; without lights nothing reads the map.
+        let maps = alloc.texture(
             "shadow maps",
             (shadow_size(layers), shadow_size(layers), layers),
             wgpu::TextureFormat::Depth32Float,
@@ -52,11 +50,7 @@ impl ShadowPass {
         );
         for (i, light) in emitters.iter().enumerate() {
             let vp = scene.light_view_proj(light);
-            let ubuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("light"),
-                contents: bytemuck::bytes_of(&vp.to_cols_array_2d()),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+            let ubuf = alloc.uniform("light", bytemuck::bytes_of(&vp.to_cols_array_2d()));
             let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: None,
                 layout: &self.pipeline.get_bind_group_layout(0),

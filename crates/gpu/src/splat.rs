@@ -39,10 +39,9 @@
 //!   renormalized.
 
 use glam::Vec3;
-use wgpu::util::DeviceExt;
 
 use crate::area_gather::{AreaGatherSetup, Gathered};
-use crate::context::{Gpu, bind, texture};
+use crate::context::{Gpu, bind};
 use crate::gbuffer::NEAR;
 use crate::recording::Recording;
 use crate::scene::Scene;
@@ -257,14 +256,14 @@ impl Splats {
             scattered,
             ..
         } = *target;
-        let (gpu, enc, timer) = (rec.gpu, &mut rec.enc, &mut rec.timer.as_mut());
+        let (alloc, enc, timer) = (rec.alloc, &mut rec.enc, &mut rec.timer.as_mut());
         // Splats no larger than a disc of half the kernel's reach, within the table's rows.
         let reach = sss_width * setup.kernel.r_max_cm();
         let tris = triangles(scene, 0, std::f32::consts::PI * (0.5 * reach).powi(2));
         if tris.is_empty() {
             return;
         }
-        let dev = &gpu.device;
+        let dev = &alloc.gpu.device;
         let level = SPLAT_LEVEL.min(gathered.levels.len() - 1);
         let lv = gathered.levels[level];
         let proj = scene
@@ -293,24 +292,9 @@ impl Splats {
                 crate::area_gather::GRAZING,
             ],
         };
-        let init = |label: &str, bytes: &[u8], usage| {
-            dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: bytes,
-                usage,
-            })
-        };
-        let ubuf = init(
-            "splat params",
-            bytemuck::bytes_of(&u),
-            wgpu::BufferUsages::UNIFORM,
-        );
-        let tbuf = init(
-            "triangles",
-            bytemuck::cast_slice(&tris),
-            wgpu::BufferUsages::STORAGE,
-        );
-        let lit = crate::context::pixels(gpu, tris.len(), "splat light");
+        let ubuf = alloc.uniform("splat params", bytemuck::bytes_of(&u));
+        let tbuf = alloc.storage("triangles", bytemuck::cast_slice(&tris));
+        let lit = alloc.pixels(tris.len(), "splat light");
         let compute = |enc: &mut wgpu::CommandEncoder,
                        pipeline: &wgpu::ComputePipeline,
                        label: &str,
@@ -347,8 +331,7 @@ impl Splats {
             ((tris.len() as u32).div_ceil(64), 1),
             timer,
         );
-        let target = texture(
-            dev,
+        let target = alloc.texture(
             "splats",
             (lv[1], lv[2], 1),
             self.format,

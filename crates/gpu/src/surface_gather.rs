@@ -20,8 +20,6 @@
 //! sampling: where the surface curves, the 3-D distance |x_o − x_i| differs from the disc radius,
 //! and the uniform share keeps the density positive wherever the response may be.
 
-use wgpu::util::DeviceExt;
-
 use crate::disc_gather::{DiscPipelines, Model, Sampling, gather_wgsl};
 use crate::error::{GpuError, Result};
 use crate::recording::Recording;
@@ -421,7 +419,6 @@ pub(crate) fn encode(
     setup: &SurfaceGatherSetup,
     pipelines: &DiscPipelines,
 ) -> Result<()> {
-    let gpu = rec.gpu;
     setup.validate()?;
     let (total, shares) = (setup.profile_total(), setup.shares());
     let directional = setup
@@ -471,25 +468,13 @@ pub(crate) fn encode(
         *last = [1.0; 4];
     }
     let profile: Vec<[f32; 4]> = setup.profile.iter().map(|v| rgb(*v)).collect();
-    let dev = &gpu.device;
-    let buffer = |label: &str, contents: &[u8], usage| {
-        dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents,
-            usage,
-        })
-    };
-    let storage = wgpu::BufferUsages::STORAGE;
-    let ubuf = buffer(
-        "mc bssrdf tables",
-        bytemuck::bytes_of(&uniform),
-        wgpu::BufferUsages::UNIFORM,
-    );
-    let pbuf = buffer("mc profile", bytemuck::cast_slice(&profile), storage);
-    let cbuf = buffer("mc profile cdf", bytemuck::cast_slice(&cdf), storage);
+    let alloc = rec.alloc;
+    let ubuf = alloc.uniform("mc bssrdf tables", bytemuck::bytes_of(&uniform));
+    let pbuf = alloc.storage("mc profile", bytemuck::cast_slice(&profile));
+    let cbuf = alloc.storage("mc profile cdf", bytemuck::cast_slice(&cdf));
     let dbuf = match directional {
-        Some(t) => buffer("mc directional", bytemuck::cast_slice(&t.rd), storage),
-        None => buffer("mc directional (unused)", &[0u8; 16], storage),
+        Some(t) => alloc.storage("mc directional", bytemuck::cast_slice(&t.rd)),
+        None => alloc.storage("mc directional (unused)", &[0u8; 16]),
     };
     let model = Model {
         label: match setup.bssrdf {

@@ -429,3 +429,68 @@ fn the_fast_path_renders_what_the_exact_path_does_and_takes_one_material() {
         .unwrap_err();
     assert!(err.to_string().contains("materials"), "{err}");
 }
+
+/// A renderer keeps its buffers and textures between frames (`Renderer::render`): a frame drawn
+/// after others of different sizes, scenes, kernels and paths is bit for bit the frame a fresh
+/// renderer draws, so nothing of one frame leaks into the next.
+#[test]
+fn a_renderer_kept_between_frames_draws_each_frame_as_a_fresh_one() {
+    let Some(gpu) = gpu() else { return };
+    let renderer = Renderer::new(&gpu);
+    let pair = Scene::pair();
+    let kernels = [gaussian_sigma(17, 0.3), gaussian_sigma(17, 0.1)];
+    let params = RenderParams {
+        width: 160,
+        height: 90,
+        albedo: AlbedoMode::Post,
+        ..RenderParams::default()
+    };
+    let first = renderer
+        .render(&gpu, &pair, Scatter::Separable(&kernels), &params)
+        .unwrap();
+    // In between: half resolution, a larger frame of another scene on the fast path, no SSS.
+    let sphere = Scene::sphere();
+    let between = [
+        (
+            &pair,
+            Scatter::Separable(&kernels),
+            RenderParams {
+                half_res: true,
+                ..params
+            },
+        ),
+        (
+            &sphere,
+            Scatter::Separable(std::slice::from_ref(&kernels[1])),
+            RenderParams {
+                width: 200,
+                height: 120,
+                fast: true,
+                ..params
+            },
+        ),
+        (&pair, Scatter::None, params),
+    ];
+    for (scene, scatter, p) in between {
+        renderer.render(&gpu, scene, scatter, &p).unwrap();
+    }
+    let again = renderer
+        .render(&gpu, &pair, Scatter::Separable(&kernels), &params)
+        .unwrap();
+    let fresh = render(&gpu, &pair, Scatter::Separable(&kernels), &params).unwrap();
+    for (name, f) in [("again", &again), ("fresh", &fresh)] {
+        assert!(first.linear == f.linear, "{name}: final image differs");
+        assert!(
+            first.scattered == f.scattered,
+            "{name}: scattered light differs"
+        );
+        assert!(
+            first.irradiance == f.irradiance,
+            "{name}: irradiance differs"
+        );
+        assert!(first.geometry == f.geometry, "{name}: geometry differs");
+        assert_eq!(first.display, f.display, "{name}: display image differs");
+    }
+    // The frame in between changed something: the test would notice a stale buffer.
+    assert!(first.scattered.iter().any(|p| p[0] > 0.0));
+}
