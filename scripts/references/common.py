@@ -59,13 +59,15 @@ def material(sss, name):
 
 def read_profile(path):
     """(dr, rows) of a profile CSV written by `sss simulate`; rows are (r, [R,G,B], [seR,seG,seB]),
-    the last (overflow) bin dropped."""
+    the last (overflow) bin dropped. The bin width dr [cm] is the grid's, from the provenance file
+    `sss simulate` writes beside the CSV (NAME.profile.json)."""
     lines = open(path).read().strip().split("\n")[1:]
     rows = []
     for line in lines:
         v = [float(x) for x in line.split(",")]
         rows.append((v[0], v[1:4], v[4:7]))
-    dr = rows[0][0] / (0.5 + 1.0 / 6.0)
+    provenance = json.load(open(path[: -len(".csv")] + ".json"))
+    dr = provenance["channels"][0]["grid"]["dr"]
     return dr, rows[:-1]
 
 

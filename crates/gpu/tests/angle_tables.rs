@@ -3,36 +3,9 @@
 
 use gpu::{AngleTables, INCIDENCE_STEPS};
 
-/// Chandrasekhar's H-function for isotropic scattering with single-scattering albedo `w`, by its
-/// closed form ln H(μ) = −(μ/π)∫₀^∞ ln(1 − w·atan(t)/t)/(1 + μ²t²) dt (t = tan φ, midpoint rule).
-fn h(w: f64, mu: f64) -> f64 {
-    let n = 20_000;
-    let dphi = std::f64::consts::FRAC_PI_2 / n as f64;
-    let integral: f64 = (0..n)
-        .map(|k| {
-            let phi = (k as f64 + 0.5) * dphi;
-            (1.0 - w * phi / phi.tan()).ln() / (phi.cos().powi(2) + mu * mu * phi.sin().powi(2))
-        })
-        .sum::<f64>()
-        * dphi;
-    (-mu / std::f64::consts::PI * integral).exp()
-}
-
-/// The H-function's known value H(1) = 2.9078 for a conservative medium, and its zeroth
-/// moment ∫₀¹ H(μ) dμ = 2(1 − √(1 − w))/w (Chandrasekhar 1960).
-#[test]
-fn h_function_has_its_known_values() {
-    assert!((h(1.0, 1.0) - 2.9078).abs() < 1e-3, "{}", h(1.0, 1.0));
-    for w in [0.5, 0.9, 0.99] {
-        let n = 400;
-        let moment: f64 = (0..n)
-            .map(|k| h(w, (k as f64 + 0.5) / n as f64))
-            .sum::<f64>()
-            / n as f64;
-        let want = 2.0 * (1.0 - (1.0 - w).sqrt()) / w;
-        assert!((moment - want).abs() < 1e-3, "w {w}: {moment} vs {want}");
-    }
-}
+#[path = "../../../tests/support/chandrasekhar.rs"]
+mod chandrasekhar;
+use chandrasekhar::h_function as h;
 
 /// Three channels of albedo 0.99, 0.9 and 0.5, η = 1, g = 0, a half-space. The total diffuse
 /// reflectance at incidence cos θ = μ₀ is 1 − √(1−w)·H(μ₀), so the incidence table must be
