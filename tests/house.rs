@@ -265,17 +265,20 @@ fn the_readme_test_command_is_what_ci_runs() {
     );
 }
 
-/// Every command `sss --help` lists has its row in `docs/commands.md`, so the reference cannot
-/// silently drop one.
+/// Every command `sss --help` lists has its row in `docs/commands.md`, and every option of its
+/// own `--help` is named there, so the reference cannot silently drop a command or a flag.
 #[test]
-fn every_command_is_documented() {
-    let help = std::process::Command::new(env!("CARGO_BIN_EXE_sss"))
-        .arg("--help")
-        .output()
-        .unwrap();
-    let help = String::from_utf8(help.stdout).unwrap();
+fn every_command_and_option_is_documented() {
+    let help = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_sss"))
+            .args(args)
+            .output()
+            .unwrap();
+        String::from_utf8(out.stdout).unwrap()
+    };
     let docs = std::fs::read_to_string(format!("{ROOT}/docs/commands.md")).unwrap();
-    let commands: Vec<&str> = help
+    let top = help(&["--help"]);
+    let commands: Vec<&str> = top
         .split("Commands:")
         .nth(1)
         .expect("a Commands: section")
@@ -291,4 +294,31 @@ fn every_command_is_documented() {
         .filter(|c| !docs.contains(&format!("`sss {c}")))
         .collect();
     assert!(missing.is_empty(), "not in docs/commands.md: {missing:?}");
+    let mut undocumented = Vec::new();
+    for c in &commands {
+        // An option line starts with `-x, --flag` or `--flag`; `--help` and `--version` are clap's.
+        for line in help(&[c, "--help"]).lines() {
+            let t = line.trim_start();
+            let t = t.strip_prefix('-').map_or(t, |r| match r.split_once(", ") {
+                Some((short, rest)) if short.len() == 1 => rest,
+                _ => t,
+            });
+            let Some(flag) = t.strip_prefix("--") else {
+                continue;
+            };
+            let name: String = flag
+                .chars()
+                .take_while(|ch| ch.is_ascii_alphanumeric() || *ch == '-')
+                .collect();
+            if !["help", "version"].contains(&name.as_str())
+                && !docs.contains(&format!("--{name}"))
+            {
+                undocumented.push(format!("sss {c} --{name}"));
+            }
+        }
+    }
+    assert!(
+        undocumented.is_empty(),
+        "options not named in docs/commands.md: {undocumented:?}"
+    );
 }
