@@ -135,8 +135,8 @@ fn thickness(i: u32, world: vec3<f32>) -> f32 {
     if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
         return -1.0;
     }
-    // The entry depth interpolated bilinearly between texel centres (exact on flat parts; the
-    // nearest texel alone is off by up to half a texel times the slope).
+    // The entry depth interpolated bilinearly between the four nearest texel centres (exact on
+    // flat parts; the nearest texel alone is off by up to half a texel times the slope).
     let size = vec2<i32>(textureDimensions(shadow_maps));
     let t = uv * vec2<f32>(size) - 0.5;
     let base = vec2<i32>(floor(t));
@@ -144,12 +144,35 @@ fn thickness(i: u32, world: vec3<f32>) -> f32 {
     let lo = clamp(base, vec2<i32>(0), size - 1);
     let hi = clamp(base + 1, vec2<i32>(0), size - 1);
     let l = i32(layer);
-    let depth = mix(
-        mix(textureLoad(shadow_maps, lo, l, 0), textureLoad(shadow_maps, vec2<i32>(hi.x, lo.y), l, 0), f.x),
-        mix(textureLoad(shadow_maps, vec2<i32>(lo.x, hi.y), l, 0), textureLoad(shadow_maps, hi, l, 0), f.x),
-        f.y);
-    let e = g.lights[i].inv_view_proj * vec4<f32>(ndc.xy, depth, 1.0);
-    return length(world - e.xyz / e.w);
+    let z = array<f32, 4>(
+        textureLoad(shadow_maps, lo, l, 0),
+        textureLoad(shadow_maps, vec2<i32>(hi.x, lo.y), l, 0),
+        textureLoad(shadow_maps, vec2<i32>(lo.x, hi.y), l, 0),
+        textureLoad(shadow_maps, hi, l, 0));
+    let depth = mix(mix(z[0], z[1], f.x), mix(z[2], z[3], f.x), f.y);
+    // Where the four disagree by more than a plane tilted 76° from the light would (4 texels
+    // across one), the map does not resolve the surface there: a silhouette of the light's view,
+    // such as a curved body's terminator, where the chord shrinks to 0 within a texel and the
+    // interpolated entry lands on the point itself. There the thickest reading is taken (too
+    // little light rather than a speckle of a thin-slab's transmittance).
+    let texel = length(entry(i, ndc.xy + vec2<f32>(2.0 / f32(size.x), 0.0), depth) - entry(i, ndc.xy, depth));
+    var near = 1e30;
+    var far = 0.0;
+    for (var k = 0; k < 4; k++) {
+        let d = length(world - entry(i, ndc.xy, z[k]));
+        near = min(near, d);
+        far = max(far, d);
+    }
+    if far - near > 4.0 * texel {
+        return far;
+    }
+    return length(world - entry(i, ndc.xy, depth));
+}
+
+// The world point [cm] of light i's view at NDC `xy` and shadow-map depth `z`.
+fn entry(i: u32, xy: vec2<f32>, z: f32) -> vec3<f32> {
+    let e = g.lights[i].inv_view_proj * vec4<f32>(xy, z, 1.0);
+    return e.xyz / e.w;
 }
 
 // π × the radiance a smooth dielectric boundary of index eta at `world` (unit normal n) reflects
