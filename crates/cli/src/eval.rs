@@ -10,7 +10,7 @@ use fit::Profile;
 use fit::evaluate::{RANK1, Row, evaluate};
 use fit::pareto::{Pareto, Point};
 use fit::signals::Signal;
-use serde_json::{Value, json};
+use serde_json::json;
 
 use crate::cache::ProfileSource;
 use crate::files::Outputs;
@@ -34,21 +34,6 @@ pub struct EvalArgs {
     /// Print the measurements as JSON on stdout
     #[arg(long)]
     json: bool,
-}
-
-fn row_json(r: &Row) -> Value {
-    let (rank, k) = match r.model {
-        KernelModel::Svd { rank, .. } => (Some(rank), None),
-        KernelModel::Deon { n } => (Some(n), None),
-        KernelModel::Guided { k, .. } => (None, Some(k)),
-        _ => (None, None),
-    };
-    json!({
-        "model": r.model, "family": r.model.family().name(), "variant": r.variant, "rank": rank, "k": k, "channel": mc::CHANNELS[r.channel],
-        "kernel_rms": r.kernel_rms, "kernel_rms_normalized": r.kernel_rms_normalized, "l1_error": r.l1_error,
-        "image_rms": r.image_rms.iter().map(|(s, e)| (s.name().to_string(), json!(e))).collect::<serde_json::Map<_, _>>(),
-        "fit_seconds": r.fit_seconds,
-    })
 }
 
 pub fn run(a: EvalArgs) -> Result<()> {
@@ -79,7 +64,7 @@ pub fn run(a: EvalArgs) -> Result<()> {
         }
         materials.push(json!({
             "name": n.slug,
-            "models": ev.rows.iter().map(row_json).collect::<Vec<_>>(),
+            "models": ev.rows.iter().map(Row::json).collect::<Vec<_>>(),
             "pareto": pareto,
         }));
     }

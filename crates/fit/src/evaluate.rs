@@ -107,6 +107,28 @@ pub struct Row {
 }
 
 impl Row {
+    /// The row as `sss eval --json` prints it (and `sss.evaluate` returns it): the model, its
+    /// family, variant, rank or k where it has one, the channel name, the kernel- and image-space
+    /// errors (image RMS per test signal by name) and the fit time.
+    pub fn json(&self) -> serde_json::Value {
+        let (rank, k) = match self.model {
+            KernelModel::Svd { rank, .. } => (Some(rank), None),
+            KernelModel::Deon { n } => (Some(n), None),
+            KernelModel::Guided { k, .. } => (None, Some(k)),
+            _ => (None, None),
+        };
+        serde_json::json!({
+            "model": self.model, "family": self.model.family().name(), "variant": self.variant,
+            "rank": rank, "k": k, "channel": mc::CHANNELS[self.channel],
+            "kernel_rms": self.kernel_rms, "kernel_rms_normalized": self.kernel_rms_normalized,
+            "l1_error": self.l1_error,
+            "image_rms": self.image_rms.iter().map(|(s, e)| (s.name().to_string(), serde_json::json!(e))).collect::<serde_json::Map<_, _>>(),
+            "fit_seconds": self.fit_seconds,
+        })
+    }
+}
+
+impl Row {
     /// The row's name for tables: the model's name, with the manual model's source in
     /// parentheses (`svd1`, `guided-k1`, `manual (table A.1)`, `burley-radial`, …).
     pub fn label(&self) -> String {

@@ -90,9 +90,7 @@ impl BatchSpec {
                 "at least one channel is required",
             ));
         }
-        if self.photons == 0 {
-            return Err(McError::invalid("photons", 0, "must be at least 1"));
-        }
+        crate::job::check_photons(self.photons)?;
         for (i, c) in self.channels.iter().enumerate() {
             let s = Sample {
                 n_above: self.n_above,

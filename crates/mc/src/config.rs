@@ -84,9 +84,7 @@ impl SimConfig {
                 ));
             }
         }
-        if c.photons == 0 {
-            return Err(McError::invalid("photons", 0, "must be at least 1"));
-        }
+        crate::job::check_photons(c.photons)?;
         // The bin counts are checked against the grid's own limits now, not when the first
         // material's grid is derived; spacings and nr are placeholders here.
         let probe = Grid {
@@ -218,5 +216,11 @@ mod tests {
                 .absorption_rz
         );
         assert!(config.batch(&[&a], 0, 7, true).is_err());
+        // A count beyond MAX_PHOTONS is a typo, not a run: refused, naming the field.
+        let e = config
+            .batch(&[&a], crate::MAX_PHOTONS + 1, 7, true)
+            .unwrap_err();
+        assert!(e.to_string().contains("photons"), "{e}");
+        assert!(config.batch(&[&a], crate::MAX_PHOTONS, 7, true).is_ok());
     }
 }

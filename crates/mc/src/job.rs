@@ -17,6 +17,26 @@ pub(crate) trait Job: Sync {
     fn trace_chunk(&self, tally: &mut Tally, rng: &mut Rng, photons: u64);
 }
 
+/// The most photon packets per channel a run takes: 10¹⁴, weeks of a large cluster's time at
+/// this tracer's speed and far beyond what any profile needs (published references use 10⁸–10⁹).
+/// A count above it is a mistake (a unit slip, an exponent typed twice), not a run to start.
+pub const MAX_PHOTONS: u64 = 100_000_000_000_000;
+
+/// Refuses a photon count of 0 or above [`MAX_PHOTONS`], naming the field.
+pub(crate) fn check_photons(photons: u64) -> crate::Result<()> {
+    if photons == 0 {
+        return Err(crate::McError::invalid("photons", 0, "must be at least 1"));
+    }
+    if photons > MAX_PHOTONS {
+        return Err(crate::McError::invalid(
+            "photons",
+            photons,
+            "must be at most 1e14 per channel",
+        ));
+    }
+    Ok(())
+}
+
 /// Number of chunks a run of `photons` is split into.
 pub fn chunk_count(photons: u64) -> u64 {
     photons.div_ceil(CHUNK_PHOTONS)

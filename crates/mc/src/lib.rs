@@ -65,7 +65,7 @@ pub use config::{GridRule, SimConfig, THESIS_TOML};
 pub use error::{McError, Result};
 pub use fresnel::{cos_critical, fresnel, specular};
 pub use grid::Grid;
-pub use job::chunk_count;
+pub use job::{MAX_PHOTONS, chunk_count};
 pub use layer::{Incidence, Layer, Sample};
 pub use material::{CHANNELS, Material};
 pub use output::{Estimate, Output};

@@ -60,9 +60,7 @@ impl RunSpec {
     pub fn validate(&self) -> Result<()> {
         self.sample.validate()?;
         self.grid.validate()?;
-        if self.photons == 0 {
-            return Err(McError::invalid("photons", 0, "must be at least 1"));
-        }
+        crate::job::check_photons(self.photons)?;
         Ok(())
     }
 
