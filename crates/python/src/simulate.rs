@@ -1,0 +1,224 @@
+//! `sss.materials()` and `sss.simulate(...)`: the built-in library and the photon tracer (`mc`),
+//! with the GIL released while it traces and Ctrl-C checked between slices of chunks.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+use mc::{Accumulator, BatchSpec, Material, Output, SimConfig};
+use numpy::IntoPyArray;
+use numpy::ndarray::Array2;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::{args, error};
+
+/// Chunks traced between two checks for Ctrl-C, per worker thread (a chunk is
+/// `mc::CHUNK_PHOTONS` photons: a few tens of milliseconds).
+const CHUNKS_PER_CHECK: u64 = 4;
+
+/// Packets per channel and angle for `incidence_angles`, as `sss simulate --incidence-photons`.
+const INCIDENCE_PHOTONS: u64 = 100_000;
+
+/// The built-in materials as dicts: `name`, `source`, `sigma_a` and `sigma_s` [cm⁻¹] and `g` [-]
+/// per channel R, G, B, `eta` [-].
+#[pyfunction]
+pub fn materials(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
+    let list = PyList::empty(py);
+    for name in mc::builtin::names() {
+        let m = Material::builtin(name).map_err(error)?;
+        let d = PyDict::new(py);
+        d.set_item("name", name)?;
+        d.set_item("source", &m.source)?;
+        d.set_item("sigma_a", m.sigma_a.to_vec())?;
+        d.set_item("sigma_s", m.sigma_s.to_vec())?;
+        d.set_item("g", m.g.to_vec())?;
+        d.set_item("eta", m.eta)?;
+        list.append(d)?;
+    }
+    Ok(list)
+}
+
+/// Simulates a material's diffuse reflectance profile Rd(r) with the MCML-style tracer, at the
+/// thesis's settings unless told otherwise (its grid rule, a half-space).
+///
+/// material: a built-in name, a material .toml path, or a dict (`sigma_a`, `sigma_s` [cm⁻¹],
+/// `g`, `eta`; one value or three). photons: packets per channel [default 1e7]; seed [default
+/// 1]: the same seed gives bit-identical results for any `threads` and the same numbers as
+/// `sss simulate`. full: also tally the absorption A(r, z) (`a_rz`, channels × nr × nz [cm⁻³]).
+/// incidence_angles: also total Rd at these beam angles [degrees] (`incidence`), with
+/// incidence_photons packets per channel and angle [default 1e5, as `sss simulate`].
+/// target_error: stop once the relative standard error of total Rd and of r·Rd(r) within 3
+/// transport mean free paths is at most this (photons is then the cap). progress: a callable
+/// `progress(done, total)` [photons], called from this thread.
+///
+/// Returns a dict: `r_cm` (nr), `rd` and `rd_se` (nr × 3) [cm⁻²] (the last bin is MCML's
+/// overflow bin: everything beyond the grid, spread over its annulus), `rd_total`,
+/// `rd_total_se`, `a_total`, `a_total_se`, `tt_total`, `tt_total_se`, `rsp` (3 each) [-], the
+/// grid (`dr_cm`, `nr`, `dz_cm`, `nz`), `photons`, `seed`, `threads`, `seconds`.
+#[pyfunction]
+#[pyo3(signature = (material, photons=None, seed=None, threads=None, full=false, incidence_angles=None, incidence_photons=None, target_error=None, progress=None))]
+#[allow(clippy::too_many_arguments)] // Python's keyword arguments
+pub fn simulate<'py>(
+    py: Python<'py>,
+    material: &Bound<'py, PyAny>,
+    photons: Option<&Bound<'py, PyAny>>,
+    seed: Option<&Bound<'py, PyAny>>,
+    threads: Option<&Bound<'py, PyAny>>,
+    full: bool,
+    incidence_angles: Option<&Bound<'py, PyAny>>,
+    incidence_photons: Option<&Bound<'py, PyAny>>,
+    target_error: Option<&Bound<'py, PyAny>>,
+    progress: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let m = args::material(material)?;
+    let config = SimConfig::thesis().map_err(error)?;
+    let photons = photons
+        .map(|p| args::count("photons", p))
+        .transpose()?
+        .unwrap_or(config.photons);
+    let seed = match seed {
+        Some(s) => s
+            .extract::<u64>()
+            .map_err(|_| error(format!("invalid seed {s}: must be a whole number ≥ 0")))?,
+        None => config.seed,
+    };
+    let pool = thread_pool(threads)?;
+    let angles = incidence_angles
+        .map(|a| args::array("incidence_angles", a))
+        .transpose()?;
+    let incidence_photons = incidence_photons
+        .map(|p| args::count("incidence_photons", p))
+        .transpose()?
+        .unwrap_or(INCIDENCE_PHOTONS);
+    let target = target_error
+        .map(|e| args::number("target_error", e))
+        .transpose()?;
+    if let Some(p) = progress
+        && !p.is_callable()
+    {
+        return Err(error(
+            "invalid progress: must be callable as progress(done, total)",
+        ));
+    }
+    let spec = config.batch(&[&m], photons, seed, !full).map_err(error)?;
+    let start = Instant::now();
+    let outputs = match target {
+        Some(e) => py
+            .detach(|| {
+                pool.install(|| mc::run_batch_to_error(&spec, e, &spec.error_radii(), &|_| {}))
+            })
+            .map_err(error)?,
+        None => trace(py, &pool, &spec, progress)?,
+    };
+    let seconds = start.elapsed().as_secs_f64();
+    let d = output_dict(py, &outputs, &spec)?;
+    d.set_item("material", &m.name)?;
+    d.set_item("seed", seed)?;
+    d.set_item("threads", pool.current_num_threads())?;
+    d.set_item("seconds", seconds)?;
+    if let Some(angles) = angles {
+        let incidence_spec = config
+            .batch(&[&m], incidence_photons, seed, true)
+            .map_err(error)?;
+        let rows = py
+            .detach(|| pool.install(|| mc::incidence::rd_table(&incidence_spec, &angles, &|_| {})))
+            .map_err(error)?;
+        let inc = PyDict::new(py);
+        inc.set_item("theta_deg", angles.clone().into_pyarray(py))?;
+        let per = |f: &dyn Fn(&mc::incidence::IncidenceRow, usize) -> f64| {
+            Array2::from_shape_fn((rows.len(), 3), |(i, c)| f(&rows[i], c)).into_pyarray(py)
+        };
+        inc.set_item("rd", per(&|r, c| r.rd[c].value))?;
+        inc.set_item("rd_se", per(&|r, c| r.rd[c].se))?;
+        inc.set_item("rsp", per(&|r, c| r.rsp[c]))?;
+        inc.set_item("photons", incidence_photons)?;
+        d.set_item("incidence", inc)?;
+    }
+    Ok(d)
+}
+
+/// Traces the whole batch in slices of chunks (exact sums: the same numbers as one
+/// `mc::run_batch`), checking for Ctrl-C and reporting progress between slices.
+fn trace(
+    py: Python<'_>,
+    pool: &rayon::ThreadPool,
+    spec: &BatchSpec,
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Vec<Output>> {
+    let total = mc::chunk_count(spec.photons);
+    let step = CHUNKS_PER_CHECK * pool.current_num_threads() as u64;
+    let groups = spec.groups().len() as u64;
+    let done = AtomicU64::new(0);
+    let mut sums: Option<Vec<Accumulator>> = None;
+    let mut next = 0;
+    while next < total {
+        let end = (next + step).min(total);
+        let part = py
+            .detach(|| {
+                pool.install(|| {
+                    mc::accumulate_batch(spec, next..end, &|n| {
+                        done.fetch_add(n, Ordering::Relaxed);
+                    })
+                })
+            })
+            .map_err(error)?;
+        match &mut sums {
+            None => sums = Some(part),
+            Some(s) => s.iter_mut().zip(&part).for_each(|(a, b)| a.merge(b)),
+        }
+        next = end;
+        py.check_signals()?;
+        if let Some(p) = progress {
+            p.call1((done.load(Ordering::Relaxed), spec.photons * groups))?;
+        }
+    }
+    Ok(mc::batch_outputs(spec, &sums.unwrap_or_default()))
+}
+
+fn thread_pool(threads: Option<&Bound<'_, PyAny>>) -> PyResult<rayon::ThreadPool> {
+    let n = threads.map(|t| args::count("threads", t)).transpose()?;
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n.unwrap_or(0) as usize)
+        .build()
+        .map_err(error)
+}
+
+/// One material's three channel outputs as the dict `simulate` documents.
+pub fn output_dict<'py>(
+    py: Python<'py>,
+    outputs: &[Output],
+    spec: &BatchSpec,
+) -> PyResult<Bound<'py, PyDict>> {
+    let g = outputs[0].grid;
+    let d = PyDict::new(py);
+    let r: Vec<f64> = (0..g.nr).map(|i| g.r_optimal(i)).collect();
+    d.set_item("r_cm", r.into_pyarray(py))?;
+    let per_bin = |f: &dyn Fn(&mc::Estimate) -> f64| {
+        Array2::from_shape_fn((g.nr, 3), |(i, c)| f(&outputs[c].rd_r[i])).into_pyarray(py)
+    };
+    d.set_item("rd", per_bin(&|e| e.value))?;
+    d.set_item("rd_se", per_bin(&|e| e.se))?;
+    let totals = |f: &dyn Fn(&Output) -> f64| outputs.iter().map(f).collect::<Vec<f64>>();
+    d.set_item("rd_total", totals(&|o| o.rd.value))?;
+    d.set_item("rd_total_se", totals(&|o| o.rd.se))?;
+    d.set_item("a_total", totals(&|o| o.a.value))?;
+    d.set_item("a_total_se", totals(&|o| o.a.se))?;
+    d.set_item("tt_total", totals(&|o| o.tt.value))?;
+    d.set_item("tt_total_se", totals(&|o| o.tt.se))?;
+    d.set_item("rsp", totals(&|o| o.rsp))?;
+    d.set_item("dr_cm", g.dr)?;
+    d.set_item("nr", g.nr)?;
+    d.set_item("dz_cm", g.dz)?;
+    d.set_item("nz", g.nz)?;
+    d.set_item("photons", outputs[0].photons)?;
+    d.set_item("eta", spec.channels[0].layer.n)?;
+    if spec.tallies.absorption_rz {
+        let a: Vec<f64> = outputs
+            .iter()
+            .flat_map(|o| o.a_rz.iter().map(|e| e.value))
+            .collect();
+        let a = numpy::ndarray::Array3::from_shape_vec((3, g.nr, g.nz), a).map_err(error)?;
+        d.set_item("a_rz", a.into_pyarray(py))?;
+    }
+    Ok(d)
+}

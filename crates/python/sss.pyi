@@ -1,0 +1,106 @@
+"""Measured optical coefficients to subsurface-scattering kernels: Monte Carlo profiles (an
+MCML-style tracer), analytic profiles, separable kernel fits, shader export and engine
+parameters. Lengths in cm, coefficients in cm⁻¹, Rd(r) in cm⁻²."""
+
+from typing import Any, Callable, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+Material = Union[str, Mapping[str, Any]]
+"""A built-in name (see `materials()`), a path to a material .toml file, or a dict with
+`sigma_a` and `sigma_s` [cm⁻¹], `g` [-] (default 0) and `eta` [-], each one value or three
+(R, G, B), optionally `name` and `thickness` [cm]."""
+
+Profile = Mapping[str, Any]
+"""The dict `simulate` or `profile` returns: `r_cm` (nr), `rd` and `rd_se` (nr × 3) [cm⁻²] whose
+last bin is MCML's overflow bin, `dr_cm`."""
+
+Number = Union[int, float]
+
+class SssError(ValueError):
+    """Bad input (the message names the argument and its value) or a failed run."""
+
+class Kernel:
+    """A shader-ready separable kernel: per pass its taps' offsets [cm], RGB weights and signs."""
+
+    @property
+    def model(self) -> str:
+        """The model, as `sss fit --model` names it."""
+    @property
+    def material(self) -> str: ...
+    @property
+    def taps(self) -> int:
+        """Taps per 1D pass."""
+    @property
+    def range_cm(self) -> float:
+        """Range of the offsets' quadratic mapping [cm]."""
+    @property
+    def offsets(self) -> npt.NDArray[np.float64]:
+        """Tap offsets, passes × taps [cm]."""
+    @property
+    def weights(self) -> npt.NDArray[np.float64]:
+        """Tap weights, passes × taps × 3 (R, G, B) [-]."""
+    @property
+    def signs(self) -> npt.NDArray[np.float64]:
+        """Each pass's sign per channel, passes × 3 (±1)."""
+    def to_toml(self) -> str:
+        """The kernel file `sss fit` writes, which `sss render --kernel` reads."""
+    @staticmethod
+    def from_toml(text: str) -> "Kernel": ...
+
+def materials() -> list[dict[str, Any]]:
+    """The built-in materials: `name`, `source`, `sigma_a`, `sigma_s` [cm⁻¹], `g`, `eta`."""
+
+def simulate(
+    material: Material,
+    photons: Optional[Number] = None,
+    seed: Optional[int] = None,
+    threads: Optional[int] = None,
+    full: bool = False,
+    incidence_angles: Optional[Sequence[float]] = None,
+    incidence_photons: Optional[Number] = None,
+    target_error: Optional[float] = None,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> dict[str, Any]:
+    """Rd(r) by the MCML-style tracer at the thesis's settings unless told otherwise (photons
+    [default 1e7] per channel, seed [default 1]: same seed, same numbers as `sss simulate`, for
+    any `threads`). Returns `r_cm`, `rd`, `rd_se` (nr × 3) [cm⁻²] (last bin: MCML's overflow
+    bin), totals `rd_total`, `a_total`, `tt_total` with `_se`, `rsp`, the grid (`dr_cm`, `nr`,
+    `dz_cm`, `nz`), `photons`, `seed`, `threads`, `seconds`; with `full`, `a_rz` (3 × nr × nz)
+    [cm⁻³]; with `incidence_angles` [degrees], `incidence` (`theta_deg`, `rd`, `rd_se`, `rsp`).
+    The GIL is released while tracing; Ctrl-C raises KeyboardInterrupt within about a second
+    (not within a `target_error` run)."""
+
+def read_mco(path: str) -> dict[str, Any]:
+    """An MCML output file: totals, bin widths and 1D arrays (`rd_r`, `tt_r`, `a_z`, ...)."""
+
+def run_mci(
+    path: str, photons: Optional[Number] = None, seed: Optional[int] = None
+) -> list[dict[str, Any]]:
+    """Every run of an MCML input file, traced as MCML traces it, as dicts of arrays."""
+
+def profile(material: Material, model: str = "pbd") -> dict[str, Any]:
+    """An analytic profile ("dipole", "better-dipole", "directional-dipole", "pbd", "burley")
+    on the material's thesis grid, as the dict `simulate` returns."""
+
+def fit(
+    profile: Profile, model: str = "preint", taps: Optional[int] = None, material: str = "material"
+) -> Kernel:
+    """A kernel model fitted to the profile and sampled into `taps` taps per pass [default 17]."""
+
+def export(kernel: Kernel, format: str = "hlsl", unit: str = "cm") -> str:
+    """Shader source: "hlsl", "glsl", "wgsl" or "json" (SSSS's layout); offsets in "cm" or "mm"."""
+
+def kernel(
+    profile: Profile, budget: str = "2x17", material: str = "material"
+) -> Tuple[Kernel, list[dict[str, Any]]]:
+    """The best kernel within the budget PASSESxTAPS by mean image RMS, and the ranking."""
+
+def evaluate(profile: Profile, material: str = "material") -> list[dict[str, Any]]:
+    """Every kernel model's errors on the profile: the rows of `sss eval --json`."""
+
+def engine_params(
+    material: Material, profile: Profile, engine: str = "unreal", budget: str = "2x17"
+) -> dict[str, Any]:
+    """Engine parameters ("unreal", "unity", "blender", "openpbr") as `sss engine-params --json`."""

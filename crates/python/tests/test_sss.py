@@ -1,0 +1,233 @@
+"""The Python module `sss` against the libraries it binds and against exact identities. Run by
+tests/python.rs (which builds the wheel), or by hand: pip install ./crates/python pytest, then
+pytest crates/python/tests. SSS_BIN names the `sss` executable for the CLI comparisons."""
+
+import ast
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+import types
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import sss
+
+ROOT = Path(__file__).resolve().parents[3]
+SSS_BIN = os.environ.get("SSS_BIN")
+QUICK = 100_000
+
+
+@pytest.fixture(scope="module")
+def skin1():
+    return sss.simulate("skin1", photons=QUICK, seed=7)
+
+
+def annulus_areas(p):
+    """The area of each radial bin [cm²]: π(2i + 1)dr², MCML's annuli."""
+    i = np.arange(len(p["r_cm"]))
+    return np.pi * (2 * i + 1) * p["dr_cm"] ** 2
+
+
+def test_rd_integrates_to_the_total(skin1):
+    # Every photon leaving the top within the grid lands in one annulus, and the rest in MCML's
+    # overflow bin: Σ Rd(r_i)·A_i over all bins is total Rd, to rounding.
+    total = (skin1["rd"] * annulus_areas(skin1)[:, None]).sum(axis=0)
+    np.testing.assert_allclose(total, skin1["rd_total"], rtol=1e-12)
+    assert skin1["rd"].shape == (skin1["nr"], 3)
+    assert np.all(skin1["rd_se"] >= 0)
+
+
+def test_same_seed_same_numbers_for_any_thread_count(skin1):
+    one = sss.simulate("skin1", photons=QUICK, seed=7, threads=1)
+    for key in ("rd", "rd_se", "rd_total", "a_total", "tt_total"):
+        assert np.array_equal(np.asarray(one[key]), np.asarray(skin1[key])), key
+
+
+@pytest.mark.skipif(not SSS_BIN, reason="SSS_BIN not set")
+def test_arrays_equal_the_cli_for_the_same_seed(skin1, tmp_path):
+    subprocess.run([SSS_BIN, "simulate", "skin1", "--photons", str(QUICK), "--seed", "7",
+                    "--out", str(tmp_path)], check=True, capture_output=True)
+    csv = np.loadtxt(tmp_path / "skin1.profile.csv", delimiter=",", skiprows=1)
+    # The CSV holds every bin (the overflow bin last) in Rust's shortest round-trip notation.
+    assert np.array_equal(csv[:, 1:4], skin1["rd"])
+    assert np.array_equal(csv[:, 4:7], skin1["rd_se"])
+    summary = json.loads((tmp_path / "skin1.summary.json").read_text())
+    for c, ch in enumerate("RGB"):
+        assert summary["channels"][ch]["rd"] == skin1["rd_total"][c]
+
+
+def test_a_dict_material_equals_the_same_builtin(skin1):
+    m = next(m for m in sss.materials() if m["name"] == "skin1")
+    coefficients = {k: m[k] for k in ("sigma_a", "sigma_s", "g", "eta")}
+    d = sss.simulate(coefficients, photons=QUICK, seed=7)
+    assert np.array_equal(d["rd"], skin1["rd"])
+
+
+def test_two_threads_simulate_in_parallel():
+    if (os.cpu_count() or 1) < 2:
+        pytest.skip("one core")
+    run = lambda: sss.simulate("marble", photons=400_000, seed=3, threads=1)
+    run()  # warm caches
+    start = time.perf_counter()
+    run()
+    one = time.perf_counter() - start
+    threads = [threading.Thread(target=run) for _ in range(2)]
+    start = time.perf_counter()
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    two = time.perf_counter() - start
+    ratio = two / one
+    print(f"two concurrent simulate calls took {ratio:.2f}× one call")
+    # Holding the GIL would serialize them (ratio ≥ 2).
+    assert ratio < 1.6, ratio
+
+
+def test_ctrl_c_interrupts_a_long_run():
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    start = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        sss.simulate("skin1", photons=10**10, seed=1)
+    waited = time.perf_counter() - start - 0.5
+    print(f"KeyboardInterrupt {waited:.2f} s after Ctrl-C")
+    assert waited < 1.5, waited
+
+
+def test_progress_reports_every_photon():
+    seen = []
+    sss.simulate("skin1", photons=QUICK, seed=1, progress=lambda done, total: seen.append((done, total)))
+    # Every photon of every walk group (one per channel here) is counted once.
+    assert seen and seen[-1][0] == seen[-1][1] and seen[-1][1] % QUICK == 0
+    assert all(a[0] <= b[0] for a, b in zip(seen, seen[1:]))
+
+
+@pytest.mark.parametrize("material, kwargs, field", [
+    ({"sigma_a": float("nan"), "sigma_s": 10.0, "eta": 1.3}, {}, "sigma_a"),
+    ({"sigma_a": -1.0, "sigma_s": 10.0, "eta": 1.3}, {}, "sigma_a"),
+    ({"sigma_a": [0.1, 0.2], "sigma_s": 10.0, "eta": 1.3}, {}, "sigma_a"),
+    ({"sigma_a": "0.1", "sigma_s": 10.0, "eta": 1.3}, {}, "sigma_a"),
+    ({"sigma_a": 0.1, "sigma_s": 10.0}, {}, "eta"),
+    ({"sigma_a": 0.1, "sigma_s": 10.0, "eta": 1.3, "colour": 1}, {}, "material key"),
+    ("skin1", {"photons": 10**15}, "photons"),
+    ("skin1", {"photons": -5}, "photons"),
+    ("skin1", {"photons": "many"}, "photons"),
+    ("skin1", {"photons": 1.5}, "photons"),
+    ("skin1", {"threads": 0}, "threads"),
+    ("no-such-material", {}, "no-such-material"),
+    (42, {}, "material"),
+])
+def test_hostile_input_raises_the_package_error(material, kwargs, field):
+    with pytest.raises(sss.SssError, match=field):
+        sss.simulate(material, **{"photons": 1000, **kwargs})
+    assert issubclass(sss.SssError, ValueError)
+
+
+def test_hostile_profiles_and_kernels_raise_the_package_error(skin1):
+    bad = dict(skin1, rd=skin1["rd"][:, :2])
+    with pytest.raises(sss.SssError, match="rd"):
+        sss.fit(bad)
+    with pytest.raises(sss.SssError, match="model"):
+        sss.fit(skin1, model="svd99x")
+    with pytest.raises(sss.SssError, match="taps"):
+        sss.fit(skin1, taps=0)
+    with pytest.raises(sss.SssError, match="format"):
+        sss.export(sss.fit(skin1), format="cobol")
+    with pytest.raises(sss.SssError):
+        sss.read_mco("/dev/null")
+
+
+def test_fit_then_export_round_trips_the_weights(skin1):
+    for model in ("preint", "svd2-renorm"):
+        k = sss.fit(skin1, model=model)
+        out = json.loads(sss.export(k, format="json"))
+        assert out["model"] == k.model == model
+        for p, exported in enumerate(out["passes"]):
+            # SSSS's layout: [r, g, b, offset], centre tap first; ours by increasing offset.
+            got = np.array(sorted(exported["kernel"], key=lambda t: t[3]))
+            np.testing.assert_allclose(got[:, 3], k.offsets[p], rtol=1e-6, atol=1e-9)
+            np.testing.assert_allclose(got[:, :3], k.weights[p], rtol=1e-6, atol=1e-9)
+            np.testing.assert_array_equal(exported["sign"], k.signs[p])
+        # The kernel file reads back to the same kernel.
+        again = sss.Kernel.from_toml(k.to_toml())
+        np.testing.assert_allclose(again.weights, k.weights, rtol=1e-12)
+
+
+def test_a_normalized_kernel_keeps_the_light(skin1):
+    # Pre-integration's 1D weights sum to one per channel: a uniform image stays uniform.
+    k = sss.fit(skin1, model="preint")
+    np.testing.assert_allclose(k.weights[0].sum(axis=0), 1.0, rtol=1e-9)
+
+
+def test_kernel_ranks_by_image_error(skin1):
+    best, ranking = sss.kernel(skin1, budget="2x17")
+    errors = [r["mean_image_rms"] for r in ranking]
+    assert errors == sorted(errors)
+    assert best.model == ranking[0]["model"]
+    assert all(r["passes"] <= 2 for r in ranking)
+
+
+def test_evaluate_gives_the_rows_of_sss_eval(skin1):
+    rows = sss.evaluate(skin1, material="skin1")
+    assert {r["channel"] for r in rows} == {"R", "G", "B"}
+    preint = [r for r in rows if r["model"] == "preint"]
+    assert len(preint) == 3 and all(r["kernel_rms"] >= 0 for r in preint)
+
+
+def test_analytic_profile_on_the_simulation_grid(skin1):
+    p = sss.profile("skin1", model="pbd")
+    assert p["rd"].shape == skin1["rd"].shape
+    assert p["dr_cm"] == skin1["dr_cm"]
+    assert np.all(p["rd"] >= 0)
+
+
+def test_engine_params_are_the_cli_fields(skin1):
+    e = sss.engine_params("skin1", skin1, engine="unreal")
+    assert e["engine"] == "unreal"
+    assert e["params"]["fields"]
+
+
+MCI = ("1.0\n1\n# van de Hulst's slab\nslab.mco A\n20000\n0.01 0.01\n10 20 5\n1\n1.0\n"
+       "1.0 10 90 0.75 0.02\n1.0\n")
+
+
+def test_mcml_runs_conserve_energy_and_read_back(tmp_path):
+    (tmp_path / "in.mci").write_text(MCI)
+    runs = sss.run_mci(str(tmp_path / "in.mci"), seed=3)
+    assert [r["out_name"] for r in runs] == ["slab.mco"] and runs[0]["photons"] == 20000
+    r = runs[0]
+    # Every packet is reflected (specularly or diffusely), absorbed or transmitted.
+    assert abs(r["rsp"] + r["rd"] + r["a"] + r["tt"] - 1) < 1e-9
+    assert r["a_rz"].shape == (20, 10)
+    if SSS_BIN:
+        # The same run written by `sss simulate --mci` and read back (MCML's 5 significant digits).
+        subprocess.run([SSS_BIN, "simulate", "--mci", "in.mci", "--seed", "3", "--out", "res"],
+                       cwd=tmp_path, check=True, capture_output=True)
+        m = sss.read_mco(str(tmp_path / "res" / "slab.mco"))
+        assert m["photons"] == 20000
+        np.testing.assert_allclose([m["rd"], m["a"], m["tt"]], [r["rd"], r["a"], r["tt"]], rtol=1e-4)
+        np.testing.assert_allclose(m["rd_r"], r["rd_r"], rtol=1e-4, atol=1e-12)
+
+
+def test_every_name_has_a_stub():
+    stub = ast.parse((Path(__file__).resolve().parents[1] / "sss.pyi").read_text())
+    declared = {n.name for n in stub.body if isinstance(n, (ast.FunctionDef, ast.ClassDef))}
+    # maturin wraps the extension in a package: its module object is not API.
+    public = {n for n in dir(sss) if not n.startswith("_") and not isinstance(getattr(sss, n), types.ModuleType)}
+    assert public <= declared, public - declared
+
+
+def test_the_example_runs(tmp_path):
+    out = subprocess.run([sys.executable, str(ROOT / "examples" / "python" / "kernels.py"),
+                          "--out", str(tmp_path), "--photons", "100000"],
+                         capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert (tmp_path / "profiles_and_kernels.png").read_bytes()[:4] == b"\x89PNG"
+    assert "float4" in (tmp_path / "skin1.hlsl").read_text()
