@@ -12,9 +12,10 @@ use pyo3::types::{PyDict, PyList};
 
 use crate::{args, error};
 
-/// Chunks traced between two checks for Ctrl-C, per worker thread (a chunk is
-/// `mc::CHUNK_PHOTONS` photons: a few tens of milliseconds).
-const CHUNKS_PER_CHECK: u64 = 4;
+/// How long one slice of chunks runs between two checks for Ctrl-C [s]: the first slice takes
+/// one chunk per thread, the next ones as many as this time holds (each group of a slice ends
+/// with its threads waiting for the last chunk, so slices much shorter than this cost speed).
+const SLICE_SECONDS: f64 = 0.4;
 
 /// Packets per channel and angle for `incidence_angles`, as `sss simulate --incidence-photons`.
 const INCIDENCE_PHOTONS: u64 = 100_000;
@@ -49,7 +50,7 @@ pub fn materials(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
 /// incidence_photons packets per channel and angle [default 1e5, as `sss simulate`].
 /// target_error: stop once the relative standard error of total Rd and of r·Rd(r) within 3
 /// transport mean free paths is at most this (photons is then the cap). progress: a callable
-/// `progress(done, total)` [photons], called from this thread.
+/// `progress(done, total)` [photons], called from this thread about every 0.4 s.
 ///
 /// Returns a dict: `r_cm` (nr), `rd` and `rd_se` (nr × 3) [cm⁻²] (the last bin is MCML's
 /// overflow bin: everything beyond the grid, spread over its annulus), `rd_total`,
@@ -146,13 +147,14 @@ fn trace(
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Vec<Output>> {
     let total = mc::chunk_count(spec.photons);
-    let step = CHUNKS_PER_CHECK * pool.current_num_threads() as u64;
+    let threads = pool.current_num_threads() as u64;
     let groups = spec.groups().len() as u64;
     let done = AtomicU64::new(0);
     let mut sums: Option<Vec<Accumulator>> = None;
-    let mut next = 0;
+    let (mut next, mut step) = (0, threads);
     while next < total {
         let end = (next + step).min(total);
+        let start = Instant::now();
         let part = py
             .detach(|| {
                 pool.install(|| {
@@ -162,6 +164,9 @@ fn trace(
                 })
             })
             .map_err(error)?;
+        // As many chunks as SLICE_SECONDS holds at this slice's pace, at most 4× more.
+        let pace = start.elapsed().as_secs_f64() / (end - next) as f64;
+        step = ((SLICE_SECONDS / pace.max(1e-9)) as u64).clamp(threads, 4 * step);
         match &mut sums {
             None => sums = Some(part),
             Some(s) => s.iter_mut().zip(&part).for_each(|(a, b)| a.merge(b)),
