@@ -84,23 +84,44 @@ def profile(material: Material, model: str = "pbd") -> dict[str, Any]:
     """An analytic profile ("dipole", "better-dipole", "directional-dipole", "pbd", "burley")
     on the material's thesis grid, as the dict `simulate` returns."""
 
+Source = Union[Profile, Material]
+"""A profile (the dict `simulate` or `profile` returns), or a material traced at the thesis's
+settings with `photons` per channel [default 1e7] (Ctrl-C stops it)."""
+
 def fit(
-    profile: Profile, model: str = "preint", taps: Optional[int] = None, material: str = "material"
+    source: Source,
+    model: str = "preint",
+    taps: Optional[int] = None,
+    material: Optional[str] = None,
+    photons: Optional[Number] = None,
 ) -> Kernel:
-    """A kernel model fitted to the profile and sampled into `taps` taps per pass [default 17]."""
+    """A kernel model fitted to the profile and sampled into `taps` taps per pass [default 17].
+    model as `sss fit --model`: "preint", "svd", "svd2", "svd2-renorm", "guided",
+    "guided-k1.55-b50", "manual", "deon3", "skin", "skin-fit", "burley"."""
 
 def export(kernel: Kernel, format: str = "hlsl", unit: str = "cm") -> str:
     """Shader source: "hlsl", "glsl", "wgsl" or "json" (SSSS's layout); offsets in "cm" or "mm"."""
 
 def kernel(
-    profile: Profile, budget: str = "2x17", material: str = "material"
+    source: Source,
+    budget: str = "2x17",
+    material: Optional[str] = None,
+    photons: Optional[Number] = None,
 ) -> Tuple[Kernel, list[dict[str, Any]]]:
-    """The best kernel within the budget PASSESxTAPS by mean image RMS, and the ranking."""
+    """The best kernel within the budget PASSESxTAPS by mean image RMS, and the ranking
+    (`model`, `passes`, `image_rms` per channel, `mean_image_rms`)."""
 
-def evaluate(profile: Profile, material: str = "material") -> list[dict[str, Any]]:
+def evaluate(
+    source: Source, material: Optional[str] = None, photons: Optional[Number] = None
+) -> list[dict[str, Any]]:
     """Every kernel model's errors on the profile: the rows of `sss eval --json`."""
 
 def engine_params(
-    material: Material, profile: Profile, engine: str = "unreal", budget: str = "2x17"
+    material: Material,
+    engine: str = "unreal",
+    profile: Optional[Profile] = None,
+    budget: str = "2x17",
+    photons: Optional[Number] = None,
 ) -> dict[str, Any]:
-    """Engine parameters ("unreal", "unity", "blender", "openpbr") as `sss engine-params --json`."""
+    """Engine parameters ("unreal", "unity", "blender", "openpbr") as `sss engine-params --json`:
+    `params`, `burley_fit`, `best_separable`; the profile is simulated when not given."""

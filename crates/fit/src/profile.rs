@@ -176,19 +176,27 @@ impl Profile {
         Ok(())
     }
 
-    /// The CSV of three `mc` runs on one grid (R, G, B): Rd(r) with its standard errors at
-    /// MCML's optimal radii, the grid's last bin (everything beyond it) as the overflow row.
-    pub fn csv_from_mc(chans: [&mc::Output; 3]) -> String {
+    /// The profile of three `mc` runs on one grid (R, G, B): Rd(r) with its standard errors at
+    /// MCML's optimal radii, without the grid's last bin (everything beyond it), as
+    /// [`Profile::from_csv`] reads `sss simulate`'s CSV.
+    pub fn from_mc(chans: [&mc::Output; 3]) -> Profile {
         let g = chans[0].grid;
         let n = g.nr - 1;
         let est = |c: usize, i: usize| chans[c].rd_r[i];
-        let p = Profile {
+        Profile {
             dr: g.dr,
             r: (0..n).map(|i| g.r_optimal(i)).collect(),
             rd: [0, 1, 2].map(|c| (0..n).map(|i| est(c, i).value).collect()),
             se: [0, 1, 2].map(|c| (0..n).map(|i| est(c, i).se).collect()),
-        };
-        p.to_csv([0, 1, 2].map(|c| (est(c, n).value, est(c, n).se)))
+        }
+    }
+
+    /// The CSV of three `mc` runs on one grid (R, G, B): [`Profile::from_mc`], then the grid's
+    /// last bin (everything beyond it) as the overflow row.
+    pub fn csv_from_mc(chans: [&mc::Output; 3]) -> String {
+        let n = chans[0].grid.nr - 1;
+        Profile::from_mc(chans)
+            .to_csv([0, 1, 2].map(|c| (chans[c].rd_r[n].value, chans[c].rd_r[n].se)))
     }
 
     /// The CSV `sss simulate` writes (`r_cm,R,G,B,R_se,G_se,B_se`): one row per bin, then the

@@ -14,6 +14,7 @@ use numpy::{IntoPyArray, PyArray2, PyArray3};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
+use crate::simulate::{Run, thread_pool};
 use crate::{args, error};
 
 /// A shader-ready separable kernel: per pass (one rank-1 term, run as a horizontal then a
@@ -148,20 +149,23 @@ pub fn profile<'py>(
     Ok(d)
 }
 
-/// Fits a kernel model to a profile (the dict `simulate` or `profile` returns) and samples it
-/// into `taps` taps per pass [default 17]. model: as `sss fit --model` takes it ("preint", "svd", "svd2",
+/// Fits a kernel model to a profile and samples it into `taps` taps per pass [default 17].
+/// source: the dict `simulate` or `profile` returns, or a material simulated at the thesis's
+/// settings (`photons` per channel [default 1e7]). model: as `sss fit --model` takes it ("preint", "svd", "svd2",
 /// "svd2-renorm", "guided", "guided-k1.55-b50", "manual", "deon3", "skin", "skin-fit",
 /// "burley").
 #[pyfunction(name = "fit")]
-#[pyo3(signature = (profile, model="preint", taps=None, material="material"))]
+#[pyo3(signature = (source, model="preint", taps=None, material=None, photons=None))]
 pub fn fit_kernel(
     py: Python<'_>,
-    profile: &Bound<'_, PyAny>,
+    source: &Bound<'_, PyAny>,
     model: &str,
     taps: Option<&Bound<'_, PyAny>>,
-    material: &str,
+    material: Option<&str>,
+    photons: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Kernel> {
-    let p = args::profile(profile)?;
+    let (p, name) = source_profile(py, source, material, photons)?;
+    let material = name.as_str();
     let model: KernelModel = parse("model", model)?;
     let taps = match taps {
         Some(t) => args::count("taps", t)? as usize,
@@ -184,18 +188,20 @@ pub fn export(kernel: &Kernel, format: &str, unit: &str) -> PyResult<String> {
 }
 
 /// Fits every model that fits the budget "PASSESxTAPS" (1D passes × taps per pass) to the
-/// profile, ranks them by their mean image RMS on the test signals and returns the best kernel
+/// profile (source: as `fit` takes it), ranks them by their mean image RMS on the test signals and returns the best kernel
 /// and the ranking (a list of dicts: `model`, `passes`, `image_rms` per channel,
 /// `mean_image_rms`).
 #[pyfunction]
-#[pyo3(signature = (profile, budget="2x17", material="material"))]
+#[pyo3(signature = (source, budget="2x17", material=None, photons=None))]
 pub fn kernel<'py>(
     py: Python<'py>,
-    profile: &Bound<'py, PyAny>,
+    source: &Bound<'py, PyAny>,
     budget: &str,
-    material: &str,
+    material: Option<&str>,
+    photons: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<(Kernel, Bound<'py, PyList>)> {
-    let p = args::profile(profile)?;
+    let (p, name) = source_profile(py, source, material, photons)?;
+    let material = name.as_str();
     let budget: Budget = parse("budget", budget)?;
     let mut ranked = py
         .detach(|| Judge::new(&p).rank(budget, material))
@@ -213,17 +219,19 @@ pub fn kernel<'py>(
     Ok((Kernel { inner: best.kernel }, list))
 }
 
-/// Every kernel model on a profile: the rows of `sss eval --json` (a list of dicts: `model`,
+/// Every kernel model on a profile (source: as `fit` takes it): the rows of `sss eval --json` (a list of dicts: `model`,
 /// `family`, `variant`, `rank`, `k`, `channel`, `kernel_rms`, `kernel_rms_normalized`,
 /// `l1_error`, `image_rms` per test signal, `fit_seconds`).
 #[pyfunction]
-#[pyo3(signature = (profile, material="material"))]
+#[pyo3(signature = (source, material=None, photons=None))]
 pub fn evaluate<'py>(
     py: Python<'py>,
-    profile: &Bound<'py, PyAny>,
-    material: &str,
+    source: &Bound<'py, PyAny>,
+    material: Option<&str>,
+    photons: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let p = args::profile(profile)?;
+    let (p, name) = source_profile(py, source, material, photons)?;
+    let material = name.as_str();
     let ev = py
         .detach(|| fit::evaluate::evaluate(&p, material, Default::default()))
         .map_err(error)?;
@@ -235,18 +243,19 @@ pub fn evaluate<'py>(
 /// engine-params --json` prints them: `params` (the engine's fields, units and notes),
 /// `burley_fit` (the Christensen–Burley profile fitted to the Monte Carlo profile, with its
 /// errors) and `best_separable` under `budget`. profile: the material's Monte Carlo profile
-/// (`simulate`'s dict).
+/// (`simulate`'s dict) [default: simulated here at the thesis's settings, `photons` per channel].
 #[pyfunction]
-#[pyo3(signature = (material, profile, engine="unreal", budget="2x17"))]
+#[pyo3(signature = (material, engine="unreal", profile=None, budget="2x17", photons=None))]
 pub fn engine_params<'py>(
     py: Python<'py>,
     material: &Bound<'py, PyAny>,
-    profile: &Bound<'py, PyAny>,
     engine: &str,
+    profile: Option<&Bound<'py, PyAny>>,
     budget: &str,
+    photons: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let m = args::material(material)?;
-    let p = args::profile(profile)?;
+    let (p, _) = source_profile(py, profile.unwrap_or(material), Some(&m.name), photons)?;
     let engine: Engine = parse("engine", engine)?;
     let budget: Budget = parse("budget", budget)?;
     let (params, burley, best) = py
@@ -267,6 +276,29 @@ pub fn engine_params<'py>(
         "best_separable": {"model": best.model.to_string(), "budget": budget.to_string(), "image_rms": best.image_rms},
     });
     from_json(py, &v)
+}
+
+/// A profile argument and the material's name: the dict `simulate` or `profile` returns
+/// (named `material`, else "material"), or a material (a built-in name, a `.toml` path or a
+/// coefficient dict) traced here at the thesis's settings with `photons` per channel [default
+/// 1e7] (Ctrl-C stops it).
+fn source_profile(
+    py: Python<'_>,
+    source: &Bound<'_, PyAny>,
+    material: Option<&str>,
+    photons: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(fit::Profile, String)> {
+    if let Ok(d) = source.cast::<PyDict>()
+        && d.contains("r_cm")?
+    {
+        let name = material.unwrap_or("material").to_string();
+        return Ok((args::profile(source)?, name));
+    }
+    let m = args::material(source)?;
+    let run = Run::thesis(photons.map(|p| args::count("photons", p)).transpose()?)?;
+    let (_, out) = run.trace(py, &m, &thread_pool(None)?, None)?;
+    let name = material.map_or(m.name, str::to_string);
+    Ok((fit::Profile::from_mc([&out[0], &out[1], &out[2]]), name))
 }
 
 /// Plain data (a library's `Serialize` output) as Python lists, dicts and numbers.

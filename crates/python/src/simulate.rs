@@ -73,10 +73,6 @@ pub fn simulate<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let m = args::material(material)?;
     let config = SimConfig::thesis().map_err(error)?;
-    let photons = photons
-        .map(|p| args::count("photons", p))
-        .transpose()?
-        .unwrap_or(config.photons);
     let seed = match seed {
         Some(s) => s
             .extract::<u64>()
@@ -101,16 +97,14 @@ pub fn simulate<'py>(
             "invalid progress: must be callable as progress(done, total)",
         ));
     }
-    let spec = config.batch(&[&m], photons, seed, !full).map_err(error)?;
-    let start = Instant::now();
-    let outputs = match target {
-        Some(e) => py
-            .detach(|| {
-                pool.install(|| mc::run_batch_to_error(&spec, e, &spec.error_radii(), &|_| {}))
-            })
-            .map_err(error)?,
-        None => trace(py, &pool, &spec, progress)?,
+    let run = Run {
+        photons: photons.map(|p| args::count("photons", p)).transpose()?,
+        seed,
+        full,
+        target_error: target,
     };
+    let start = Instant::now();
+    let (spec, outputs) = run.trace(py, &m, &pool, progress)?;
     let seconds = start.elapsed().as_secs_f64();
     let d = output_dict(py, &outputs, &spec)?;
     d.set_item("material", &m.name)?;
@@ -136,6 +130,52 @@ pub fn simulate<'py>(
         d.set_item("incidence", inc)?;
     }
     Ok(d)
+}
+
+/// What a simulation asks for beyond the material: photons per channel (None: the thesis's
+/// 10⁷), the seed, whether A(r, z) is tallied, an error target.
+pub struct Run {
+    pub photons: Option<u64>,
+    pub seed: u64,
+    pub full: bool,
+    pub target_error: Option<f64>,
+}
+
+impl Run {
+    /// The thesis's settings with the default seed.
+    pub fn thesis(photons: Option<u64>) -> PyResult<Run> {
+        Ok(Run {
+            photons,
+            seed: SimConfig::thesis().map_err(error)?.seed,
+            full: false,
+            target_error: None,
+        })
+    }
+
+    /// Traces material `m` on `pool` at the thesis's settings with these changes: the batch's
+    /// spec and its three channel outputs.
+    pub fn trace(
+        &self,
+        py: Python<'_>,
+        m: &Material,
+        pool: &rayon::ThreadPool,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<(BatchSpec, Vec<Output>)> {
+        let config = SimConfig::thesis().map_err(error)?;
+        let photons = self.photons.unwrap_or(config.photons);
+        let spec = config
+            .batch(&[m], photons, self.seed, !self.full)
+            .map_err(error)?;
+        let outputs = match self.target_error {
+            Some(e) => py
+                .detach(|| {
+                    pool.install(|| mc::run_batch_to_error(&spec, e, &spec.error_radii(), &|_| {}))
+                })
+                .map_err(error)?,
+            None => trace(py, pool, &spec, progress)?,
+        };
+        Ok((spec, outputs))
+    }
 }
 
 /// Traces the whole batch in slices of chunks (exact sums: the same numbers as one
@@ -180,7 +220,7 @@ fn trace(
     Ok(mc::batch_outputs(spec, &sums.unwrap_or_default()))
 }
 
-fn thread_pool(threads: Option<&Bound<'_, PyAny>>) -> PyResult<rayon::ThreadPool> {
+pub fn thread_pool(threads: Option<&Bound<'_, PyAny>>) -> PyResult<rayon::ThreadPool> {
     let n = threads.map(|t| args::count("threads", t)).transpose()?;
     rayon::ThreadPoolBuilder::new()
         .num_threads(n.unwrap_or(0) as usize)

@@ -189,9 +189,21 @@ def test_analytic_profile_on_the_simulation_grid(skin1):
 
 
 def test_engine_params_are_the_cli_fields(skin1):
-    e = sss.engine_params("skin1", skin1, engine="unreal")
+    e = sss.engine_params("skin1", engine="unreal", profile=skin1)
     assert e["engine"] == "unreal"
     assert e["params"]["fields"]
+    # OpenPBR's parameters come from the coefficients themselves.
+    assert sss.engine_params("skin1", engine="openpbr", profile=skin1)["params"]["fields"]
+
+
+def test_a_material_is_simulated_where_a_profile_is_expected():
+    # The same seed and photons: the same profile, so the same kernel and ranking.
+    p = sss.simulate("skin1", photons=QUICK)
+    direct, ranking = sss.kernel("skin1", photons=QUICK)
+    via, ranking_via = sss.kernel(p, material=direct.material)
+    assert direct.model == via.model and direct.material == "Skin1"
+    assert np.array_equal(direct.weights, via.weights)
+    assert ranking == ranking_via
 
 
 MCI = ("1.0\n1\n# van de Hulst's slab\nslab.mco A\n20000\n0.01 0.01\n10 20 5\n1\n1.0\n"
