@@ -279,7 +279,10 @@ fn mci_huge_counts_are_refused_before_allocating() {
             "{to:?}: {e} should name {field} and {value}"
         );
     }
-    // 10¹⁵ photons is a legal, if long, run: parsing it must not be the problem.
-    let runs = mc::mci::parse(&MCI.replacen("1000\n", "1e15\n", 1), "t.mci", 1).unwrap();
-    assert_eq!(runs[0].spec.photons, 1_000_000_000_000_000);
+    // 10¹⁴ photons (mc::MAX_PHOTONS) is a legal, if long, run; 10¹⁵ a typed exponent, refused
+    // naming the count.
+    let runs = mc::mci::parse(&MCI.replacen("1000\n", "1e14\n", 1), "t.mci", 1).unwrap();
+    assert_eq!(runs[0].spec.photons, mc::MAX_PHOTONS);
+    let e = mc::mci::parse(&MCI.replacen("1000\n", "1e15\n", 1), "t.mci", 1).unwrap_err();
+    assert!(e.to_string().contains("run 1 photons"), "{e}");
 }
