@@ -108,6 +108,20 @@ fn engine_params_in_each_engine_and_materialx() {
         }
         assert!(!j["params"]["fields"].as_array().unwrap().is_empty());
         assert!(j["best_separable"]["image_rms"][0].as_f64().unwrap() > 0.0);
+        // Blender also gets the Random Walk fields (Cycles traces the medium itself), saying
+        // which Blender versions' remap they invert; the others do not.
+        let walk = &j["random_walk"];
+        if engine == "blender" {
+            assert_eq!(walk["fields"][0]["name"], "Base Color", "{walk}");
+            assert!(
+                walk["notes"][0]
+                    .as_str()
+                    .unwrap()
+                    .contains("Blender 3.0–4.x")
+            );
+        } else {
+            assert!(walk.is_null(), "{engine}: {walk}");
+        }
     }
     let o = sss(
         &[

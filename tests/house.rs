@@ -310,8 +310,7 @@ fn every_command_and_option_is_documented() {
                 .chars()
                 .take_while(|ch| ch.is_ascii_alphanumeric() || *ch == '-')
                 .collect();
-            if !["help", "version"].contains(&name.as_str())
-                && !docs.contains(&format!("--{name}"))
+            if !["help", "version"].contains(&name.as_str()) && !docs.contains(&format!("--{name}"))
             {
                 undocumented.push(format!("sss {c} --{name}"));
             }

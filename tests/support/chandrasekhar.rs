@@ -46,4 +46,3 @@ pub fn gauss_legendre_01(n: usize) -> (Vec<f64>, Vec<f64>) {
     let rule = gauss_quad::legendre::GaussLegendre::new(n.try_into().expect("n > 0"));
     rule.iter().map(|(x, w)| (0.5 * (x + 1.0), 0.5 * w)).unzip()
 }
-

@@ -7,7 +7,9 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use fit::engine::{BurleyProfileFit, Engine, burley_engine, materialx, openpbr};
+use fit::engine::{
+    BurleyProfileFit, Engine, EngineParams, burley_engine, materialx, openpbr, random_walk,
+};
 use fit::export::{OffsetUnit, ShaderFormat, export};
 use fit::select::{Budget, Judge, Scored};
 use serde_json::json;
@@ -204,7 +206,9 @@ pub struct EngineParamsArgs {
     material: MaterialArg,
 
     /// Engine: unreal (Subsurface Profile, Burley), unity (HDRP Diffusion Profile), blender
-    /// (Principled BSDF, Christensen-Burley), openpbr (OpenPBR Surface / MaterialX)
+    /// (Principled BSDF: the Christensen-Burley fit, and the Random Walk fields that make
+    /// Cycles trace the material's own σa, σs and g, inverting the remap of Blender 3.0–4.x),
+    /// openpbr (OpenPBR Surface / MaterialX)
     #[arg(long)]
     engine: Engine,
 
@@ -242,6 +246,8 @@ pub fn engine_params(a: EngineParamsArgs) -> Result<()> {
         Engine::OpenPbr => openpbr(&named.material),
         e => burley_engine(e, &fit).expect("Burley engines map the fit"),
     };
+    // Blender's random walk traces the medium itself: its fields come from the coefficients.
+    let walk = (a.engine == Engine::Blender).then(|| random_walk(&named.material));
     let mtlx = a
         .mtlx
         .as_ref()
@@ -251,12 +257,9 @@ pub fn engine_params(a: EngineParamsArgs) -> Result<()> {
     }
     files.commit()?;
     let ch = mc::CHANNELS;
-    let mut text = format!("{} — {} ({}):\n", named.slug, params.location, a.engine);
-    for f in &params.fields {
-        text += &format!("  {:<32} {} {}\n", f.name, f.value, f.unit);
-    }
-    for n in &params.notes {
-        text += &format!("  note: {n}\n");
+    let mut text = fields_text(&named.slug, &params);
+    if let Some(w) = &walk {
+        text += &fields_text(&named.slug, w);
     }
     text += &format!(
         "Burley fit to the Monte Carlo profile: albedo {:.4?}, d {:.4e}/{:.4e}/{:.4e} cm\n",
@@ -284,11 +287,23 @@ pub fn engine_params(a: EngineParamsArgs) -> Result<()> {
         println!(
             "{}",
             serde_json::to_string_pretty(
-                &json!({"material": named.slug, "params": params, "burley_fit": fit, "best_separable": {"model": best.model.to_string(), "budget": a.budget.to_string(), "image_rms": best.image_rms}, "mtlx": mtlx})
+                &json!({"material": named.slug, "params": params, "random_walk": walk, "burley_fit": fit, "best_separable": {"model": best.model.to_string(), "budget": a.budget.to_string(), "image_rms": best.image_rms}, "mtlx": mtlx})
             )?
         );
     } else {
         print!("{text}");
     }
     Ok(())
+}
+
+/// An engine's fields as printed: where they live, each field with its unit, the notes.
+fn fields_text(slug: &str, p: &EngineParams) -> String {
+    let mut text = format!("{slug} — {} ({}):\n", p.location, p.engine);
+    for f in &p.fields {
+        text += &format!("  {:<32} {} {}\n", f.name, f.value, f.unit);
+    }
+    for n in &p.notes {
+        text += &format!("  note: {n}\n");
+    }
+    text
 }

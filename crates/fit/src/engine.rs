@@ -16,7 +16,10 @@
 //!   the material's diffuse colour.
 //! - **Blender Cycles**, Principled BSDF with Subsurface Method "Christensen-Burley" (3.x, 4.x;
 //!   `kernel/closure/bssrdf.h`): Radius × Scale is scaled by 1/(4π) to Burley's d with no albedo
-//!   fit, so Radius × Scale = 4π·d, in scene units (metres by default); Base Color is A.
+//!   fit, so Radius × Scale = 4π·d, in scene units (metres by default); Base Color is A. With
+//!   Subsurface Method "Random Walk" Cycles traces a medium instead, and [`random_walk`] gives
+//!   the fields that make it the material's own ([`crate::cycles`]: the remap of Blender
+//!   3.0–4.x inverted).
 //! - **OpenPBR 1.1** (and its MaterialX node `open_pbr_surface`): `subsurface_color` is the
 //!   index-matched multiple-scattering albedo and `subsurface_radius × subsurface_radius_scale`
 //!   the mean free path 1/σt per channel: an exact description of the medium, written from the
@@ -262,6 +265,85 @@ pub fn burley_engine(engine: Engine, fit: &BurleyProfileFit) -> Option<EnginePar
     })
 }
 
+/// Blender Cycles' Principled BSDF with Subsurface Method "Random Walk" (Blender 3.0–4.x): the
+/// material's own medium, not a fit. Subsurface Radius × Subsurface Scale with Subsurface
+/// Anisotropy give Cycles' extinction σt = 1/(d·(1 − g)), and Base Color its single-scattering
+/// albedo through the remap of [`crate::cycles`], inverted numerically; lengths in metres (scene
+/// units). Cycles has one anisotropy, clamped to [0, 0.9]: a material whose g differs per channel
+/// gets their mean, and one outside that range the nearest end (σa and σs stay exact; the phase
+/// function does not). Fields as Blender 4.x names them (Principled BSDF v2); in 3.x set
+/// Subsurface to 1 and Subsurface Color to the Base Color.
+pub fn random_walk(m: &mc::Material) -> EngineParams {
+    let mean = m.g.iter().sum::<f64>() / 3.0;
+    let g = mean.clamp(0.0, crate::cycles::MAX_G);
+    let mut notes = vec![
+        "Inverts Cycles' random-walk remap of Blender 3.0–4.x (subsurface_random_walk_remap with its anisotropy polynomials); Blender 2.9x's isotropic remap differs.".to_string(),
+    ];
+    if m.g.iter().any(|x| (x - mean).abs() > 1e-12) {
+        notes.push(format!(
+            "Cycles has one anisotropy; the material's g per channel {:?} is averaged",
+            m.g
+        ));
+    }
+    if g != mean {
+        notes.push(format!(
+            "Cycles clamps Subsurface Anisotropy to [0, 0.9]: g = {mean} is traced as {g}"
+        ));
+    }
+    if !(1.01..=3.8).contains(&m.eta) {
+        notes.push(format!(
+            "Cycles clamps the subsurface IOR to [1.01, 3.8]: η = {} is traced as {}",
+            m.eta,
+            m.eta.clamp(1.01, 3.8)
+        ));
+    }
+    let (mut color, mut radius_cm) = ([0.0; 3], [0.0; 3]);
+    for (c, ch) in mc::CHANNELS.iter().enumerate() {
+        let sigma_t = m.sigma_a[c] + m.sigma_s[c];
+        if sigma_t <= 0.0 {
+            notes.push(format!(
+                "{ch}: the material does not interact with light; radius 0 leaves Cycles' channel without subsurface scattering"
+            ));
+            continue;
+        }
+        let alpha = m.sigma_s[c] / sigma_t;
+        radius_cm[c] = crate::cycles::radius_for(sigma_t, g);
+        color[c] = match crate::cycles::color_for(alpha, g) {
+            Some(a) => a,
+            None => {
+                notes.push(format!(
+                    "{ch}: single-scattering albedo {alpha} is above what Cycles traces ({}); Base Color 1 gives that",
+                    crate::cycles::alpha(1.0, g)
+                ));
+                1.0
+            }
+        };
+        if alpha < crate::cycles::MIN_ALPHA {
+            notes.push(format!(
+                "{ch}: single-scattering albedo {alpha:.4} is below 0.2, where Cycles traces 0.2 and scales the light by α/0.2: not the same medium"
+            ));
+        }
+    }
+    let (radius, scale_cm) = split(radius_cm);
+    EngineParams {
+        engine: Engine::Blender,
+        location: "Principled BSDF, Subsurface Method: Random Walk",
+        fields: vec![
+            field("Base Color", Value::Color(color), ""),
+            field("Subsurface Weight", Value::Number(1.0), ""),
+            field("Subsurface Radius", Value::Color(radius), ""),
+            field(
+                "Subsurface Scale",
+                Value::Number(scale_cm / 100.0),
+                "m (scene units in metres)",
+            ),
+            field("Subsurface Anisotropy", Value::Number(g), ""),
+            field("IOR", Value::Number(m.eta), ""),
+        ],
+        notes,
+    }
+}
+
 /// OpenPBR's subsurface parameters of a material (exact, from its coefficients); lengths in cm.
 pub fn openpbr(m: &mc::Material) -> EngineParams {
     let art = m.artist();
@@ -379,6 +461,82 @@ mod tests {
         assert!(burley_engine(Engine::OpenPbr, &fit).is_none());
         assert_eq!("OpenPBR".parse::<Engine>().unwrap(), Engine::OpenPbr);
         assert!("godot".parse::<Engine>().is_err());
+    }
+
+    /// Cycles' own remap applied to the random-walk fields gives back σa, σs and g to 10⁻⁶,
+    /// over the library and over extreme albedos and anisotropies.
+    #[test]
+    fn random_walk_fields_give_back_the_coefficients_through_cycles_remap() {
+        let mut materials: Vec<mc::Material> = mc::builtin::names()
+            .into_iter()
+            .map(|n| mc::Material::builtin(n).unwrap())
+            .collect();
+        for g in [0.0, 0.5, 0.9] {
+            for alpha in [0.2, 0.5, 0.9, 0.99, 0.999, 0.9999, 0.99999] {
+                materials.push(mc::Material {
+                    name: format!("α {alpha} g {g}"),
+                    source: String::new(),
+                    sigma_a: [1.0 - alpha, 10.0 * (1.0 - alpha), 100.0 * (1.0 - alpha)],
+                    sigma_s: [alpha, 10.0 * alpha, 100.0 * alpha],
+                    g: [g; 3],
+                    eta: 1.4,
+                    thickness: None,
+                });
+            }
+        }
+        for m in &materials {
+            let p = random_walk(m);
+            let v = |n: &str| p.fields.iter().find(|f| f.name == n).unwrap().value.clone();
+            let (Value::Color(color), Value::Color(radius), Value::Number(scale), Value::Number(g)) = (
+                v("Base Color"),
+                v("Subsurface Radius"),
+                v("Subsurface Scale"),
+                v("Subsurface Anisotropy"),
+            ) else {
+                panic!()
+            };
+            // One anisotropy: the material's where its channels share one, else their mean,
+            // within Cycles' [0, 0.9].
+            let mean = m.g.iter().sum::<f64>() / 3.0;
+            assert!((g - mean.clamp(0.0, 0.9)).abs() <= 1e-12, "{}", m.name);
+            if m.g.iter().any(|x| (x - mean).abs() > 1e-12) {
+                assert!(p.notes.iter().any(|n| n.contains("averaged")), "{}", m.name);
+            }
+            for c in 0..3 {
+                // Scene units in metres: the radius in cm is × 100.
+                let sigma_t = crate::cycles::sigma_t(radius[c] * scale * 100.0, g);
+                let sigma_s = crate::cycles::alpha(color[c], g) * sigma_t;
+                let sigma_a = sigma_t - sigma_s;
+                let close = |got: f64, want: f64| (got - want).abs() <= 1e-6 * want.abs();
+                assert!(
+                    close(sigma_s, m.sigma_s[c]) && close(sigma_a, m.sigma_a[c]),
+                    "{} channel {c}: σa {sigma_a} σs {sigma_s}, want {} {}",
+                    m.name,
+                    m.sigma_a[c],
+                    m.sigma_s[c]
+                );
+            }
+            assert!(p.notes[0].contains("Blender 3.0–4.x"));
+        }
+        // Outside Cycles' anisotropy range: the nearest end, said in a note.
+        for (g, traced) in [(-0.3, 0.0), (0.95, 0.9)] {
+            let m = mc::Material {
+                g: [g; 3],
+                ..materials[0].clone()
+            };
+            let p = random_walk(&m);
+            let v = p
+                .fields
+                .iter()
+                .find(|f| f.name == "Subsurface Anisotropy")
+                .unwrap();
+            assert!(matches!(v.value, Value::Number(x) if x == traced));
+            assert!(
+                p.notes
+                    .iter()
+                    .any(|n| n.contains("clamps Subsurface Anisotropy"))
+            );
+        }
     }
 
     /// OpenPBR's fields invert back to the material's coefficients (the spec's mapping).

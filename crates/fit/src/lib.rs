@@ -30,6 +30,7 @@
 pub mod analytic;
 pub mod area_table;
 pub mod convolve;
+pub mod cycles;
 pub mod engine;
 mod error;
 pub mod evaluate;

@@ -4,7 +4,7 @@
 
 use fit::KernelModel;
 use fit::analytic::Model;
-use fit::engine::{BurleyProfileFit, Engine, burley_engine, openpbr};
+use fit::engine::{BurleyProfileFit, Engine, burley_engine, openpbr, random_walk};
 use fit::export::{OffsetUnit, ShaderFormat};
 use fit::select::{Budget, Judge};
 use fit::taps::ShaderKernel;
@@ -242,7 +242,8 @@ pub fn evaluate<'py>(
 /// A material's parameters for an engine ("unreal", "unity", "blender", "openpbr"), as `sss
 /// engine-params --json` prints them: `params` (the engine's fields, units and notes),
 /// `burley_fit` (the Christensen–Burley profile fitted to the Monte Carlo profile, with its
-/// errors) and `best_separable` under `budget`. profile: the material's Monte Carlo profile
+/// errors), `best_separable` under `budget`, and for "blender" `random_walk` (the Random Walk
+/// fields that make Cycles trace the material's own σa, σs and g; else None). profile: the material's Monte Carlo profile
 /// (`simulate`'s dict) [default: simulated here at the thesis's settings, `photons` per channel].
 #[pyfunction]
 #[pyo3(signature = (material, engine="unreal", profile=None, budget="2x17", photons=None))]
@@ -272,7 +273,8 @@ pub fn engine_params<'py>(
         .map_err(error)?;
     let params = params.ok_or_else(|| error(format!("engine {engine}: no parameters")))?;
     let v = serde_json::json!({
-        "material": m.name, "engine": engine.to_string(), "params": params, "burley_fit": burley,
+        "material": m.name, "engine": engine.to_string(), "params": params,
+        "random_walk": (engine == Engine::Blender).then(|| random_walk(&m)), "burley_fit": burley,
         "best_separable": {"model": best.model.to_string(), "budget": budget.to_string(), "image_rms": best.image_rms},
     });
     from_json(py, &v)

@@ -192,6 +192,9 @@ def test_engine_params_are_the_cli_fields(skin1):
     e = sss.engine_params("skin1", engine="unreal", profile=skin1)
     assert e["engine"] == "unreal"
     assert e["params"]["fields"]
+    assert e["random_walk"] is None
+    blender = sss.engine_params("skin1", engine="blender", profile=skin1)
+    assert [f["name"] for f in blender["random_walk"]["fields"]][0] == "Base Color"
     # OpenPBR's parameters come from the coefficients themselves.
     assert sss.engine_params("skin1", engine="openpbr", profile=skin1)["params"]["fields"]
 
