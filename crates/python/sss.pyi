@@ -10,7 +10,9 @@ import numpy.typing as npt
 Material = Union[str, Mapping[str, Any]]
 """A built-in name (see `materials()`), a path to a material .toml file, or a dict with
 `sigma_a` and `sigma_s` [cm⁻¹], `g` [-] (default 0) and `eta` [-], each one value or three
-(R, G, B), optionally `name` and `thickness` [cm]."""
+(R, G, B), optionally `name` and `thickness` [cm]; or a layered sample, a dict with `layers`
+(such dicts from the top, each with `thickness` [cm] except the last, a half-space if left out)
+and optionally `name` (not for `engine_params`, `target_error` or `incidence_angles`)."""
 
 Profile = Mapping[str, Any]
 """The dict `simulate` or `profile` returns: `r_cm` (nr), `rd` and `rd_se` (nr × 3) [cm⁻²] whose
@@ -68,7 +70,8 @@ def simulate(
     any `threads`). Returns `r_cm`, `rd`, `rd_se` (nr × 3) [cm⁻²] (last bin: MCML's overflow
     bin), totals `rd_total`, `a_total`, `tt_total` with `_se`, `rsp`, the grid (`dr_cm`, `nr`,
     `dz_cm`, `nz`), `photons`, `seed`, `threads`, `seconds`; with `full`, `a_rz` (3 × nr × nz)
-    [cm⁻³]; with `incidence_angles` [degrees], `incidence` (`theta_deg`, `rd`, `rd_se`, `rsp`).
+    [cm⁻³]; `a_layers` (3 × layers) [-]; with `incidence_angles` [degrees], `incidence`
+    (`theta_deg`, `rd`, `rd_se`, `rsp`).
     The GIL is released while tracing; Ctrl-C raises KeyboardInterrupt within about a second
     (not within a `target_error` run)."""
 

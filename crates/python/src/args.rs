@@ -85,6 +85,98 @@ pub fn array_shaped(name: &str, v: &Bound<'_, PyAny>) -> PyResult<(Vec<usize>, V
     Ok((shape, values))
 }
 
+/// What `simulate` traces: a homogeneous material, or layers.
+pub enum Medium {
+    /// A built-in name, a material file or a coefficient dict ([`material`]).
+    Homogeneous(Material),
+    /// A layered sample, per channel R, G, B its layers from the top.
+    Layered {
+        /// The sample's name (`name`, else "layered").
+        name: String,
+        /// Per channel, the layers from the top (thickness [cm], coefficients [cm⁻¹]).
+        layers: [Vec<mc::Layer>; 3],
+    },
+}
+
+/// A medium: a dict with `layers` (a list of dicts, each with `sigma_a` and `sigma_s` [cm⁻¹],
+/// `g` (default 0), `eta` and `thickness` [cm], which the last layer may leave out: a
+/// half-space), else a material ([`material`]).
+pub fn medium(v: &Bound<'_, PyAny>) -> PyResult<Medium> {
+    let Ok(d) = v.cast::<PyDict>() else {
+        return Ok(Medium::Homogeneous(material(v)?));
+    };
+    let Some(list) = d.get_item("layers")? else {
+        return Ok(Medium::Homogeneous(material(v)?));
+    };
+    for (k, _) in d.iter() {
+        let key = k.extract::<String>().unwrap_or_default();
+        if key != "layers" && key != "name" {
+            return refuse("layered material key", &k, "expected layers, name");
+        }
+    }
+    let name = match d.get_item("name")? {
+        Some(n) => n
+            .extract::<String>()
+            .or_else(|_| refuse("material name", &n, "must be a string"))?,
+        None => "layered".into(),
+    };
+    let items: Vec<Bound<'_, PyAny>> = match list.try_iter() {
+        Ok(it) => it.collect::<PyResult<_>>()?,
+        Err(_) => return refuse("layers", &list, "must be a list of layer dicts"),
+    };
+    if items.is_empty() {
+        return refuse("layers", &list, "must hold at least one layer");
+    }
+    let mut layers: [Vec<mc::Layer>; 3] = Default::default();
+    for (i, item) in items.iter().enumerate() {
+        let field = |f: &str| format!("layer {} {f}", i + 1);
+        let Ok(l) = item.cast::<PyDict>() else {
+            return refuse(&format!("layer {}", i + 1), item, "must be a dict");
+        };
+        for (k, _) in l.iter() {
+            let key = k.extract::<String>().unwrap_or_default();
+            if !["sigma_a", "sigma_s", "g", "eta", "thickness"].contains(&key.as_str()) {
+                return refuse(
+                    &field("key"),
+                    &k,
+                    "expected sigma_a, sigma_s, g, eta, thickness",
+                );
+            }
+        }
+        let required = |key: &str| -> PyResult<Bound<'_, PyAny>> {
+            l.get_item(key)?
+                .ok_or_else(|| SssError::new_err(format!("{}: missing", field(key))))
+        };
+        let sigma_a = rgb(&field("sigma_a"), &required("sigma_a")?)?;
+        let sigma_s = rgb(&field("sigma_s"), &required("sigma_s")?)?;
+        let g = match l.get_item("g")? {
+            Some(g) => rgb(&field("g"), &g)?,
+            None => [0.0; 3],
+        };
+        let eta = number(&field("eta"), &required("eta")?)?;
+        let thickness = match l.get_item("thickness")? {
+            Some(t) => number(&field("thickness"), &t)?,
+            None if i + 1 == items.len() => mc::SimConfig::thesis().map_err(error)?.thickness_cm,
+            None => {
+                return Err(SssError::new_err(format!(
+                    "{}: missing",
+                    field("thickness")
+                )));
+            }
+        };
+        for (c, channel) in layers.iter_mut().enumerate() {
+            channel.push(mc::Layer {
+                n: eta,
+                mu_a: sigma_a[c],
+                mu_s: sigma_s[c],
+                g: g[c],
+                thickness,
+            });
+        }
+    }
+    Ok(Medium::Layered { name, layers })
+}
+
 /// A material: a built-in name (`sss.materials()`), a path to a material `.toml` file, or a dict
 /// with `sigma_a` and `sigma_s` [cm⁻¹], `g` [-] (default 0) and `eta` [-], each one value or
 /// three (R, G, B), optionally `name` and `thickness` [cm].

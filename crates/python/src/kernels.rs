@@ -296,10 +296,14 @@ fn source_profile(
         let name = material.unwrap_or("material").to_string();
         return Ok((args::profile(source)?, name));
     }
-    let m = args::material(source)?;
+    let medium = args::medium(source)?;
     let run = Run::thesis(photons.map(|p| args::count("photons", p)).transpose()?)?;
-    let (_, out) = run.trace(py, &m, &thread_pool(None)?, None)?;
-    let name = material.map_or(m.name, str::to_string);
+    let out = run.trace(py, &medium, &thread_pool(None)?, None)?.outputs;
+    let name = match (material, &medium) {
+        (Some(n), _) => n.to_string(),
+        (None, args::Medium::Homogeneous(m)) => m.name.clone(),
+        (None, args::Medium::Layered { name, .. }) => name.clone(),
+    };
     Ok((fit::Profile::from_mc([&out[0], &out[1], &out[2]]), name))
 }
 

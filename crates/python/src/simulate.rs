@@ -4,12 +4,13 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
-use mc::{Accumulator, BatchSpec, Material, Output, SimConfig};
+use mc::{Accumulator, Material, Output, RunSpec, Sample, SimConfig, TallySet};
 use numpy::IntoPyArray;
 use numpy::ndarray::Array2;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
+use crate::args::Medium;
 use crate::{args, error};
 
 /// How long one slice of chunks runs between two checks for Ctrl-C [s]: the first slice takes
@@ -42,8 +43,11 @@ pub fn materials(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
 /// Simulates a material's diffuse reflectance profile Rd(r) with the MCML-style tracer, at the
 /// thesis's settings unless told otherwise (its grid rule, a half-space).
 ///
-/// material: a built-in name, a material .toml path, or a dict (`sigma_a`, `sigma_s` [cm⁻¹],
-/// `g`, `eta`; one value or three). photons: packets per channel [default 1e7]; seed [default
+/// material: a built-in name, a material .toml path, a dict (`sigma_a`, `sigma_s` [cm⁻¹],
+/// `g`, `eta`; one value or three), or a dict of `layers` (a list of such dicts from the top,
+/// each with `thickness` [cm] but the last, which may be a half-space): one MCML run per
+/// channel on the grid the thesis's rule gives the top layer; `a_layers` (3 × layers) [-] is
+/// the absorption per layer. photons: packets per channel [default 1e7]; seed [default
 /// 1]: the same seed gives bit-identical results for any `threads` and the same numbers as
 /// `sss simulate`. full: also tally the absorption A(r, z) (`a_rz`, channels × nr × nz [cm⁻³]).
 /// incidence_angles: also total Rd at these beam angles [degrees] (`incidence`), with
@@ -71,7 +75,7 @@ pub fn simulate<'py>(
     target_error: Option<&Bound<'py, PyAny>>,
     progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let m = args::material(material)?;
+    let medium = args::medium(material)?;
     let config = SimConfig::thesis().map_err(error)?;
     let seed = match seed {
         Some(s) => s
@@ -104,16 +108,27 @@ pub fn simulate<'py>(
         target_error: target,
     };
     let start = Instant::now();
-    let (spec, outputs) = run.trace(py, &m, &pool, progress)?;
+    let traced = run.trace(py, &medium, &pool, progress)?;
     let seconds = start.elapsed().as_secs_f64();
-    let d = output_dict(py, &outputs, &spec)?;
-    d.set_item("material", &m.name)?;
+    let d = output_dict(py, &traced)?;
+    d.set_item(
+        "material",
+        match &medium {
+            Medium::Homogeneous(m) => &m.name,
+            Medium::Layered { name, .. } => name,
+        },
+    )?;
     d.set_item("seed", seed)?;
     d.set_item("threads", pool.current_num_threads())?;
     d.set_item("seconds", seconds)?;
     if let Some(angles) = angles {
+        let Medium::Homogeneous(m) = &medium else {
+            return Err(error(
+                "invalid incidence_angles: they take a homogeneous material, not layers",
+            ));
+        };
         let incidence_spec = config
-            .batch(&[&m], incidence_photons, seed, true)
+            .batch(&[m], incidence_photons, seed, true)
             .map_err(error)?;
         let rows = py
             .detach(|| pool.install(|| mc::incidence::rd_table(&incidence_spec, &angles, &|_| {})))
@@ -152,72 +167,151 @@ impl Run {
         })
     }
 
-    /// Traces material `m` on `pool` at the thesis's settings with these changes: the batch's
-    /// spec and its three channel outputs.
+    /// Traces `medium` on `pool` at the thesis's settings with these changes (a layered sample
+    /// on the grid the thesis's rule gives its top layer, one MCML run per channel).
     pub fn trace(
         &self,
         py: Python<'_>,
-        m: &Material,
+        medium: &Medium,
         pool: &rayon::ThreadPool,
         progress: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<(BatchSpec, Vec<Output>)> {
+    ) -> PyResult<Traced> {
         let config = SimConfig::thesis().map_err(error)?;
         let photons = self.photons.unwrap_or(config.photons);
-        let spec = config
-            .batch(&[m], photons, self.seed, !self.full)
-            .map_err(error)?;
-        let outputs = match self.target_error {
-            Some(e) => py
-                .detach(|| {
-                    pool.install(|| mc::run_batch_to_error(&spec, e, &spec.error_radii(), &|_| {}))
+        match medium {
+            Medium::Homogeneous(m) => {
+                let spec = config
+                    .batch(&[m], photons, self.seed, !self.full)
+                    .map_err(error)?;
+                let outputs = match self.target_error {
+                    Some(e) => py
+                        .detach(|| {
+                            pool.install(|| {
+                                mc::run_batch_to_error(&spec, e, &spec.error_radii(), &|_| {})
+                            })
+                        })
+                        .map_err(error)?,
+                    None => {
+                        let groups = spec.groups().len() as u64;
+                        let sums = sliced(
+                            py,
+                            pool,
+                            (mc::chunk_count(spec.photons), spec.photons * groups),
+                            |chunks, done| mc::accumulate_batch(&spec, chunks, done),
+                            |a: &mut Vec<Accumulator>, b| {
+                                a.iter_mut().zip(&b).for_each(|(x, y)| x.merge(y))
+                            },
+                            progress,
+                        )?;
+                        mc::batch_outputs(&spec, &sums)
+                    }
+                };
+                Ok(Traced {
+                    outputs,
+                    eta: m.eta,
+                    absorption_rz: spec.tallies.absorption_rz,
                 })
-                .map_err(error)?,
-            None => trace(py, pool, &spec, progress)?,
-        };
-        Ok((spec, outputs))
+            }
+            Medium::Layered { name, layers } => {
+                if self.target_error.is_some() {
+                    return Err(error(
+                        "invalid target_error: it takes a homogeneous material, not layers",
+                    ));
+                }
+                let top = Material {
+                    name: name.clone(),
+                    source: String::new(),
+                    sigma_a: [0, 1, 2].map(|c| layers[c][0].mu_a),
+                    sigma_s: [0, 1, 2].map(|c| layers[c][0].mu_s),
+                    g: [0, 1, 2].map(|c| layers[c][0].g),
+                    eta: layers[0][0].n,
+                    thickness: None,
+                };
+                let grid = config.grid_for(&top).map_err(error)?;
+                let mut outputs = Vec::new();
+                for channel in layers {
+                    let spec = RunSpec {
+                        sample: Sample {
+                            n_above: config.n_above,
+                            n_below: config.n_below,
+                            layers: channel.clone(),
+                        },
+                        grid,
+                        photons,
+                        seed: self.seed,
+                        tallies: TallySet {
+                            absorption_rz: self.full,
+                            absorption_rz_se: false,
+                            surface_xy: 0,
+                        },
+                    };
+                    spec.validate().map_err(error)?;
+                    let sum = sliced(
+                        py,
+                        pool,
+                        (mc::chunk_count(photons), photons),
+                        |chunks, done| mc::accumulate(&spec, chunks, done),
+                        |a: &mut Accumulator, b| a.merge(&b),
+                        progress,
+                    )?;
+                    outputs.push(Output::from_accumulator(&sum, 0, grid, spec.rsp()));
+                }
+                Ok(Traced {
+                    outputs,
+                    eta: top.eta,
+                    absorption_rz: self.full,
+                })
+            }
+        }
     }
 }
 
-/// Traces the whole batch in slices of chunks (exact sums: the same numbers as one
-/// `mc::run_batch`), checking for Ctrl-C and reporting progress between slices.
-fn trace(
+/// A traced medium: its three channel outputs (R, G, B), the top boundary's η and whether
+/// A(r, z) was tallied.
+pub struct Traced {
+    pub outputs: Vec<Output>,
+    pub eta: f64,
+    pub absorption_rz: bool,
+}
+
+/// Traces `chunks` chunks (of `photons` photon walks in all) by `work` in slices: exact sums, so
+/// the same numbers as one call over every chunk. Between slices it checks for Ctrl-C and
+/// reports progress; the GIL is released while a slice traces.
+fn sliced<A: Send>(
     py: Python<'_>,
     pool: &rayon::ThreadPool,
-    spec: &BatchSpec,
+    (chunks, photons): (u64, u64),
+    work: impl Fn(std::ops::Range<u64>, &(dyn Fn(u64) + Sync)) -> mc::Result<A> + Sync,
+    merge: impl Fn(&mut A, A),
     progress: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Vec<Output>> {
-    let total = mc::chunk_count(spec.photons);
+) -> PyResult<A> {
     let threads = pool.current_num_threads() as u64;
-    let groups = spec.groups().len() as u64;
     let done = AtomicU64::new(0);
-    let mut sums: Option<Vec<Accumulator>> = None;
+    let count = |n: u64| {
+        done.fetch_add(n, Ordering::Relaxed);
+    };
+    let mut sum: Option<A> = None;
     let (mut next, mut step) = (0, threads);
-    while next < total {
-        let end = (next + step).min(total);
+    while next < chunks {
+        let end = (next + step).min(chunks);
         let start = Instant::now();
         let part = py
-            .detach(|| {
-                pool.install(|| {
-                    mc::accumulate_batch(spec, next..end, &|n| {
-                        done.fetch_add(n, Ordering::Relaxed);
-                    })
-                })
-            })
+            .detach(|| pool.install(|| work(next..end, &count)))
             .map_err(error)?;
         // As many chunks as SLICE_SECONDS holds at this slice's pace, at most 4× more.
         let pace = start.elapsed().as_secs_f64() / (end - next) as f64;
         step = ((SLICE_SECONDS / pace.max(1e-9)) as u64).clamp(threads, 4 * step);
-        match &mut sums {
-            None => sums = Some(part),
-            Some(s) => s.iter_mut().zip(&part).for_each(|(a, b)| a.merge(b)),
+        match &mut sum {
+            None => sum = Some(part),
+            Some(s) => merge(s, part),
         }
         next = end;
         py.check_signals()?;
         if let Some(p) = progress {
-            p.call1((done.load(Ordering::Relaxed), spec.photons * groups))?;
+            p.call1((done.load(Ordering::Relaxed), photons))?;
         }
     }
-    Ok(mc::batch_outputs(spec, &sums.unwrap_or_default()))
+    sum.ok_or_else(|| error("photons: nothing to trace"))
 }
 
 pub fn thread_pool(threads: Option<&Bound<'_, PyAny>>) -> PyResult<rayon::ThreadPool> {
@@ -228,12 +322,9 @@ pub fn thread_pool(threads: Option<&Bound<'_, PyAny>>) -> PyResult<rayon::Thread
         .map_err(error)
 }
 
-/// One material's three channel outputs as the dict `simulate` documents.
-pub fn output_dict<'py>(
-    py: Python<'py>,
-    outputs: &[Output],
-    spec: &BatchSpec,
-) -> PyResult<Bound<'py, PyDict>> {
+/// A traced medium's three channel outputs as the dict `simulate` documents.
+pub fn output_dict<'py>(py: Python<'py>, traced: &Traced) -> PyResult<Bound<'py, PyDict>> {
+    let outputs = &traced.outputs;
     let g = outputs[0].grid;
     let d = PyDict::new(py);
     let r: Vec<f64> = (0..g.nr).map(|i| g.r_optimal(i)).collect();
@@ -251,13 +342,16 @@ pub fn output_dict<'py>(
     d.set_item("tt_total", totals(&|o| o.tt.value))?;
     d.set_item("tt_total_se", totals(&|o| o.tt.se))?;
     d.set_item("rsp", totals(&|o| o.rsp))?;
+    let layers = outputs[0].a_l.len();
+    let a_l = Array2::from_shape_fn((3, layers), |(c, l)| outputs[c].a_l[l].value);
+    d.set_item("a_layers", a_l.into_pyarray(py))?;
     d.set_item("dr_cm", g.dr)?;
     d.set_item("nr", g.nr)?;
     d.set_item("dz_cm", g.dz)?;
     d.set_item("nz", g.nz)?;
     d.set_item("photons", outputs[0].photons)?;
-    d.set_item("eta", spec.channels[0].layer.n)?;
-    if spec.tallies.absorption_rz {
+    d.set_item("eta", traced.eta)?;
+    if traced.absorption_rz {
         let a: Vec<f64> = outputs
             .iter()
             .flat_map(|o| o.a_rz.iter().map(|e| e.value))

@@ -69,6 +69,44 @@ def test_a_dict_material_equals_the_same_builtin(skin1):
     assert np.array_equal(d["rd"], skin1["rd"])
 
 
+SKIN1 = {"sigma_a": [0.032, 0.17, 0.48], "sigma_s": [0.74, 0.88, 1.01], "g": 0.0, "eta": 1.3}
+
+
+def layer(thickness=None, scale=10.0):
+    """Skin1-like coefficients [cm⁻¹] × scale; a half-space without thickness."""
+    d = {"sigma_a": [scale * x for x in SKIN1["sigma_a"]],
+         "sigma_s": [scale * x for x in SKIN1["sigma_s"]], "g": 0.0, "eta": 1.3}
+    if thickness is not None:
+        d["thickness"] = thickness
+    return d
+
+
+def agree(a, b, key):
+    """Two runs' totals agree within 4 combined standard errors per channel."""
+    diff = np.abs(np.asarray(a[key]) - np.asarray(b[key]))
+    se = np.hypot(a[key + "_se"], b[key + "_se"])
+    assert np.all(diff <= 4 * se + 1e-12), (key, a[key], b[key], se)
+
+
+def test_layers_trace_as_the_medium_they_stack():
+    # A half-space cut into two layers of the same medium is the same half-space.
+    one = sss.simulate({"layers": [layer()]}, photons=QUICK, seed=2)
+    two = sss.simulate({"layers": [layer(0.05), layer()]}, photons=QUICK, seed=3)
+    agree(one, two, "rd_total")
+    assert two["a_layers"].shape == (3, 2)
+    # ... and, traced layer by layer as MCML does, the same as the homogeneous material.
+    homogeneous = sss.simulate(layer(), photons=QUICK, seed=4)
+    agree(one, homogeneous, "rd_total")
+    # A finite stack: every packet is reflected, absorbed or transmitted.
+    stack = sss.simulate({"layers": [layer(0.02), layer(0.03, scale=3.0)]}, photons=QUICK,
+                         seed=5, full=True)
+    total = (np.asarray(stack["rsp"]) + stack["rd_total"] + stack["a_total"] + stack["tt_total"])
+    np.testing.assert_allclose(total, 1.0, atol=1e-9)
+    assert np.all(np.asarray(stack["tt_total"]) > 0)
+    assert stack["a_rz"].shape == (3, stack["nr"], stack["nz"])
+    np.testing.assert_allclose(stack["a_layers"].sum(axis=1), stack["a_total"], rtol=1e-9)
+
+
 def test_two_threads_simulate_in_parallel():
     if (os.cpu_count() or 1) < 2:
         pytest.skip("one core")
@@ -121,6 +159,11 @@ def test_progress_reports_every_photon():
     ("skin1", {"photons": "many"}, "photons"),
     ("skin1", {"photons": 1.5}, "photons"),
     ("skin1", {"threads": 0}, "threads"),
+    ({"layers": [layer(), layer()]}, {}, "layer 1 thickness"),
+    ({"layers": []}, {}, "layers"),
+    ({"layers": [dict(layer(), mu_a=1)]}, {}, "layer 1 key"),
+    ({"layers": [layer(0.1)], "colour": 1}, {}, "layered material key"),
+    ({"layers": [layer()]}, {"target_error": 0.01}, "target_error"),
     ("no-such-material", {}, "no-such-material"),
     (42, {}, "material"),
 ])
