@@ -12,16 +12,11 @@ use std::process::Command;
 #[test]
 fn python_module_passes_its_tests() {
     let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
-    let probe = Command::new("python3")
-        .args(["-c", "import maturin, pytest, numpy, matplotlib"])
-        .output();
-    if !probe.is_ok_and(|o| o.status.success()) {
-        assert_ne!(
-            std::env::var("CI").as_deref(),
-            Ok("true"),
-            "CI=true and maturin, pytest, NumPy or Matplotlib is missing: pip install -r crates/python/requirements-test.txt"
-        );
-        common::report_skip("maturin, pytest, NumPy or Matplotlib is not installed");
+    if !common::python_has(
+        "maturin, pytest, numpy, matplotlib",
+        "maturin, pytest, NumPy or Matplotlib",
+        "pip install -r crates/python/requirements-test.txt",
+    ) {
         return;
     }
     let target = root.join("target/python");

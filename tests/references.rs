@@ -10,16 +10,11 @@ use std::process::Command;
 #[test]
 fn mitsuba_references_agree() {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
-    let probe = Command::new("python3")
-        .args(["-c", "import mitsuba, numpy"])
-        .output();
-    if !probe.is_ok_and(|o| o.status.success()) {
-        assert_ne!(
-            std::env::var("CI").as_deref(),
-            Ok("true"),
-            "CI=true and Mitsuba 3 is not importable: pip install -r scripts/references/requirements.txt"
-        );
-        common::report_skip("Mitsuba 3 is not installed");
+    if !common::python_has(
+        "mitsuba, numpy",
+        "Mitsuba 3",
+        "pip install -r scripts/references/requirements.txt",
+    ) {
         return;
     }
     let out = tempfile::tempdir().unwrap();

@@ -54,6 +54,26 @@ pub fn report_skip(reason: &str) {
     let _ = writeln!(std::io::stderr().lock(), "SKIPPED {name}: {reason}");
 }
 
+/// Whether `python3` imports every module of `modules` (comma-separated, e.g. "mitsuba, numpy").
+/// Without them the test is skipped (said on stderr, naming `what`), except under CI=true, where
+/// that fails and says how to install them (`install`).
+#[allow(dead_code)] // not every test binary that includes `common` runs Python
+pub fn python_has(modules: &str, what: &str, install: &str) -> bool {
+    let probe = Command::new("python3")
+        .args(["-c", &format!("import {modules}")])
+        .output();
+    if probe.is_ok_and(|o| o.status.success()) {
+        return true;
+    }
+    assert_ne!(
+        std::env::var("CI").as_deref(),
+        Ok("true"),
+        "CI=true and {what} is not importable: {install}"
+    );
+    report_skip(&format!("{what} is not installed"));
+    false
+}
+
 /// Whether `sss` stopped for want of a GPU adapter; then the test is skipped (said on stderr),
 /// except under CI=true, where that fails.
 #[allow(dead_code)] // not every test binary that includes `common` renders
