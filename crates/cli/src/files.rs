@@ -12,30 +12,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 
-/// The largest input file read [bytes]: 256 MiB, far above any profile, kernel, material, MCI
-/// or shard summary, so that a wrong path (`/dev/zero`, a disk image) fails instead of filling
-/// memory or reading forever.
-pub const INPUT_CAP: u64 = 256 << 20;
-
-/// Reads a text input whole, refusing one longer than [`INPUT_CAP`] (read through a cap, so a
-/// device or pipe that never ends is refused too). Errors read like [`std::fs::read_to_string`]'s.
-pub fn read_text(path: impl AsRef<Path>) -> std::io::Result<String> {
-    use std::io::Read;
-    let mut text = String::new();
-    std::fs::File::open(path)?
-        .take(INPUT_CAP + 1)
-        .read_to_string(&mut text)?;
-    if text.len() as u64 > INPUT_CAP {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidData,
-            format!(
-                "longer than {} MiB, the cap on inputs: is it the right file?",
-                INPUT_CAP >> 20
-            ),
-        ));
-    }
-    Ok(text)
-}
+pub use mc::input::read_text;
 
 /// Files held in memory until the command has finished.
 #[derive(Default)]

@@ -15,7 +15,7 @@ pub struct Named {
 /// Resolves a material argument: a path to a TOML file (contains a path separator or ends in
 /// `.toml`), else a built-in name (case-insensitive).
 pub fn material(arg: &str) -> Result<Named> {
-    if arg.ends_with(".toml") || arg.contains('/') || arg.contains('\\') {
+    if mc::builtin::is_path(arg) {
         let text = crate::files::read_text(arg)
             .with_context(|| format!("cannot read material file {arg}"))?;
         let material = Material::from_toml(&text, arg)?;

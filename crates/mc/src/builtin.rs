@@ -5,31 +5,32 @@
 use crate::error::{McError, Result};
 use crate::material::Material;
 
+/// Each stem with its file `materials/STEM.toml`, compiled in.
+macro_rules! builtin {
+    ($($stem:literal),*) => {
+        &[$(($stem, include_str!(concat!("../../../materials/", $stem, ".toml")))),*]
+    };
+}
+
 /// (file stem, TOML text) of every built-in material.
-pub const MATERIALS: &[(&str, &str)] = &[
-    ("apple", include_str!("../../../materials/apple.toml")),
-    ("beer", include_str!("../../../materials/beer.toml")),
-    ("chicken1", include_str!("../../../materials/chicken1.toml")),
-    ("chicken2", include_str!("../../../materials/chicken2.toml")),
-    ("coffee", include_str!("../../../materials/coffee.toml")),
-    ("cream", include_str!("../../../materials/cream.toml")),
-    (
-        "grapefruit",
-        include_str!("../../../materials/grapefruit.toml"),
-    ),
-    ("ketchup", include_str!("../../../materials/ketchup.toml")),
-    ("marble", include_str!("../../../materials/marble.toml")),
-    ("potato", include_str!("../../../materials/potato.toml")),
-    ("skimmilk", include_str!("../../../materials/skimmilk.toml")),
-    ("skin1", include_str!("../../../materials/skin1.toml")),
-    ("skin2", include_str!("../../../materials/skin2.toml")),
-    ("soymilk", include_str!("../../../materials/soymilk.toml")),
-    (
-        "wholemilk",
-        include_str!("../../../materials/wholemilk.toml"),
-    ),
-    ("wine", include_str!("../../../materials/wine.toml")),
-];
+pub const MATERIALS: &[(&str, &str)] = builtin!(
+    "apple",
+    "beer",
+    "chicken1",
+    "chicken2",
+    "coffee",
+    "cream",
+    "grapefruit",
+    "ketchup",
+    "marble",
+    "potato",
+    "skimmilk",
+    "skin1",
+    "skin2",
+    "soymilk",
+    "wholemilk",
+    "wine"
+);
 
 impl Material {
     /// The built-in material `name` (a file stem of [`MATERIALS`], case-insensitive).
@@ -44,6 +45,12 @@ impl Material {
             )),
         }
     }
+}
+
+/// Whether a material argument names a file (it ends in `.toml` or holds a path separator)
+/// rather than a built-in material: the rule every tool applies.
+pub fn is_path(arg: &str) -> bool {
+    arg.ends_with(".toml") || arg.contains('/') || arg.contains('\\')
 }
 
 /// The built-in materials' names, in alphabetical order.

@@ -44,6 +44,7 @@ pub mod exitance;
 mod fresnel;
 mod grid;
 pub mod incidence;
+pub mod input;
 mod job;
 mod lanes;
 mod layer;

@@ -9,9 +9,6 @@ use pyo3::types::{PyDict, PyString};
 
 use crate::{SssError, error};
 
-/// The largest file a material or MCML path may name [bytes] (what `sss` reads, too).
-const MAX_FILE_BYTES: u64 = 256 << 20;
-
 fn refuse<T>(name: &str, v: &Bound<'_, PyAny>, why: &str) -> PyResult<T> {
     let shown = v
         .repr()
@@ -191,7 +188,7 @@ pub fn material(v: &Bound<'_, PyAny>) -> PyResult<Material> {
             "give a built-in name, a .toml path or a dict of coefficients",
         );
     };
-    if s.ends_with(".toml") || s.contains('/') || s.contains('\\') {
+    if mc::builtin::is_path(&s) {
         let text = read_text(&s)?;
         return Material::from_toml(&text, &s).map_err(error);
     }
@@ -277,21 +274,7 @@ pub fn profile(v: &Bound<'_, PyAny>) -> PyResult<fit::Profile> {
     Ok(p)
 }
 
-/// The text of a file the caller named, refusing one over [`MAX_FILE_BYTES`] (a device such as
-/// `/dev/zero` never ends).
+/// The text of a file the caller named, through `mc`'s input cap.
 pub fn read_text(path: &str) -> PyResult<String> {
-    use std::io::Read;
-    let f = std::fs::File::open(path).map_err(|e| error(format!("cannot read {path}: {e}")))?;
-    let mut text = String::new();
-    let n = f
-        .take(MAX_FILE_BYTES + 1)
-        .read_to_string(&mut text)
-        .map_err(|e| error(format!("cannot read {path}: {e}")))?;
-    if n as u64 > MAX_FILE_BYTES {
-        return Err(error(format!(
-            "cannot read {path}: larger than {} MiB",
-            MAX_FILE_BYTES >> 20
-        )));
-    }
-    Ok(text)
+    mc::input::read_text(path).map_err(|e| error(format!("cannot read {path}: {e}")))
 }
