@@ -40,9 +40,12 @@ proptest! {
         }
         prop_assert!((0.0..=1.0).contains(&o.rd.value));
         let total = o.rsp + o.rd.value + o.a.value + o.tt.value;
-        // Only roulette moves weight in or out; it is unbiased.
+        // Only roulette moves weight in or out; it is unbiased. The floor: where every packet
+        // deposits (nearly) the same weight, as in a near-pure absorber, the standard error
+        // computed as Σx²/n − mean² cancels to 0, and the deposits' rounding then shows
+        // (measured: 5.9·10⁻¹⁰ at albedo 2.6·10⁻⁴, g = 0.955, η = 2.27, seed 102).
         let se = o.rd.se.max(o.a.se).max(o.tt.se);
-        prop_assert!((total - 1.0).abs() <= 6.0 * se + 1e-12, "total {total}, se {se}");
+        prop_assert!((total - 1.0).abs() <= 6.0 * se + 1e-8, "total {total}, se {se}");
     }
 }
 
