@@ -50,6 +50,12 @@ pub struct ProfileSource {
     /// Worker threads [default: all cores]
     #[arg(long)]
     pub threads: Option<usize>,
+
+    /// Monte Carlo profile tables (a file, or a folder of *.table.json, from `sss table`):
+    /// profiles are interpolated from them instead of simulated, and nothing is cached; each
+    /// channel's g and η must lie within the tables' grid and its albedo within their albedos
+    #[arg(long, value_name = "FILE|DIR", conflicts_with_all = ["photons", "seed"])]
+    pub table: Option<PathBuf>,
 }
 
 impl ProfileSource {
@@ -81,6 +87,10 @@ impl ProfileSource {
     /// to `out` to be written with the command's other outputs. A profile simulated earlier in
     /// the same command is taken from `out`.
     pub fn profile(&self, n: &Named, out: &mut Outputs) -> Result<Profile> {
+        if let Some(path) = &self.table {
+            let config = library::config(self.config.as_deref())?;
+            return table_profile(path, n, &config).map(|t| t.profile);
+        }
         let csv = self.folder().join(format!("{}.profile.csv", n.slug));
         let name = csv.display().to_string();
         if let Some(bytes) = out.get(&csv) {
@@ -127,6 +137,25 @@ impl ProfileSource {
         out.add(csv, text);
         Ok(p)
     }
+}
+
+/// A material's profile interpolated from `--table` on its grid under `config`.
+pub fn table_profile(
+    path: &std::path::Path,
+    n: &Named,
+    config: &mc::SimConfig,
+) -> Result<fit::table_profile::TableProfile> {
+    let tables = crate::table::load(path)?;
+    let grid = config.grid_for(&n.material)?;
+    let thickness = n.material.thickness.unwrap_or(config.thickness_cm);
+    let t = tables.profile(&n.material, &grid, config.n_above, thickness)?;
+    t.profile.validate()?;
+    eprintln!(
+        "{}: profile interpolated from the tables in {}",
+        n.slug,
+        path.display()
+    );
+    Ok(t)
 }
 
 /// The provenance file of a cached profile.

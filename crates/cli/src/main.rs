@@ -17,7 +17,9 @@ mod profile;
 mod progress;
 mod render;
 mod reproduce;
+mod shard;
 mod simulate;
+mod table;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -60,8 +62,10 @@ enum Command {
     AreaTable(area_table::AreaTableArgs),
     /// Apply a kernel in wgpu screen-space passes on a scene (PNG + linear PFM); --compare-models, --bench
     Render(render::RenderArgs),
-    /// Merge shard files of one `simulate --shard I/N` run into its outputs
+    /// Merge shard files of one `simulate --shard` run or one `table --shard` build into its outputs
     Merge(simulate::MergeArgs),
+    /// Build Monte Carlo profile tables R̂(ρ; albedo) per (g, η): any material's profile then by interpolation, in microseconds
+    Table(table::TableArgs),
     /// List the built-in materials with σa, σs, g, η, albedo and mean free path per channel
     Materials(materials::MaterialsArgs),
     /// Fit every model that fits a budget, pick the one with the lowest image error and write it as shader code
@@ -77,6 +81,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Simulate(a) => simulate::simulate(a),
         Command::Merge(a) => simulate::merge(a),
+        Command::Table(a) => table::run(a),
         Command::Render(a) => render::run(a),
         Command::Profile(a) => profile::profile(a),
         Command::CompareProfiles(a) => profile::compare_profiles(a),

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Result, bail};
 use clap::Args;
 use fit::analytic::{Medium, Model};
 use fit::profile_compare::{BANDS, compare};
@@ -14,8 +14,29 @@ use crate::files::{Outputs, out_file};
 use crate::library;
 use crate::simulate;
 
-fn parse_model(s: &str) -> Result<Model, String> {
-    Model::parse(s).map_err(|e| e.to_string())
+/// An analytic model, or Monte Carlo tables.
+#[derive(Clone, Copy)]
+enum Source {
+    Analytic(Model),
+    Table,
+}
+
+impl Source {
+    fn name(&self) -> &'static str {
+        match self {
+            Source::Analytic(m) => m.name(),
+            Source::Table => "table",
+        }
+    }
+}
+
+fn parse_model(s: &str) -> Result<Source, String> {
+    if s.trim().eq_ignore_ascii_case("table") {
+        return Ok(Source::Table);
+    }
+    Model::parse(s)
+        .map(Source::Analytic)
+        .map_err(|e| format!("{e} (or `table`, with --table)"))
 }
 
 #[derive(Args)]
@@ -23,9 +44,15 @@ pub struct ProfileArgs {
     /// Material (built-in name or material .toml path)
     material: String,
 
-    /// Analytic model: dipole, better-dipole, directional-dipole, pbd, burley
+    /// Analytic model: dipole, better-dipole, directional-dipole, pbd, burley; or `table`, the
+    /// Monte Carlo profile interpolated from --table (standard errors: the table's noise and
+    /// the interpolation error estimate)
     #[arg(long, value_parser = parse_model)]
-    model: Model,
+    model: Source,
+
+    /// With --model table: a table file, or a folder of *.table.json, from `sss table`
+    #[arg(long, value_name = "FILE|DIR")]
+    table: Option<PathBuf>,
 
     /// Output CSV file, or a folder to write NAME.MODEL.profile.csv into
     /// [default: out/NAME.MODEL.profile.csv]
@@ -43,15 +70,24 @@ pub fn profile(a: ProfileArgs) -> Result<()> {
     let config = library::config(a.config.as_deref())?;
     let grid = config.grid_for(&n.material)?;
     let nr = grid.nr - 1;
-    let p = fit::analytic::profile(a.model, &n.material, grid.dr, nr)?;
-    let overflow = fit::analytic::overflow(a.model, &n.material, grid.dr, nr)?.map(|v| (v, 0.0));
+    let csv = match (a.model, &a.table) {
+        (Source::Table, Some(t)) => crate::cache::table_profile(t, &n, &config)?.to_csv(),
+        (Source::Table, None) => bail!("--model table needs --table FILE|DIR (from `sss table`)"),
+        (Source::Analytic(_), Some(_)) => bail!("--table is read only with --model table"),
+        (Source::Analytic(model), None) => {
+            let p = fit::analytic::profile(model, &n.material, grid.dr, nr)?;
+            let overflow =
+                fit::analytic::overflow(model, &n.material, grid.dr, nr)?.map(|v| (v, 0.0));
+            p.to_csv(overflow)
+        }
+    };
     let name = format!("{}.{}.profile.csv", n.slug, a.model.name());
     let out = match &a.out {
         Some(o) => out_file(o, &name),
         None => crate::default_out().join(name),
     };
     let mut files = Outputs::default();
-    files.add(&out, p.to_csv(overflow));
+    files.add(&out, csv);
     files.commit()?;
     eprintln!(
         "{} profile of {} ({} bins of {:.4e} cm) → {}",

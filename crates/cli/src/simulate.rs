@@ -71,8 +71,8 @@ pub struct SimulateArgs {
     #[arg(long = "profile-only", conflicts_with = "full")]
     _profile_only: bool,
 
-    /// Run only the I-th of N deterministic slices of the photon chunks and write a shard file; combine with `sss merge`
-    #[arg(long, value_name = "I/N", conflicts_with = "mci")]
+    /// Run only the I-th of N deterministic slices of the photon chunks and write a shard file; combine with `sss merge`. `auto` takes I and N from a job array (Slurm's SLURM_ARRAY_TASK_ID/_MIN/_COUNT, AWS Batch's AWS_BATCH_JOB_ARRAY_INDEX/_SIZE); `auto/N` also reads a Kubernetes Indexed Job's JOB_COMPLETION_INDEX
+    #[arg(long, value_name = "I/N|auto|auto/N", conflicts_with = "mci")]
     shard: Option<String>,
 
     /// Also measure total Rd(θ) per material for a beam at these polar angles [degrees, each in [0, 90)], e.g. 0,15,30,45,60,75,85: NAME.incidence.csv, .png and the summary's "incidence"
@@ -90,11 +90,11 @@ pub struct SimulateArgs {
 
 #[derive(Args)]
 pub struct MergeArgs {
-    /// Shard files written by `sss simulate --shard I/N`
+    /// Shard files written by `sss simulate --shard` (all of one run), or by `sss table --shard` (all of one build)
     #[arg(required = true, value_name = "SHARD.json")]
     shards: Vec<PathBuf>,
 
-    /// Output folder (the same files as `simulate` writes)
+    /// Output folder (the same files as `simulate` or `table` writes)
     #[arg(long, value_name = "DIR", default_value = "out")]
     out: PathBuf,
 
@@ -147,7 +147,7 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
 
     let start = Instant::now();
     if let Some(s) = &args.shard {
-        let (i, n) = parse_shard(s)?;
+        let (i, n) = crate::shard::parse(s)?;
         let chunks = shard::shard_chunks(photons, i - 1, n);
         let bar = progress::photons(
             shard::chunk_photons(photons, &chunks) * groups,
@@ -222,6 +222,11 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
 
 pub fn merge(args: MergeArgs) -> Result<()> {
     let start = Instant::now();
+    if let Some(first) = args.shards.first()
+        && crate::table::is_table_shard(first)?
+    {
+        return crate::table::merge(&args.shards, &args.out, args.json);
+    }
     let shards = args
         .shards
         .iter()
@@ -549,19 +554,6 @@ fn parse_angle(s: &str) -> Result<f64, String> {
         return Err(format!("{s:?} must be in [0, 90) degrees"));
     }
     Ok(v)
-}
-
-fn parse_shard(s: &str) -> Result<(u64, u64)> {
-    let bad = || anyhow::anyhow!("invalid --shard {s:?}: expected I/N with 1 ≤ I ≤ N");
-    let (i, n) = s.split_once('/').ok_or_else(bad)?;
-    let (i, n): (u64, u64) = (
-        i.trim().parse().map_err(|_| bad())?,
-        n.trim().parse().map_err(|_| bad())?,
-    );
-    if i == 0 || i > n {
-        return Err(bad());
-    }
-    Ok((i, n))
 }
 
 pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {

@@ -51,6 +51,7 @@ mod separable;
 pub mod signals;
 pub mod skin;
 mod svd;
+pub mod table_profile;
 pub mod taps;
 
 pub use analytic::burley::Burley;

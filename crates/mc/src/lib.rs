@@ -59,6 +59,7 @@ mod rng;
 pub mod shard;
 mod simulate;
 pub mod slab;
+pub mod table;
 mod tally;
 
 pub use batch::{BatchSpec, ChannelSpec, ERROR_RADIUS_MFP, QUASI_INFINITE_MFP};

@@ -1,0 +1,254 @@
+//! `sss table`: Monte Carlo profile tables per (g, η) (`mc::table`), on one machine or as
+//! shards of a job array merged by `sss merge`; and reading tables back (`--table`).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use fit::table_profile::Tables;
+use mc::table::{self, Table, TableShard, TableSpec};
+use serde_json::json;
+
+use crate::files::Outputs;
+use crate::{parse_count, progress, simulate};
+
+#[derive(Args)]
+pub struct TableArgs {
+    /// Henyey–Greenstein anisotropies g [-], one table per (g, η), e.g. 0,0.5,0.9
+    #[arg(
+        long,
+        required = true,
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
+    g: Vec<f64>,
+
+    /// Refractive indices η of the medium relative to the one above it [-], one table per (g, η), e.g. 1.3,1.4
+    #[arg(long, required = true, value_delimiter = ',')]
+    eta: Vec<f64>,
+
+    /// Albedos per table, spaced as pbrt-v4's BSSRDFTable ((1 − e^{−8i/(n−1)})/(1 − e^{−8}), dense towards 1) up to --max-albedo
+    #[arg(long, default_value_t = table::DEFAULT_ALBEDOS)]
+    albedos: usize,
+
+    /// Largest albedo σs/σt of the tables [-]; materials above it are refused (at 1 a half-space walk has no finite mean length)
+    #[arg(long, default_value_t = table::DEFAULT_MAX_ALBEDO)]
+    max_albedo: f64,
+
+    /// Photon packets per albedo; accepts 1e6
+    #[arg(long, value_parser = parse_count, default_value = "1e6")]
+    photons: u64,
+
+    /// Seed of all random streams; same seed ⇒ same tables for any --threads or --shard
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+
+    /// Output folder: gG_etaE.table.json per (g, η), or with --shard the shard file table-shard-I-of-N.json
+    #[arg(long, value_name = "DIR", default_value = "out/tables")]
+    out: PathBuf,
+
+    /// Trace only the I-th of N deterministic slices of every table's photon chunks and write a shard file; combine all N with `sss merge` (bit-identical to the unsharded tables). `auto` takes I and N from a job array (Slurm's SLURM_ARRAY_TASK_ID/_MIN/_COUNT, AWS Batch's AWS_BATCH_JOB_ARRAY_INDEX/_SIZE); `auto/N` also reads a Kubernetes Indexed Job's JOB_COMPLETION_INDEX
+    #[arg(long, value_name = "I/N|auto|auto/N")]
+    shard: Option<String>,
+
+    /// Worker threads [default: all cores]
+    #[arg(long)]
+    threads: Option<usize>,
+
+    /// Print a machine-readable summary on stdout
+    #[arg(long)]
+    json: bool,
+}
+
+/// The file name of the table of (g, η).
+pub fn file_name(g: f64, eta: f64) -> String {
+    format!("g{g}_eta{eta}.table.json")
+}
+
+fn specs(a: &TableArgs) -> Result<Vec<TableSpec>> {
+    if a.albedos < 4 {
+        bail!("invalid --albedos {}: a table needs at least 4", a.albedos);
+    }
+    if !(a.max_albedo > 0.0 && a.max_albedo < 1.0) {
+        bail!(
+            "invalid --max-albedo {}: must lie in (0, 1); at 1 a half-space walk has no finite mean length",
+            a.max_albedo
+        );
+    }
+    let albedos = table::default_albedos(a.albedos, a.max_albedo);
+    let mut out = Vec::new();
+    for &g in &a.g {
+        for &eta in &a.eta {
+            let s = TableSpec {
+                g,
+                eta,
+                albedos: albedos.clone(),
+                photons: a.photons,
+                seed: a.seed,
+            };
+            s.validate()
+                .with_context(|| format!("table g = {g}, η = {eta}"))?;
+            if out.iter().any(|o: &TableSpec| o.g == g && o.eta == eta) {
+                bail!("table g = {g}, η = {eta} is asked twice");
+            }
+            out.push(s);
+        }
+    }
+    Ok(out)
+}
+
+pub fn run(a: TableArgs) -> Result<()> {
+    let specs = specs(&a)?;
+    let pool = simulate::thread_pool(a.threads)?;
+    let (i, n) = match &a.shard {
+        Some(s) => crate::shard::parse(s)?,
+        None => (1, 1),
+    };
+    let start = Instant::now();
+    let label = if a.shard.is_some() {
+        format!("table shard {i}/{n}")
+    } else {
+        format!("{} table(s)", specs.len())
+    };
+    let bar = progress::photons(TableShard::photons(&specs, i, n), &label);
+    let shard = pool.install(|| TableShard::trace(&specs, i, n, &|k| bar.inc(k)))?;
+    bar.finish_and_clear();
+    let seconds = start.elapsed().as_secs_f64();
+    let events = shard.interactions();
+    let mut files = Outputs::default();
+    if a.shard.is_some() {
+        let path = a.out.join(format!("table-shard-{i}-of-{n}.json"));
+        files.add(&path, shard.to_json());
+        files.commit()?;
+        if a.json {
+            println!(
+                "{}",
+                json!({ "shard": path, "index": i, "of": n, "seconds": seconds, "events": events })
+            );
+        } else {
+            eprintln!(
+                "wrote {} ({seconds:.1} s, {:.3e} events/s); combine all {n} shards with `sss merge`",
+                path.display(),
+                events as f64 / seconds
+            );
+        }
+        return Ok(());
+    }
+    let tables = table::merge_tables(&[(String::new(), shard)])?;
+    write(&tables, &a.out, a.json, seconds, Some(events))
+}
+
+/// Whether a shard file is a table build's (else `simulate`'s).
+pub fn is_table_shard(path: &Path) -> Result<bool> {
+    #[derive(serde::Deserialize)]
+    struct Tag {
+        format: Option<String>,
+    }
+    let text = crate::files::read_text(path)
+        .with_context(|| format!("cannot read shard {}", path.display()))?;
+    Ok(serde_json::from_str::<Tag>(&text)
+        .ok()
+        .and_then(|t| t.format)
+        .is_some_and(|f| f == table::SHARD_FORMAT))
+}
+
+/// `sss merge` of table shards.
+pub fn merge(paths: &[PathBuf], out: &Path, json: bool) -> Result<()> {
+    let start = Instant::now();
+    let shards = paths
+        .iter()
+        .map(|p| {
+            let name = p.display().to_string();
+            let text =
+                crate::files::read_text(p).with_context(|| format!("cannot read shard {name}"))?;
+            Ok((name.clone(), TableShard::from_json(&text, &name)?))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let tables = table::merge_tables(&shards)?;
+    write(&tables, out, json, start.elapsed().as_secs_f64(), None)
+}
+
+fn write(
+    tables: &[Table],
+    out: &Path,
+    json: bool,
+    seconds: f64,
+    events: Option<u64>,
+) -> Result<()> {
+    let mut files = Outputs::default();
+    let mut rows = Vec::new();
+    for t in tables {
+        let path = out.join(file_name(t.g, t.eta));
+        files.add(&path, t.to_json());
+        let last = t.albedo.len() - 1;
+        rows.push(json!({
+            "g": t.g, "eta": t.eta, "file": path, "albedos": t.albedo.len(),
+            "photons_per_albedo": t.photons, "seed": t.seed,
+            "max_albedo": t.albedo[last], "rd_at_max_albedo": t.rd[last],
+            "rd_at_max_albedo_se": t.rd_node(last).se, "reach_mfp": t.reach(),
+        }));
+        if !json {
+            eprintln!(
+                "table g = {}, η = {}: {} albedos up to {} × {} photons; Rd at the largest {:.5} ± {:.5}; radii to {:.0} mean free paths → {}",
+                t.g,
+                t.eta,
+                t.albedo.len(),
+                t.albedo[last],
+                t.photons,
+                t.rd[last],
+                t.rd_node(last).se,
+                t.reach(),
+                path.display()
+            );
+        }
+    }
+    files.commit()?;
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&json!({
+                "tables": rows, "seconds": seconds, "events": events,
+                "events_per_second": events.map(|e| e as f64 / seconds),
+            }))?
+        );
+    } else if let Some(e) = events {
+        eprintln!(
+            "{} table(s) in {seconds:.1} s ({:.3e} events/s)",
+            tables.len(),
+            e as f64 / seconds
+        );
+    }
+    Ok(())
+}
+
+/// Reads `--table`: one table file, or every `*.table.json` in a folder.
+pub fn load(path: &Path) -> Result<Tables> {
+    let files: Vec<PathBuf> = if path.is_dir() {
+        let mut v: Vec<PathBuf> = std::fs::read_dir(path)
+            .with_context(|| format!("cannot read table folder {}", path.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.to_string_lossy().ends_with(".table.json"))
+            .collect();
+        v.sort();
+        if v.is_empty() {
+            bail!(
+                "no table in {} (expected files *.table.json from `sss table`)",
+                path.display()
+            );
+        }
+        v
+    } else {
+        vec![path.to_path_buf()]
+    };
+    let tables = files
+        .iter()
+        .map(|p| {
+            let name = p.display().to_string();
+            let text =
+                crate::files::read_text(p).with_context(|| format!("cannot read table {name}"))?;
+            Ok((name.clone(), Table::from_json(&text, &name)?))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Tables::new(tables)?)
+}
