@@ -1,7 +1,9 @@
 //! A material's Monte Carlo profile from tables (`mc::table`) instead of a simulation: each
 //! channel's Rd(r) = σt²·R̂(σt·r; α) on the material's grid, interpolated in α within the table
 //! of the channel's g and η. Between tables of neighbouring g or η values it blends linearly
-//! (bilinearly when both lie between grid values); a g or η outside the tables' grid is refused.
+//! (bilinearly when both lie between grid values), each table taken at the coefficients that
+//! are similar to the material's for its g (the same σa and reduced scattering σs(1 − g)); a g
+//! or η outside the tables' grid is refused.
 //!
 //! Units: r in cm, Rd in cm⁻² (MCML's `Rd_r`, specular reflection excluded), as `sss simulate`
 //! writes; every value carries the table's standard error and the interpolation error estimate
@@ -168,7 +170,6 @@ impl Tables {
                     "tables hold half-spaces: the layer is thinner than 10⁶ mean free paths",
                 ));
             }
-            let albedo = m.sigma_s[c] / sigma_t;
             let corners = self.corners(m.g[c], eta).map_err(|e| match e {
                 FitError::Invalid {
                     field: f,
@@ -190,6 +191,18 @@ impl Tables {
             };
             let (mut over, mut total) = (zero, zero);
             for (table, w) in corners {
+                // Similarity (Wyman, Patterson & Wilson 1989): a medium of the corner's g with
+                // the same σa and reduced scattering σs(1 − g) diffuses alike; blending those
+                // corners leaves only the near field to the linear weights. On the grid, the
+                // material's own coefficients.
+                let g = m.g[c];
+                let sigma_s = if (table.g - g).abs() <= SAME {
+                    m.sigma_s[c]
+                } else {
+                    m.sigma_s[c] * (1.0 - g) / (1.0 - table.g)
+                };
+                let sigma_t = m.sigma_a[c] + sigma_s;
+                let albedo = sigma_s / sigma_t;
                 let at = table.at(albedo).map_err(|e| match from_mc(e) {
                     FitError::Invalid { value, reason, .. } => {
                         FitError::invalid(field("albedo"), value, reason)
