@@ -40,6 +40,16 @@ fn refused(o: &Output, says: &str) {
 
 const FILE: &str = "g0_eta1.3.table.json";
 
+/// `sss profile MATERIAL --model table --table TABLE --out OUT` in `dir`.
+fn from_table(material: &str, table: &str, out: &str, dir: &Path) -> Output {
+    sss(
+        &[
+            "profile", material, "--model", "table", "--table", table, "--out", out,
+        ],
+        dir,
+    )
+}
+
 #[test]
 fn sharded_builds_merge_bit_identical_to_the_one_machine_build() {
     let dir = tempfile::tempdir().unwrap();
@@ -161,12 +171,7 @@ fn profiles_and_kernels_come_from_tables_and_bad_tables_are_refused() {
     let d = dir.path();
     ok(&table(&["--out", "t"], d));
     // Skin1 (g = 0, η = 1.3, albedos 0.68–0.96) lies within the table.
-    ok(&sss(
-        &[
-            "profile", "skin1", "--model", "table", "--table", "t", "--out", "p.csv",
-        ],
-        d,
-    ));
+    ok(&from_table("skin1", "t", "p.csv", d));
     let csv = std::fs::read_to_string(d.join("p.csv")).unwrap();
     let p = fit::Profile::from_csv(&csv, "p.csv").unwrap();
     // The thesis grid of Skin1: dr = min transport MFP / 20.
@@ -206,42 +211,14 @@ fn profiles_and_kernels_come_from_tables_and_bad_tables_are_refused() {
     ));
 
     // A material outside the grid: Marble has η = 1.5.
-    refused(
-        &sss(
-            &[
-                "profile", "marble", "--model", "table", "--table", "t", "--out", "q.csv",
-            ],
-            d,
-        ),
-        "η = 1.5",
-    );
+    refused(&from_table("marble", "t", "q.csv", d), "η = 1.5");
     // An albedo above the table's largest (Cream's R: 0.99997 > 0.99).
-    refused(
-        &sss(
-            &[
-                "profile", "cream", "--model", "table", "--table", "t", "--out", "q.csv",
-            ],
-            d,
-        ),
-        "albedo",
-    );
+    refused(&from_table("cream", "t", "q.csv", d), "albedo");
     // A truncated table, and a foreign JSON file.
     let text = std::fs::read_to_string(d.join("t").join(FILE)).unwrap();
     std::fs::write(d.join("cut.table.json"), &text[..text.len() / 2]).unwrap();
     refused(
-        &sss(
-            &[
-                "profile",
-                "skin1",
-                "--model",
-                "table",
-                "--table",
-                "cut.table.json",
-                "--out",
-                "q.csv",
-            ],
-            d,
-        ),
+        &from_table("skin1", "cut.table.json", "q.csv", d),
         "not an sss table",
     );
     let edited = text.replacen("\"g\":0.0", "\"g\":0.5", 1);
@@ -249,36 +226,12 @@ fn profiles_and_kernels_come_from_tables_and_bad_tables_are_refused() {
     std::fs::write(d.join("edited.table.json"), &edited).unwrap();
     // A table relabelled g = 0.5 no longer stands for Skin1's g = 0.
     refused(
-        &sss(
-            &[
-                "profile",
-                "skin1",
-                "--model",
-                "table",
-                "--table",
-                "edited.table.json",
-                "--out",
-                "q.csv",
-            ],
-            d,
-        ),
+        &from_table("skin1", "edited.table.json", "q.csv", d),
         "g = 0, η = 1.3",
     );
     std::fs::write(d.join("foreign.table.json"), "{\"format\":\"sss-shard-2\"}").unwrap();
     refused(
-        &sss(
-            &[
-                "profile",
-                "skin1",
-                "--model",
-                "table",
-                "--table",
-                "foreign.table.json",
-                "--out",
-                "q.csv",
-            ],
-            d,
-        ),
+        &from_table("skin1", "foreign.table.json", "q.csv", d),
         "not an sss table",
     );
     assert!(!d.join("q.csv").exists());

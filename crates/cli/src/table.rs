@@ -156,15 +156,7 @@ pub fn is_table_shard(path: &Path) -> Result<bool> {
 /// `sss merge` of table shards.
 pub fn merge(paths: &[PathBuf], out: &Path, json: bool) -> Result<()> {
     let start = Instant::now();
-    let shards = paths
-        .iter()
-        .map(|p| {
-            let name = p.display().to_string();
-            let text =
-                crate::files::read_text(p).with_context(|| format!("cannot read shard {name}"))?;
-            Ok((name.clone(), TableShard::from_json(&text, &name)?))
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let shards = read_all(paths, "shard", TableShard::from_json)?;
     let tables = table::merge_tables(&shards)?;
     write(&tables, out, json, start.elapsed().as_secs_f64(), None)
 }
@@ -241,14 +233,22 @@ pub fn load(path: &Path) -> Result<Tables> {
     } else {
         vec![path.to_path_buf()]
     };
-    let tables = files
+    Ok(Tables::new(read_all(&files, "table", Table::from_json)?)?)
+}
+
+/// Each file read and parsed (`what` names it in errors), with its name.
+fn read_all<T>(
+    paths: &[PathBuf],
+    what: &str,
+    parse: fn(&str, &str) -> mc::Result<T>,
+) -> Result<Vec<(String, T)>> {
+    paths
         .iter()
         .map(|p| {
             let name = p.display().to_string();
             let text =
-                crate::files::read_text(p).with_context(|| format!("cannot read table {name}"))?;
-            Ok((name.clone(), Table::from_json(&text, &name)?))
+                crate::files::read_text(p).with_context(|| format!("cannot read {what} {name}"))?;
+            Ok((name.clone(), parse(&text, &name)?))
         })
-        .collect::<Result<Vec<_>>>()?;
-    Ok(Tables::new(tables)?)
+        .collect()
 }
