@@ -21,7 +21,7 @@
 //! misses are within the noise.) Its error is estimated as |f − f₂|/15, f₂ the same
 //! interpolation through every other node (a cubic's error falls as the fourth power of the
 //! spacing). In ρ: conservative —
-//! //! P is exact at the edges; within a bin the density follows e^{sρ}, s the slope of ln(density)
+//! P is exact at the edges; within a bin the density follows e^{sρ}, s the slope of ln(density)
 //! between the neighbouring bins (the exponential tail of diffusion), and the first bin
 //! [0, 10⁻³) follows the single-scattering singularity Rd ∝ 1/ρ (P linear in ρ). An annulus
 //! average is (P(b) − P(a))/(π(b² − a²)), with the table's standard error and the α-interpolation
