@@ -64,7 +64,7 @@ enum Command {
     Render(render::RenderArgs),
     /// Merge shard files of one `simulate --shard` run or one `table --shard` build into its outputs
     Merge(simulate::MergeArgs),
-    /// Build Monte Carlo profile tables R̂(ρ; albedo) per (g, η): any material's profile then by interpolation, in microseconds
+    /// Build Monte Carlo profile tables R̂(ρ; albedo) per (g, η): any material's profile then by interpolation, in milliseconds
     Table(table::TableArgs),
     /// List the built-in materials with σa, σs, g, η, albedo and mean free path per channel
     Materials(materials::MaterialsArgs),
