@@ -40,6 +40,13 @@ fn refused(o: &Output, says: &str) {
 
 const FILE: &str = "g0_eta1.3.table.json";
 
+/// `sss merge --out OUT SHARD…` in `dir`.
+fn merge(out: &str, shards: &[&str], dir: &Path) -> Output {
+    let mut args = vec!["merge", "--out", out];
+    args.extend(shards);
+    sss(&args, dir)
+}
+
 /// `sss profile MATERIAL --model table --table TABLE --out OUT` in `dir`.
 fn from_table(material: &str, table: &str, out: &str, dir: &Path) -> Output {
     sss(
@@ -74,9 +81,8 @@ fn sharded_builds_merge_bit_identical_to_the_one_machine_build() {
             files.push(format!("{out}/table-shard-{i}-of-{n}.json"));
         }
         let merged = format!("m{n}");
-        let mut args = vec!["merge", "--out", &merged];
-        args.extend(files.iter().map(String::as_str));
-        ok(&sss(&args, d));
+        let files: Vec<&str> = files.iter().map(String::as_str).collect();
+        ok(&merge(&merged, &files, d));
         let got = std::fs::read(d.join(&merged).join(FILE)).unwrap();
         assert!(
             got == whole,
@@ -99,9 +105,8 @@ fn sharded_builds_merge_bit_identical_to_the_one_machine_build() {
     let shards: Vec<String> = (1..=4)
         .map(|i| format!("auto/table-shard-{i}-of-4.json"))
         .collect();
-    let mut args = vec!["merge", "--out", "mauto"];
-    args.extend(shards.iter().map(String::as_str));
-    ok(&sss(&args, d));
+    let shards: Vec<&str> = shards.iter().map(String::as_str).collect();
+    ok(&merge("mauto", &shards, d));
     assert!(std::fs::read(d.join("mauto").join(FILE)).unwrap() == whole);
 
     // Mismatched or missing shards: refused, nothing written.
@@ -110,11 +115,9 @@ fn sharded_builds_merge_bit_identical_to_the_one_machine_build() {
         d,
     ));
     refused(
-        &sss(
+        &merge(
+            "bad",
             &[
-                "merge",
-                "--out",
-                "bad",
                 "s3/table-shard-2-of-3.json",
                 "s3/table-shard-3-of-3.json",
                 "other/table-shard-1-of-3.json",
@@ -124,27 +127,17 @@ fn sharded_builds_merge_bit_identical_to_the_one_machine_build() {
         "different tables",
     );
     refused(
-        &sss(
-            &[
-                "merge",
-                "--out",
-                "bad",
-                "s3/table-shard-1-of-3.json",
-                "s3/table-shard-3-of-3.json",
-            ],
+        &merge(
+            "bad",
+            &["s3/table-shard-1-of-3.json", "s3/table-shard-3-of-3.json"],
             d,
         ),
         "shard 2/3 is missing",
     );
     refused(
-        &sss(
-            &[
-                "merge",
-                "--out",
-                "bad",
-                "s3/table-shard-1-of-3.json",
-                "s4/table-shard-2-of-4.json",
-            ],
+        &merge(
+            "bad",
+            &["s3/table-shard-1-of-3.json", "s4/table-shard-2-of-4.json"],
             d,
         ),
         "shards of different builds",

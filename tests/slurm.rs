@@ -52,7 +52,7 @@ fn installed() -> bool {
         .arg("-u")
         .output()
         .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0");
-    have && root && Path::new("/etc/munge/munge.key").exists()
+    have && root
 }
 
 #[test]

@@ -6,8 +6,9 @@
 #   scripts/slurm/local-cluster.sh start DIR   # prints `export SLURM_CONF=DIR/slurm.conf`
 #   scripts/slurm/local-cluster.sh stop DIR    # stops the daemons by the process ids in DIR/pids
 #
-# Needs root and Debian's slurm-wlm and munge (apt-get install slurm-wlm munge), whose package
-# creates /etc/munge/munge.key. Ports: SSS_SLURM_PORT (slurmctld, default 6817) and the next.
+# Needs root and Debian's slurm-wlm and munge (apt-get install slurm-wlm munge); the munge key is
+# the package's /etc/munge/munge.key, created here if missing. Ports: SSS_SLURM_PORT (slurmctld,
+# default 6817) and the next.
 set -euo pipefail
 
 cmd=${1:-}; dir=${2:-}
@@ -36,7 +37,13 @@ for tool in munged slurmctld slurmd sbatch; do
     command -v "$tool" >/dev/null || { echo "$tool not found: apt-get install slurm-wlm munge" >&2; exit 3; }
 done
 [[ $(id -u) == 0 ]] || { echo "the local cluster's daemons run as root" >&2; exit 3; }
-[[ -r /etc/munge/munge.key ]] || { echo "no /etc/munge/munge.key (mungekey --create)" >&2; exit 3; }
+# Debian's munge package creates the key; create one where it did not.
+if [[ ! -r /etc/munge/munge.key ]]; then
+    mkdir -p /etc/munge
+    mungekey --create --keyfile=/etc/munge/munge.key
+    chown munge:munge /etc/munge/munge.key 2>/dev/null || true
+    chmod 0600 /etc/munge/munge.key
+fi
 
 dir=$(mkdir -p "$dir" && cd "$dir" && pwd)
 mkdir -p "$dir/state" "$dir/spool" /run/munge

@@ -112,6 +112,18 @@ fn temp_name(path: &Path) -> PathBuf {
     folder(path).join(format!(".{name}.{}.tmp", std::process::id()))
 }
 
+/// Each file's text with its name, for messages; `what` names the kind of file in errors.
+pub fn read_named(paths: &[PathBuf], what: &str) -> Result<Vec<(String, String)>> {
+    paths
+        .iter()
+        .map(|p| {
+            let name = p.display().to_string();
+            let text = read_text(p).with_context(|| format!("cannot read {what} {name}"))?;
+            Ok((name, text))
+        })
+        .collect()
+}
+
 /// The file a single-file command writes for `--out`: `out` itself, or `default_name` inside
 /// it when `out` is an existing folder or ends in a path separator.
 pub fn out_file(out: &Path, default_name: &str) -> PathBuf {

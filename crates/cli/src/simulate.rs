@@ -222,21 +222,16 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
 
 pub fn merge(args: MergeArgs) -> Result<()> {
     let start = Instant::now();
-    if let Some(first) = args.shards.first()
-        && crate::table::is_table_shard(first)?
+    let texts = crate::files::read_named(&args.shards, "shard")?;
+    if texts
+        .first()
+        .is_some_and(|(_, text)| crate::table::is_table_shard(text))
     {
-        return crate::table::merge(&args.shards, &args.out, args.json);
+        return crate::table::merge(&texts, &args.out, args.json);
     }
-    let shards = args
-        .shards
+    let shards = texts
         .iter()
-        .map(|p| {
-            let name = p.display().to_string();
-            let text =
-                crate::files::read_text(p).with_context(|| format!("cannot read shard {name}"))?;
-            let shard = Shard::from_json(&text, &name)?;
-            Ok((name, shard))
-        })
+        .map(|(name, text)| Ok((name.clone(), Shard::from_json(text, name)?)))
         .collect::<Result<Vec<_>>>()?;
     let (spec, labels, accs) = shard::merge(&shards)?;
     check_labels(&labels)?;

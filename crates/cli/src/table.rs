@@ -139,24 +139,25 @@ pub fn run(a: TableArgs) -> Result<()> {
     write(&tables, &a.out, a.json, seconds, Some(events))
 }
 
-/// Whether a shard file is a table build's (else `simulate`'s).
-pub fn is_table_shard(path: &Path) -> Result<bool> {
+/// Whether a shard file's text is a table build's (else `simulate`'s).
+pub fn is_table_shard(text: &str) -> bool {
     #[derive(serde::Deserialize)]
     struct Tag {
         format: Option<String>,
     }
-    let text = crate::files::read_text(path)
-        .with_context(|| format!("cannot read shard {}", path.display()))?;
-    Ok(serde_json::from_str::<Tag>(&text)
+    serde_json::from_str::<Tag>(text)
         .ok()
         .and_then(|t| t.format)
-        .is_some_and(|f| f == table::SHARD_FORMAT))
+        .is_some_and(|f| f == table::SHARD_FORMAT)
 }
 
-/// `sss merge` of table shards.
-pub fn merge(paths: &[PathBuf], out: &Path, json: bool) -> Result<()> {
+/// `sss merge` of table shards, given each file's name and text.
+pub fn merge(texts: &[(String, String)], out: &Path, json: bool) -> Result<()> {
     let start = Instant::now();
-    let shards = read_all(paths, "shard", TableShard::from_json)?;
+    let shards = texts
+        .iter()
+        .map(|(name, text)| Ok((name.clone(), TableShard::from_json(text, name)?)))
+        .collect::<Result<Vec<_>>>()?;
     let tables = table::merge_tables(&shards)?;
     write(&tables, out, json, start.elapsed().as_secs_f64(), None)
 }
@@ -233,22 +234,9 @@ pub fn load(path: &Path) -> Result<Tables> {
     } else {
         vec![path.to_path_buf()]
     };
-    Ok(Tables::new(read_all(&files, "table", Table::from_json)?)?)
-}
-
-/// Each file read and parsed (`what` names it in errors), with its name.
-fn read_all<T>(
-    paths: &[PathBuf],
-    what: &str,
-    parse: fn(&str, &str) -> mc::Result<T>,
-) -> Result<Vec<(String, T)>> {
-    paths
-        .iter()
-        .map(|p| {
-            let name = p.display().to_string();
-            let text =
-                crate::files::read_text(p).with_context(|| format!("cannot read {what} {name}"))?;
-            Ok((name.clone(), parse(&text, &name)?))
-        })
-        .collect()
+    let tables = crate::files::read_named(&files, "table")?
+        .into_iter()
+        .map(|(name, text)| Ok((name.clone(), Table::from_json(&text, &name)?)))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Tables::new(tables)?)
 }
