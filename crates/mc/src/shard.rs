@@ -35,7 +35,7 @@ pub struct Shard {
 }
 
 #[derive(Serialize, Deserialize)]
-struct ShardFile {
+pub(crate) struct ShardFile {
     format: String,
     spec: BatchSpec,
     labels: Vec<String>,
@@ -44,7 +44,7 @@ struct ShardFile {
 }
 
 #[derive(Serialize, Deserialize)]
-struct GroupFile {
+pub(crate) struct GroupFile {
     layout: Layout,
     photons: u64,
     interactions: u64,
@@ -150,6 +150,11 @@ fn spec_difference(a: &BatchSpec, b: &BatchSpec) -> Option<(String, String, Stri
 impl Shard {
     /// The shard file's text.
     pub fn to_json(&self) -> String {
+        serde_json::to_string(&self.to_file()).expect("shard data is always serializable")
+    }
+
+    /// The shard as its file's data (also embedded in table shard files).
+    pub(crate) fn to_file(&self) -> ShardFile {
         let groups = self
             .groups
             .iter()
@@ -163,22 +168,26 @@ impl Shard {
                     .collect(),
             })
             .collect();
-        let f = ShardFile {
+        ShardFile {
             format: FORMAT.into(),
             spec: self.spec.clone(),
             labels: self.labels.clone(),
             chunks: [self.chunks.start, self.chunks.end],
             groups,
-        };
-        serde_json::to_string(&f).expect("shard data is always serializable")
+        }
     }
 
     /// Reads a shard file and checks it against the specification it carries (see the module
     /// docs); `source_name` names the file in error messages.
     pub fn from_json(text: &str, source_name: &str) -> Result<Self> {
-        let bad = |m: String| McError::parse(source_name, 0, m);
         let f: ShardFile = serde_json::from_str(text)
             .map_err(|e| McError::parse(source_name, e.line(), e.to_string()))?;
+        Self::from_file(f, source_name)
+    }
+
+    /// A shard file's data, checked as [`Shard::from_json`] checks it.
+    pub(crate) fn from_file(f: ShardFile, source_name: &str) -> Result<Self> {
+        let bad = |m: String| McError::parse(source_name, 0, m);
         if f.format != FORMAT {
             return Err(bad(format!(
                 "format {:?} is not {FORMAT:?} (shards of another version cannot be merged)",

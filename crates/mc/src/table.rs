@@ -37,7 +37,7 @@ use crate::error::{McError, Result};
 use crate::grid::Grid;
 use crate::layer::Layer;
 use crate::output::Estimate;
-use crate::shard::Shard;
+use crate::shard::{Shard, ShardFile};
 use crate::tally::{Accumulator, TallySet};
 
 /// Bin width of the finest radial grid [mean free paths].
@@ -536,7 +536,7 @@ struct TableShardFile {
     format: String,
     index: u64,
     count: u64,
-    tables: Vec<(TableSpec, serde_json::Value)>,
+    tables: Vec<(TableSpec, ShardFile)>,
 }
 
 impl TableShard {
@@ -604,10 +604,7 @@ impl TableShard {
             tables: self
                 .tables
                 .iter()
-                .map(|(spec, shard)| {
-                    let v = serde_json::from_str(&shard.to_json()).expect("a shard is JSON");
-                    (spec.clone(), v)
-                })
+                .map(|(spec, shard)| (spec.clone(), shard.to_file()))
                 .collect(),
         };
         serde_json::to_string(&f).expect("a table shard serializes")
@@ -637,11 +634,11 @@ impl TableShard {
             ));
         }
         let mut tables = Vec::with_capacity(f.tables.len());
-        for (t, (spec, value)) in f.tables.into_iter().enumerate() {
+        for (t, (spec, file)) in f.tables.into_iter().enumerate() {
             let name = format!("{source_name} table {t}");
             spec.validate()
                 .map_err(|e| McError::parse(&name, 0, e.to_string()))?;
-            let shard = Shard::from_json(&value.to_string(), &name)?;
+            let shard = Shard::from_file(file, &name)?;
             if shard.spec != spec.batch() || shard.labels != label_channels(&spec) {
                 return Err(McError::parse(
                     &name,
