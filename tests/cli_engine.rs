@@ -117,7 +117,7 @@ fn engine_params_in_each_engine_and_materialx() {
                 walk["notes"][0]
                     .as_str()
                     .unwrap()
-                    .contains("Blender 3.0–4.x")
+                    .contains("Blender 4.0–5.0")
             );
         } else {
             assert!(walk.is_null(), "{engine}: {walk}");

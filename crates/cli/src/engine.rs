@@ -207,7 +207,7 @@ pub struct EngineParamsArgs {
 
     /// Engine: unreal (Subsurface Profile, Burley), unity (HDRP Diffusion Profile), blender
     /// (Principled BSDF: the Christensen-Burley fit, and the Random Walk fields that make
-    /// Cycles trace the material's own σa, σs and g, inverting the remap of Blender 3.0–4.x),
+    /// Cycles trace the material's own σa, σs and g, inverting the random walk of Blender 4.0–5.0),
     /// openpbr (OpenPBR Surface / MaterialX)
     #[arg(long)]
     engine: Engine,

@@ -3,23 +3,28 @@
 //! make Cycles trace a material's own σs/σt and σt.
 //!
 //! Cycles (`subsurface_random_walk_remap` in
-//! `intern/cycles/kernel/integrator/subsurface_random_walk.h`, Blender 3.0 to 4.x) gives a
-//! colour A and anisotropy g the single-scattering albedo
+//! `intern/cycles/kernel/integrator/subsurface_random_walk.h`, the same from Blender 3.0 to 5.0;
+//! read from the source 5.0.1 ships) gives a colour A and anisotropy g the single-scattering
+//! albedo
 //!
 //! α(A, g) = (1 − A^¼)·a(g)·atan(b(g)·A)^c(g) + A^¼·d(g)·atan(e(g)·A)^f(g), clamped to
 //! [0, 0.999999],
 //!
 //! with a … f degree-7 polynomials in g (b and e through an exponential) fitted to
 //! Wrenninge, Villemin & Hery's anisotropic random walks (Chiang, Kutz & Burley 2016 fitted the
-//! isotropic case), and a radius d (Subsurface Radius × Subsurface Scale, scene units) the
-//! extinction σt = 1/(d·(1 − g)), with g clamped to [0, 0.9] (and the subsurface IOR to
-//! [1.01, 3.8]) where the closure is set up. Where α < 0.2 Cycles traces α = 0.2 and scales the light by
-//! α/0.2 instead (to avoid a discontinuity in its guided sampling): not the same medium.
-//! Cycles evaluates these in f32, whose rounding moves α by about 10⁻⁷, that is 1 − α by 10⁻⁷/(1 − α)
-//! relatively.
+//! isotropic case), and a radius d the extinction σt = 1/(d·(1 − g)). The radius the walk gets is
+//! not the one the user types: for Subsurface Method "Random Walk" (Blender 4.0–5.0; "Random Walk
+//! (Fixed Radius)" in 3.x) `bssrdf_setup_radius` in `kernel/closure/bssrdf.h` first scales
+//! Subsurface Radius × Subsurface Scale by 1/(4π) ([`RADIUS_SCALE`]), as it does for
+//! Christensen–Burley; "Random Walk (Skin)" (3.x: "Random Walk") rescales it by the albedo and
+//! IOR instead, and is not inverted here. g is clamped to [0, 0.9] (and the subsurface IOR to
+//! [1.01, 3.8]) where the closure is set up. Where α < 0.2 Cycles traces α = 0.2 and scales the
+//! light by α/0.2 instead (to avoid a discontinuity in its guided sampling): not the same medium.
+//! Cycles evaluates these in f32, whose rounding moves α by about 10⁻⁷, that is 1 − α by
+//! 10⁻⁷/(1 − α) relatively.
 
 /// The single-scattering albedo σs/σt [-] Cycles derives from colour `color` ∈ [0, 1] and
-/// anisotropy `g` (Blender 3.0–4.x), before its low-albedo substitute ([`MIN_ALPHA`]).
+/// anisotropy `g` (Blender 3.0–5.0), before its low-albedo substitute ([`MIN_ALPHA`]).
 pub fn alpha(color: f64, g: f64) -> f64 {
     let poly = |c: [f64; 8]| c.iter().rev().fold(0.0, |acc, &k| acc * g + k);
     let a = poly([
@@ -103,15 +108,20 @@ pub const MAX_G: f64 = 0.9;
 /// Below this single-scattering albedo Cycles traces 0.2 and scales the light by α/0.2 [-].
 pub const MIN_ALPHA: f64 = 0.2;
 
-/// The extinction σt [1/unit] Cycles derives from radius `radius` [unit] and anisotropy `g`.
+/// What `bssrdf_setup_radius` multiplies Subsurface Radius × Subsurface Scale by for the
+/// "Random Walk" and "Christensen-Burley" methods before the walk or the profile sees it: 1/(4π).
+pub const RADIUS_SCALE: f64 = 0.25 * std::f64::consts::FRAC_1_PI;
+
+/// The extinction σt [1/unit] Cycles traces for Subsurface Radius × Subsurface Scale `radius`
+/// [unit] and anisotropy `g` (method "Random Walk"): 1/(radius·[`RADIUS_SCALE`]·(1 − g)).
 pub fn sigma_t(radius: f64, g: f64) -> f64 {
-    1.0 / (radius.max(1e-16) * (1.0 - g))
+    1.0 / ((radius * RADIUS_SCALE).max(1e-16) * (1.0 - g))
 }
 
-/// The radius [cm] that gives extinction `sigma_t` [cm⁻¹] with anisotropy `g`: the inverse of
-/// [`sigma_t`].
+/// The Subsurface Radius × Subsurface Scale [cm] that gives extinction `sigma_t` [cm⁻¹] with
+/// anisotropy `g`: the inverse of [`sigma_t`].
 pub fn radius_for(sigma_t: f64, g: f64) -> f64 {
-    1.0 / (sigma_t * (1.0 - g))
+    1.0 / (sigma_t * RADIUS_SCALE * (1.0 - g))
 }
 
 /// The colour A ∈ [0, 1] whose [`alpha`] is `target` (α is increasing in A), by bisection to
@@ -161,9 +171,11 @@ mod tests {
         assert_eq!(alpha(1.0, 0.0), MAX_ALPHA);
     }
 
-    /// What Base Color means. Cycles' random walk enters the medium in a cosine-distributed
-    /// direction (a diffuse transmission into the surface), and its remap is a fit of the total
-    /// diffuse reflectance of an index-matched half-space entered that way: the white-sky albedo
+    /// What Base Color means. The remap is a fit of the total diffuse reflectance of an
+    /// index-matched half-space entered in a cosine-distributed direction (a diffuse
+    /// transmission into the surface, as Chiang et al. 2016 entered it; Blender 4.0–5.0's "Random
+    /// Walk" refracts the light in instead, and "Random Walk (Skin)" does either half the time):
+    /// the white-sky albedo
     /// 2∫₀¹ Rd(μ)·μ dμ of `mc`'s Rd at incidence cosine μ (midpoint rule in μ², 16 angles). So
     /// the colour for α is that albedo, within the fit's accuracy (3 %, and 4 standard errors;
     /// measured 0.7–2.3 % below it). At normal incidence instead the colour is 4–30 % (g = 0) and

@@ -14,12 +14,12 @@
 //!   Scattering Distance × Multiplier is Burley's d per channel in mm (shape parameter S = 1/d),
 //!   World Scale is the size of one world unit in metres (1 for scenes in metres); the albedo is
 //!   the material's diffuse colour.
-//! - **Blender Cycles**, Principled BSDF with Subsurface Method "Christensen-Burley" (3.x, 4.x;
+//! - **Blender Cycles**, Principled BSDF with Subsurface Method "Christensen-Burley" (3.x–5.0;
 //!   `kernel/closure/bssrdf.h`): Radius × Scale is scaled by 1/(4π) to Burley's d with no albedo
 //!   fit, so Radius × Scale = 4π·d, in scene units (metres by default); Base Color is A. With
 //!   Subsurface Method "Random Walk" Cycles traces a medium instead, and [`random_walk`] gives
-//!   the fields that make it the material's own ([`crate::cycles`]: the remap of Blender
-//!   3.0–4.x inverted).
+//!   the fields that make it the material's own ([`crate::cycles`]: the remap and radius scale
+//!   of Blender 4.0–5.0 inverted).
 //! - **OpenPBR 1.1** (and its MaterialX node `open_pbr_surface`): `subsurface_color` is the
 //!   index-matched multiple-scattering albedo and `subsurface_radius × subsurface_radius_scale`
 //!   the mean free path 1/σt per channel: an exact description of the medium, written from the
@@ -265,19 +265,20 @@ pub fn burley_engine(engine: Engine, fit: &BurleyProfileFit) -> Option<EnginePar
     })
 }
 
-/// Blender Cycles' Principled BSDF with Subsurface Method "Random Walk" (Blender 3.0–4.x): the
-/// material's own medium, not a fit. Subsurface Radius × Subsurface Scale with Subsurface
-/// Anisotropy give Cycles' extinction σt = 1/(d·(1 − g)), and Base Color its single-scattering
+/// Blender Cycles' Principled BSDF with Subsurface Method "Random Walk" (Blender 4.0–5.0; "Random
+/// Walk (Fixed Radius)" in 3.x): the material's own medium, not a fit. Subsurface Radius ×
+/// Subsurface Scale (d) with Subsurface Anisotropy give Cycles' extinction σt = 4π/(d·(1 − g)),
+/// and Base Color its single-scattering
 /// albedo through the remap of [`crate::cycles`], inverted numerically; lengths in metres (scene
 /// units). Cycles has one anisotropy, clamped to [0, 0.9]: a material whose g differs per channel
 /// gets their mean, and one outside that range the nearest end (σa and σs stay exact; the phase
-/// function does not). Fields as Blender 4.x names them (Principled BSDF v2); in 3.x set
-/// Subsurface to 1 and Subsurface Color to the Base Color.
+/// function does not). Fields as Blender 4.0–5.0 name them (Principled BSDF v2); in 3.x choose
+/// "Random Walk (Fixed Radius)", set Subsurface to 1 and Subsurface Color to the Base Color.
 pub fn random_walk(m: &mc::Material) -> EngineParams {
     let mean = m.g.iter().sum::<f64>() / 3.0;
     let g = mean.clamp(0.0, crate::cycles::MAX_G);
     let mut notes = vec![
-        "Inverts Cycles' random-walk remap of Blender 3.0–4.x (subsurface_random_walk_remap with its anisotropy polynomials); Blender 2.9x's isotropic remap differs.".to_string(),
+        "Inverts Cycles' random walk of Blender 4.0–5.0 (subsurface_random_walk_remap with its anisotropy polynomials, and the 1/(4π) bssrdf_setup_radius applies to Radius × Scale); in Blender 3.x the same fields belong to \"Random Walk (Fixed Radius)\"; Blender 2.9x's isotropic remap differs.".to_string(),
     ];
     if m.g.iter().any(|x| (x - mean).abs() > 1e-12) {
         notes.push(format!(
@@ -288,6 +289,12 @@ pub fn random_walk(m: &mc::Material) -> EngineParams {
     if g != mean {
         notes.push(format!(
             "Cycles clamps Subsurface Anisotropy to [0, 0.9]: g = {mean} is traced as {g}"
+        ));
+    }
+    if m.eta != 1.0 {
+        notes.push(format!(
+            "Cycles' walk leaves the surface through a Lambertian BSDF, without Fresnel transmission or internal reflection: behind a boundary of η = {} it reflects more light than this medium does (docs/engines.md, Blender in a loop)",
+            m.eta
         ));
     }
     if !(1.01..=3.8).contains(&m.eta) {
@@ -339,6 +346,10 @@ pub fn random_walk(m: &mc::Material) -> EngineParams {
             ),
             field("Subsurface Anisotropy", Value::Number(g), ""),
             field("IOR", Value::Number(m.eta), ""),
+            // The material's boundary is smooth: Cycles refracts the walk's entry direction
+            // through GGX microfacets of α = Roughness² (`subsurface_entry_bounce`), and the
+            // Principled BSDF's default Roughness is 0.5.
+            field("Roughness", Value::Number(0.0), ""),
         ],
         notes,
     }
@@ -503,6 +514,15 @@ mod tests {
                 assert!(p.notes.iter().any(|n| n.contains("averaged")), "{}", m.name);
             }
             for c in 0..3 {
+                // Cycles scales Radius × Scale by 1/(4π) before the walk sees it
+                // (`bssrdf_setup_radius`): σt·(1 − g)·Radius·Scale = 4π, scale in metres.
+                let st = m.sigma_a[c] + m.sigma_s[c];
+                let four_pi = st * (1.0 - g) * radius[c] * scale * 100.0;
+                assert!(
+                    (four_pi / (4.0 * std::f64::consts::PI) - 1.0).abs() < 1e-12,
+                    "{}",
+                    m.name
+                );
                 // Scene units in metres: the radius in cm is × 100.
                 let sigma_t = crate::cycles::sigma_t(radius[c] * scale * 100.0, g);
                 let sigma_s = crate::cycles::alpha(color[c], g) * sigma_t;
@@ -516,7 +536,7 @@ mod tests {
                     m.sigma_s[c]
                 );
             }
-            assert!(p.notes[0].contains("Blender 3.0–4.x"));
+            assert!(p.notes[0].contains("Blender 4.0–5.0"));
         }
         // Outside Cycles' anisotropy range: the nearest end, said in a note.
         for (g, traced) in [(-0.3, 0.0), (0.95, 0.9)] {
