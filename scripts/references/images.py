@@ -449,6 +449,39 @@ def measure(o2, r2, d2, mask, mean, do2=None):
                  "resolved": bool(mse_c > 3 * mse_se), "energy_ratio": energy, "energy_ratio_se": energy_se}
 
 
+def score(o2, r2, d2, mask, mean, noise2=None):
+    """A model's row of the comparison: measure()'s numbers, plus the attribution (the error left
+    once each channel is scaled by its best global factor, by least squares s = Σ o·r̄ / Σ o²,
+    which the noise term does not change: the spatial structure; and the share of the
+    noise-corrected MSE that factor explains) and SSIM on luminance. noise2: the difference of
+    the model's own two half-budget renders, where it is a Monte Carlo estimate. Returns the
+    per-block estimates (for paired rankings) and the row."""
+    per, row = measure(o2, r2, d2, mask, mean, noise2)
+    o, r = o2[mask], r2[mask]
+    scale = [float((o[:, c] * r[:, c]).sum() / max((o[:, c] ** 2).sum(), 1e-300)) for c in range(3)]
+    _, flat = measure(o2 * np.array(scale), r2, d2, mask, mean,
+                      None if noise2 is None else noise2 * np.array(scale))
+    row["best_scale"] = scale
+    row["rmse_spatial"] = flat["rmse_noise_corrected"]
+    row["rmse_spatial_se"] = flat["rmse_noise_corrected_se"]
+    total = row["rmse_noise_corrected"] ** 2
+    row["energy_share"] = 1 - flat["rmse_noise_corrected"] ** 2 / total if total > 0 else float("nan")
+    lum = lambda x: x @ np.array([0.2126, 0.7152, 0.0722])
+    row["ssim"] = ssim(lum(o2), lum(r2))
+    # Structural dissimilarity, as Maisch & Ropinski report: (1 − SSIM)/2.
+    row["dssim"] = (1 - row["ssim"]) / 2
+    return per, row
+
+
+def paired(per_a, per_b):
+    """Is a model closer to the truth than another? Paired over blocks (their per-block
+    estimates from score()): True/False where the difference of noise-corrected MSEs exceeds 3
+    standard errors, else None (undecided)."""
+    diff = per_a - per_b
+    m, se = diff.mean(), diff.std(ddof=1) / math.sqrt(diff.size)
+    return None if abs(m) <= 3 * se else bool(m < 0)
+
+
 # Calibration tolerance: `sss render --no-sss` against Mitsuba's direct lighting of the same
 # opaque Lambertian surfaces, silhouettes masked. Rasterized shadow maps and Mitsuba's exact
 # visibility differ along shadow edges by up to a texel, so agreement "within the noise" is
@@ -538,7 +571,9 @@ def main():
                                      "(and lambert) [default: all]")
     ap.add_argument("--arrays", action="store_true",
                     help="also write arrays.npz: every linear image (radiance), the reference, its two halves, "
-                         "the reference without light between surfaces and the compared blocks' mask")
+                         "the reference without light between surfaces, the compared blocks' mask, the "
+                         "calibration's two halves, the silhouette pixels and the albedo ρ (what "
+                         "scripts/engines/blender.py scores against)")
     a = ap.parse_args()
     sss = sss_binary(a.sss)
     width, height, spp, photons = (192, 108, 128, 300_000) if a.quick else (384, 216, 1024, 10_000_000)
@@ -709,27 +744,10 @@ def main():
           + f", RMSE {100 * control['rmse_noise_corrected']:.1f}%: "
           + ("rejected" if control_rejected else "NOT REJECTED"))
     print("  interreflections (all bounces / direct, Lambertian): " + "/".join(f"{e:.4f}" for e in interreflection))
-    lum = lambda x: x @ np.array([0.2126, 0.7152, 0.0722])
     rows, per, panels = [], {}, []
     for label, o2 in o2s.items():
         ours = images[label]
-        per[label], row = measure(o2, r2, d2, mask, mean, gather_noise.get(label))
-        # Attribution: the error left once each channel is scaled by its best global factor (least
-        # squares: s = Σ o·r̄ / Σ o², which the noise term does not change), the spatial
-        # structure; and the share of the noise-corrected MSE that factor explains.
-        o, r = o2[mask], r2[mask]
-        scale = [float((o[:, c] * r[:, c]).sum() / max((o[:, c] ** 2).sum(), 1e-300)) for c in range(3)]
-        noise2 = gather_noise.get(label)
-        _, flat = measure(o2 * np.array(scale), r2, d2, mask, mean,
-                          None if noise2 is None else noise2 * np.array(scale))
-        row["best_scale"] = scale
-        row["rmse_spatial"] = flat["rmse_noise_corrected"]
-        row["rmse_spatial_se"] = flat["rmse_noise_corrected_se"]
-        total = row["rmse_noise_corrected"] ** 2
-        row["energy_share"] = 1 - flat["rmse_noise_corrected"] ** 2 / total if total > 0 else float("nan")
-        row["ssim"] = ssim(lum(o2), lum(r2))
-        # Structural dissimilarity, as Maisch & Ropinski report: (1 − SSIM)/2.
-        row["dssim"] = (1 - row["ssim"]) / 2
+        per[label], row = score(o2, r2, d2, mask, mean, gather_noise.get(label))
         rows.append({"model": label, **row})
         shown = tonemap(ours, 1.0 / mean / 4)
         write_png(os.path.join(out, f"{label}.png"), shown)
@@ -745,6 +763,7 @@ def main():
     if a.arrays:
         np.savez_compressed(os.path.join(out, "arrays.npz"), reference=ref, reference_a=ref_a, reference_b=ref_b,
                             alone=0.5 * (alone[0] + alone[1]), mask_blocks=mask,
+                            calibration_a=cal_a, calibration_b=cal_b, silhouettes=edge, rho=np.array(rho),
                             **{f"model_{k}": v for k, v in images.items()})
     if budget:
         print("\n".join(budget_lines(budget)))
@@ -766,11 +785,7 @@ def main():
           head + panels, 0.2)
 
     def closer(a, b):
-        """Is model a closer to the truth than b? Paired over blocks: True/False where the
-        difference of noise-corrected MSEs exceeds 3 standard errors, else None (undecided)."""
-        diff = per[a] - per[b]
-        m, se = diff.mean(), diff.std(ddof=1) / math.sqrt(diff.size)
-        return None if abs(m) <= 3 * se else bool(m < 0)
+        return paired(per[a], per[b])
 
     def pair(a, b):
         return a in o2s and b in o2s

@@ -4,10 +4,16 @@ profiles (profiles.py), then images (images.py) of each scene and material: scen
 model, the noise-corrected error ± its standard error, SSIM and the energy ratio per channel,
 after each scene's calibration. --quick is the CI size (Skin1 on the sphere, fin, bust and
 dielectric scenes; about 7 minutes on 2 cores); without it, the full version (larger images, more
-samples, Skin1, Marble, Ketchup and Whole milk; hours). Exits non-zero when an agreement test or a calibration
-fails. Outputs: OUT/profiles.json, OUT/images*/images.json and their PNGs, OUT/summary.json."""
+samples, Skin1, Marble, Ketchup and Whole milk; hours). Where Blender's Python module is installed
+(scripts/engines/requirements.txt), every sphere, fin and bust comparison is followed by
+scripts/engines/blender.py scene on the same reference: Cycles' random walk and Christensen–Burley
+with `sss engine-params`' fields (about 15 s a scene at --quick), and without --quick EEVEE too
+(about 2 minutes a scene on Mesa's software OpenGL); their rows join images.json. Exits non-zero
+when an agreement test or a calibration fails. Outputs: OUT/profiles.json, OUT/images*/images.json
+and their PNGs (blender-sheet.png beside sheet.png), OUT/summary.json."""
 
 import argparse
+import importlib.util
 import json
 import os
 import subprocess
@@ -52,16 +58,28 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--sss", help="path to the sss binary [default: target/release/sss]")
     ap.add_argument("--out", default="out/references")
+    ap.add_argument("--blender", choices=["auto", "on", "off"], default="auto",
+                    help="Blender's renderers on the same references: auto (where bpy is installed), on, off")
     a = ap.parse_args()
     extra = (["--quick"] if a.quick else []) + (["--sss", a.sss] if a.sss else []) + ["--out", a.out]
+    blender = a.blender == "on" or (a.blender == "auto" and importlib.util.find_spec("bpy") is not None)
+    print(f"Blender's renderers: {'on' if blender else 'off (bpy is not installed)' if a.blender == 'auto' else 'off'}")
+    renderers = "blender-cycles-random-walk,blender-cycles-burley" + ("" if a.quick else ",blender-eevee")
     failed, results = [], []
     jobs = [("profiles.py", [], None)] + [
         ("images.py", ["--scene", sc, "--material", mat], (sc, mat)) for sc, mat in (QUICK if a.quick else FULL)]
     for script, args, key in jobs:
         name = " ".join([script, *args])
         print(f"== {name}", flush=True)
-        if subprocess.run([sys.executable, os.path.join(HERE, script), *args, *extra]).returncode != 0:
+        arrays = ["--arrays"] if key and blender and key[0] != "dielectric" else []
+        if subprocess.run([sys.executable, os.path.join(HERE, script), *args, *extra, *arrays]).returncode != 0:
             failed.append(name)
+        if arrays:
+            engines = os.path.join(HERE, "..", "engines", "blender.py")
+            print(f"== blender.py scene {' '.join(args)}", flush=True)
+            if subprocess.run([sys.executable, engines, *(["--sss", a.sss] if a.sss else []), "scene", *args,
+                               "--out", a.out, "--renderers", renderers]).returncode != 0:
+                failed.append(f"blender.py scene {' '.join(args)}")
         if key:
             sc, mat = key
             folder = ("images" if sc == "sphere" else f"images-{sc}") + ("" if mat == "skin1" else f"-{mat}")
