@@ -90,6 +90,34 @@ fn mitsuba_references_agree() {
             assert_eq!(b["terms"]["between_surfaces"]["rmse_noise_corrected"], 0.0);
         }
     }
+    // Blender's renderers (issue 34) on the same references, where bpy is installed (under
+    // CI=true it must be): Cycles calibrated like ours, the random walk and Christensen–Burley
+    // scored beside our models.
+    if common::python_has(
+        "bpy",
+        "Blender's Python module",
+        "pip install -r scripts/engines/requirements.txt",
+    ) {
+        for scene in ["images", "images-fin", "images-bust"] {
+            let v = read(scene);
+            assert_eq!(
+                v["blender"]["calibration"]["CYCLES"]["pass"], true,
+                "{scene}"
+            );
+            for label in ["blender-cycles-random-walk", "blender-cycles-burley"] {
+                let m = v["models"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .find(|m| m["model"] == label)
+                    .unwrap_or_else(|| panic!("{scene}: no {label}"));
+                assert!(
+                    m["rmse_noise_corrected"].as_f64().unwrap() > 0.0,
+                    "{scene}: {m}"
+                );
+            }
+        }
+    }
     let images = read("images");
     // On the sphere, the best real-time method (incidence- and exit-aware pre-integration) and
     // the radial Monte Carlo gather carry the same light (the same profile, incidence and exit
