@@ -64,6 +64,10 @@ from common import material, run, sss_binary  # noqa: E402
 CYCLES_RW, CYCLES_BURLEY, EEVEE = "blender-cycles-random-walk", "blender-cycles-burley", "blender-eevee"
 # The thin slab [cm]: 1.5–3 mean free paths of Skin1, where reflectance depends on lengths.
 THIN_SLAB = 0.2
+# EEVEE's samples at most: its frames are smooth (temporal anti-aliasing, shadow and
+# scattering jitter), 128 of them leave little noise for the correction, and 512 at 384×216
+# take 6 minutes on Mesa's software OpenGL (Cycles' random walk at 1024 spp: 2.4 minutes).
+EEVEE_SAMPLES = 128
 # Cycles' smallest subsurface IOR (it clamps to [1.01, 3.8] in bssrdf_setup).
 CYCLES_MIN_IOR = 1.01
 # The slab check: the random walk's reflected energy within 3 % of `mc`'s total reflectance; the
@@ -392,9 +396,10 @@ def scene_command(a):
                 calibrations[engine] = (0.5 * (a_ + b_), I.blocks(a_) - I.blocks(b_))
                 seconds[f"{engine} calibration"] = time.time() - t
             s = build(w, h, sc, lambda s: s.principled(params[which], method, eta), files)
-            renders[label] = halves(s, engine, spp, 1)
+            n = min(spp, EEVEE_SAMPLES) if engine == "BLENDER_EEVEE" else spp
+            renders[label] = (*halves(s, engine, n, 1), n)
             seconds[label] = renders[label][2]
-            print(f"  {label}: {spp} spp in {seconds[label]:.0f} s", flush=True)
+            print(f"  {label}: {n} spp in {seconds[label]:.0f} s", flush=True)
     # Scoring, with images.py's code on its blocks and mask.
     ref = arr["reference"]
     r2, d2, mask = I.blocks(ref), I.blocks(arr["reference_a"]) - I.blocks(arr["reference_b"]), arr["mask_blocks"]
@@ -422,12 +427,12 @@ def scene_command(a):
             if k.startswith("model_") and k != "model_lambert" and "surface-gather" not in k}
     best = min(ours, key=lambda k: ours[k][1]["rmse_noise_corrected"]) if ours else None
     rows, uncalibrated, per, panels, ranked = [], [], {}, [], {}
-    for label, (img, noise2, _) in renders.items():
+    for label, (img, noise2, _, n) in renders.items():
         engine = RENDERERS[label][0]
         calibrated = cal_rows[engine]["pass"] and cal_rows[engine]["negative_control_rejected"]
         p_, row = I.score(I.blocks(img), r2, d2, mask, mean, noise2)
         row.update({"renderer": f"Blender {bpy.app.version_string} {engine}, Subsurface Method {RENDERERS[label][1]}",
-                    "spp": spp, "seconds": seconds[label]})
+                    "spp": n, "seconds": seconds[label]})
         shown = I.tonemap(img, 1.0 / mean / 4)
         note = "" if calibrated else " (uncalibrated)"
         panels += [(f"{label}{note}: {100 * row['rmse_noise_corrected']:.1f} ± "
@@ -454,7 +459,7 @@ def scene_command(a):
         plain, aware = arr[f"model_{pair[0]}"], arr[f"model_{pair[1]}"]
         factor = np.where(plain > 0, aware / np.where(plain > 0, plain, 1.0), 1.0) * (
             np.array(white_sky["rd0"]) / np.array(white_sky["albedo"]))
-        img, noise2, _ = renders[CYCLES_RW]
+        img, noise2, _, _ = renders[CYCLES_RW]
         _, row = I.score(I.blocks(img * factor), r2, d2, mask, mean, noise2 * I.blocks(factor))
         attribution = {"factor_from": [pair[1], pair[0]], **white_sky, **row}
     if CYCLES_RW in per and CYCLES_BURLEY in per:
@@ -640,7 +645,8 @@ def main():
     p.add_argument("--scene", default="sphere", choices=["sphere", "fin", "bust"])
     p.add_argument("--material", default="skin1", help="built-in material [default: skin1]")
     p.add_argument("--out", default="out/references", help="images.py's --out [default: out/references]")
-    p.add_argument("--spp", type=int, help="samples per pixel [default: the Mitsuba reference's]")
+    p.add_argument("--spp", type=int,
+                   help=f"samples per pixel [default: the Mitsuba reference's; EEVEE at most {EEVEE_SAMPLES}]")
     p.add_argument("--renderers", default=",".join(RENDERERS),
                    help=f"comma-separated, of {', '.join(RENDERERS)} [default: all]")
     a = ap.parse_args()
