@@ -80,7 +80,8 @@ def blender():
     try:
         import bpy
     except ImportError:
-        sys.exit("Blender's Python module is not installed: pip install bpy (Python 3.11)")
+        sys.exit("Blender's Python module is not installed: pip install -r scripts/engines/requirements.txt "
+                 "(bpy 5.0.1, CPython 3.11)")
     return bpy
 
 
@@ -338,7 +339,7 @@ def halves(s, engine, spp, seed):
     return 0.5 * (a + b), blocks(a) - blocks(b), time.time() - t
 
 
-# Each renderer: (label, Blender engine, subsurface method, which engine-params set).
+# Each renderer's label: its Blender engine, Subsurface Method and engine-params' field set.
 RENDERERS = {CYCLES_RW: ("CYCLES", "RANDOM_WALK", "random_walk"),
              CYCLES_BURLEY: ("CYCLES", "BURLEY", "burley"),
              EEVEE: ("BLENDER_EEVEE", "BURLEY", "burley")}
@@ -524,7 +525,7 @@ def slab_command(a):
     # ray is refracted by 1.01 on its way in, so the walk that answers a view at θ enters at θt.
     refracted = [math.degrees(math.asin(math.sin(math.radians(v)) / CYCLES_MIN_IOR)) for v in views]
 
-    def render(surface, light_deg=0.0, view_deg=0.0, thickness=10.0):
+    def render(surface, light_deg=0.0, view_deg=0.0, thickness=10.0, direct_only=False):
         """π × radiance over the irradiance of a sun of strength 1 (on a plane facing it) at
         `light_deg`, seen from `view_deg` (both polar, on opposite sides of the normal), per
         channel, with its standard error from the pixels' spread: for a Lambertian reflector,
@@ -535,16 +536,13 @@ def slab_command(a):
         s.sun((math.sin(ti), math.cos(ti), 0.0), 1.0)
         # The central 1 × 1 cm (orthographic), far from the slab's edges.
         s.camera((-5.0 * math.sin(to), 5.0 * math.cos(to), 0.0), (0.0, 0.0, 0.0), ortho=1.0)
-        px = math.pi * s.render("CYCLES", spp if surface is not None else 4, 1,
-                                direct_only=bool(getattr(surface, "direct_only", False))).reshape(-1, 3)
+        px = math.pi * s.render("CYCLES", 4 if direct_only else spp, 1, direct_only).reshape(-1, 3)
         px /= math.cos(ti)
         return [float(x) for x in px.mean(0)], [float(x) for x in px.std(0, ddof=1) / math.sqrt(px.shape[0])]
 
-    def lambertian(s):
-        return s.diffuse([1.0, 1.0, 1.0])
-    lambertian.direct_only = True
     t0 = time.time()
-    calibration = {f"light {li:.0f}°, view {vi:.0f}°": render(lambertian, li, vi)[0] for li, vi in [(0, 0), (60, 35)]}
+    calibration = {f"light {li:.0f}°, view {vi:.0f}°": render(lambda s: s.diffuse([1.0] * 3), li, vi, direct_only=True)[0]
+                   for li, vi in [(0, 0), (60, 35)]}
     cal_ok = all(abs(x - 1) <= SLAB_CALIBRATION for v in calibration.values() for x in v)
     print("calibration: an opaque white Lambertian slab, π × radiance / irradiance "
           + ", ".join(f"{k}: " + "/".join(f"{x:.4f}" for x in v) for k, v in calibration.items())
