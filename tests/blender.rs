@@ -6,11 +6,8 @@
 
 mod common;
 
-use std::process::Command;
-
 #[test]
 fn cycles_random_walk_reflects_what_mc_does() {
-    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
     if !common::python_has(
         "bpy, numpy",
         "Blender's Python module",
@@ -20,19 +17,10 @@ fn cycles_random_walk_reflects_what_mc_does() {
     }
     let out = tempfile::tempdir().unwrap();
     let json = out.path().join("slab.json");
-    let o = Command::new("python3")
-        .arg(format!("{root}/scripts/engines/blender.py"))
-        .args(["--sss", env!("CARGO_BIN_EXE_sss"), "slab", "--json"])
-        .arg(&json)
-        .current_dir(out.path())
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&o.stdout);
-    eprintln!("{stdout}");
-    assert!(
-        o.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&o.stderr)
+    common::python_script(
+        "scripts/engines/blender.py",
+        &["slab".as_ref(), "--json".as_ref(), json.as_os_str()],
+        out.path(),
     );
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();

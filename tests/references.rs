@@ -5,11 +5,8 @@
 
 mod common;
 
-use std::process::Command;
-
 #[test]
 fn mitsuba_references_agree() {
-    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
     if !common::python_has(
         "mitsuba, numpy",
         "Mitsuba 3",
@@ -18,19 +15,10 @@ fn mitsuba_references_agree() {
         return;
     }
     let out = tempfile::tempdir().unwrap();
-    let o = Command::new("python3")
-        .arg(format!("{root}/scripts/references/run.py"))
-        .args(["--quick", "--sss", env!("CARGO_BIN_EXE_sss"), "--out"])
-        .arg(out.path())
-        .current_dir(out.path())
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&o.stdout);
-    eprintln!("{stdout}");
-    assert!(
-        o.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&o.stderr)
+    common::python_script(
+        "scripts/references/run.py",
+        &["--quick".as_ref(), "--out".as_ref(), out.path().as_os_str()],
+        out.path(),
     );
     assert!(out.path().join("profiles.json").exists());
     assert!(out.path().join("summary.json").exists());

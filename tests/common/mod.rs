@@ -74,6 +74,28 @@ pub fn python_has(modules: &str, what: &str, install: &str) -> bool {
     false
 }
 
+/// Runs one of the repository's Python scripts (`path` relative to the repository root) with
+/// `--sss` set to the built binary before `args`, in `cwd`; prints its stdout (libtest shows it
+/// when the test fails) and asserts that it succeeded, with its stderr.
+#[allow(dead_code)] // not every test binary that includes `common` runs Python
+pub fn python_script(path: &str, args: &[&std::ffi::OsStr], cwd: &Path) {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    let o = Command::new("python3")
+        .arg(format!("{root}/{path}"))
+        .args(["--sss", env!("CARGO_BIN_EXE_sss")])
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    eprintln!("{stdout}");
+    assert!(
+        o.status.success(),
+        "{path}: {stdout}\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
 /// Whether `sss` stopped for want of a GPU adapter; then the test is skipped (said on stderr),
 /// except under CI=true, where that fails.
 #[allow(dead_code)] // not every test binary that includes `common` renders
