@@ -58,7 +58,7 @@ warnings.filterwarnings("ignore", message=".*use_nodes.*", category=DeprecationW
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "references"))
 
-from common import material, run, sss_binary  # noqa: E402
+from common import material, material_toml, run, sss_binary  # noqa: E402
 
 # The renderers compared, as images.json's model labels.
 CYCLES_RW, CYCLES_BURLEY, EEVEE = "blender-cycles-random-walk", "blender-cycles-burley", "blender-eevee"
@@ -91,19 +91,6 @@ def engine_params(sss, material_file):
     j = json.loads(run([sss, "engine-params", material_file, "--engine", "blender", "--json"]))
     fields = lambda p: {f["name"]: f["value"] for f in p["fields"]}
     return fields(j["params"]), fields(j["random_walk"])
-
-
-def material_toml(m, eta, path, thickness=None):
-    """A material file of a built-in material's coefficients with the boundary η `eta` (and a
-    slab `thickness` [cm], else a half-space)."""
-    ch = m["channels"]
-    with open(path, "w") as f:
-        f.write(f'name = "{m["material"]} (eta {eta})"\nunit = "cm"\n'
-                f'sigma_a = [{", ".join(str(ch[c]["sigma_a_per_cm"]) for c in "RGB")}]\n'
-                f'sigma_s = [{", ".join(str(ch[c]["sigma_s_per_cm"]) for c in "RGB")}]\n'
-                f'g = [{", ".join(str(ch[c]["g"]) for c in "RGB")}]\neta = {eta}\n'
-                + (f"thickness = {thickness}\n" if thickness else ""))
-    return path
 
 
 @contextlib.contextmanager
@@ -339,6 +326,8 @@ def halves(s, engine, spp, seed):
     return 0.5 * (a + b), blocks(a) - blocks(b), time.time() - t
 
 
+# Blender's engines as the sheet names them.
+ENGINE_NAMES = {"CYCLES": "Cycles", "BLENDER_EEVEE": "EEVEE"}
 # Each renderer's label: its Blender engine, Subsurface Method and engine-params' field set.
 RENDERERS = {CYCLES_RW: ("CYCLES", "RANDOM_WALK", "random_walk"),
              CYCLES_BURLEY: ("CYCLES", "BURLEY", "burley"),
@@ -376,11 +365,8 @@ def scene_command(a):
         burley, walk = engine_params(sss, toml)
         # The medium's white-sky albedo A = Σ w·Rd(θ) and Rd(0°), for the attribution below.
         angles, weights = gauss_angles(4)
-        run([sss, "simulate", toml, "--photons", "1000", "--profile-only", "--out", tmp, "--incidence-angles",
-             ",".join(f"{x:.6f}" for x in [0.0, *angles]), "--incidence-photons", "300000"])
-        table = json.load(open(os.path.join(tmp, "medium.summary.json")))["incidence"]
-        white_sky = {"rd0": [table[0]["rd"][c] for c in "RGB"],
-                     "albedo": [sum(w * t["rd"][c] for w, t in zip(weights, table[1:])) for c in "RGB"]}
+        rd = [x[0] for x in incidence_rd(sss, toml, [0.0, *angles], 300_000, tmp)]
+        white_sky = {"rd0": rd[0], "albedo": [sum(w * r[c] for w, r in zip(weights, rd[1:])) for c in range(3)]}
         params = {"burley": burley, "random_walk": walk}
         files = {}
         if any(shape[0] == "obj" for shape in sc["media"]):
@@ -471,15 +457,16 @@ def scene_command(a):
     if best:
         img = arr[f"model_{best}"]
         row = ours[best][1]
-        head += [(f"ours, best real-time ({best}): {100 * row['rmse_noise_corrected']:.1f} ± "
-                  f"{100 * row['rmse_noise_corrected_se']:.1f} %", I.tonemap(img, 1.0 / mean / 4), "rgb"),
-                 (f"{best} − Mitsuba", (img - ref).mean(2) / mean, "diff")]
+        head += [(f"ours, best real-time: {100 * row['rmse_noise_corrected']:.1f} ± "
+                  f"{100 * row['rmse_noise_corrected_se']:.1f} %\n({best})", I.tonemap(img, 1.0 / mean / 4), "rgb"),
+                 ("ours − Mitsuba", (img - ref).mean(2) / mean, "diff")]
     for engine, (img, _) in calibrations.items():
-        head.append((f"calibration: {engine} Lambertian − Mitsuba's", (img - cal_ref).mean(2) / cal_ref[cal_ref.sum(2) > 0].mean(),
+        head.append((f"{ENGINE_NAMES[engine]}, Lambertian (calibration) − Mitsuba", (img - cal_ref).mean(2) / cal_ref[cal_ref.sum(2) > 0].mean(),
                      "diff"))
     I.sheet(os.path.join(out, "blender-sheet.png"),
             f"{a.scene} / {a.material}, {w}×{h}: Blender {bpy.app.version_string} with `sss engine-params` against "
-            f"Mitsuba; noise-corrected RMSE ± SE (% of the reference's mean)", head + panels, 0.2)
+            f"Mitsuba; noise-corrected RMSE ± SE (% of the reference's mean)", head + panels, 0.2,
+            "each render − Mitsuba (Blender's, ours, or a calibration − Mitsuba's direct light)")
     info["models"] = [r for r in info["models"] if not r["model"].startswith("blender-")] + rows
     info["rankings"] = {k: v for k, v in info.get("rankings", {}).items() if not k.startswith("blender-")}
     info["rankings"].update(ranked)
@@ -511,6 +498,17 @@ def gauss_angles(n):
     the white-sky albedo 2∫₀¹ R(μ)·μ dμ = ∫₀¹ R(√u) du ≈ Σ w_k·R(θ_k)."""
     x, w = np.polynomial.legendre.leggauss(n)
     return [float(math.degrees(math.acos(math.sqrt((1 + t) / 2)))) for t in x], [float(v / 2) for v in w]
+
+
+def incidence_rd(sss, toml, angles, photons, tmp):
+    """`sss simulate --incidence-angles`: the total diffuse reflectance Rd(θ) of the material file
+    `toml` for a beam at each of `angles` [deg], per channel with its standard error, as
+    [(rd R/G/B, se R/G/B)]."""
+    run([sss, "simulate", toml, "--photons", "1000", "--profile-only", "--out", tmp, "--incidence-angles",
+         ",".join(f"{x:.6f}" for x in angles), "--incidence-photons", str(photons)])
+    stem = os.path.basename(toml)[: -len(".toml")]
+    table = json.load(open(os.path.join(tmp, f"{stem}.summary.json")))["incidence"]
+    return [([t["rd"][c] for c in "RGB"], [t["rd_se"][c] for c in "RGB"]) for t in table]
 
 
 def slab_command(a):
@@ -561,11 +559,7 @@ def slab_command(a):
     with tempfile.TemporaryDirectory() as tmp:
         for eta in sorted({1.0, own_eta}):
             path = material_toml(m, eta, os.path.join(tmp, f"slab{eta}.toml"))
-            run([sss, "simulate", path, "--photons", "1000", "--profile-only", "--out", tmp,
-                 "--incidence-angles", ",".join(f"{x:.6f}" for x in (refracted if eta == 1.0 else views)),
-                 "--incidence-photons", str(a.photons)])
-            table = json.load(open(os.path.join(tmp, f"slab{eta}.summary.json")))["incidence"]
-            mc = [([t["rd"][c] for c in "RGB"], [t["rd_se"][c] for c in "RGB"]) for t in table]
+            mc = incidence_rd(sss, path, refracted if eta == 1.0 else views, a.photons, tmp)
             burley, walk = engine_params(sss, path)
             rw = lambda s: s.principled(walk, "RANDOM_WALK", eta)
             print(f"η = {eta}: Cycles (π × radiance / irradiance) over mc's total diffuse reflectance Rd(θ), R/G/B")

@@ -57,6 +57,19 @@ def material(sss, name):
     sys.exit(f"unknown material {name!r}")
 
 
+def material_toml(m, eta, path, thickness=None):
+    """Writes a material file of `material()`'s coefficients with the boundary η `eta` (and a slab
+    `thickness` [cm], else a half-space) to `path`; returns the path."""
+    ch = m["channels"]
+    with open(path, "w") as f:
+        f.write(f'name = "{m["material"]} (eta {eta})"\nunit = "cm"\n'
+                f'sigma_a = [{", ".join(str(ch[c]["sigma_a_per_cm"]) for c in "RGB")}]\n'
+                f'sigma_s = [{", ".join(str(ch[c]["sigma_s_per_cm"]) for c in "RGB")}]\n'
+                f'g = [{", ".join(str(ch[c]["g"]) for c in "RGB")}]\neta = {eta}\n'
+                + (f"thickness = {thickness}\n" if thickness else ""))
+    return path
+
+
 def read_profile(path):
     """(dr, rows) of a profile CSV written by `sss simulate`; rows are (r, [R,G,B], [seR,seG,seB]),
     the last (overflow) bin dropped. The bin width dr [cm] is the grid's, from the provenance file

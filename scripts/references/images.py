@@ -50,7 +50,7 @@ import time
 
 import numpy as np
 
-from common import budget_lines, material, mitsuba, run, sss_binary
+from common import budget_lines, material, material_toml, mitsuba, run, sss_binary
 
 # gpu::Scene::sphere()'s camera, zoomed onto the sphere's lit face, across which a black bar
 # between the light and the sphere casts a hard shadow: the edges scattering softens.
@@ -383,11 +383,11 @@ def write_png(path, rgb):
         f.write(png)
 
 
-def sheet(path, title, panels, diff_range):
+def sheet(path, title, panels, diff_range, diff_label="ours − Mitsuba"):
     """One labelled figure of the comparison: `panels` is a list of (label, image, kind), kind
     "rgb" (8-bit RGB, shown as is) or "diff" (ours − reference, mean of R, G, B, as a fraction of
     the reference's mean), four panels per row under `title`; every difference on one diverging
-    scale of ±`diff_range` with its colour bar."""
+    scale of ±`diff_range` with its colour bar, which names the difference (`diff_label`)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -410,7 +410,7 @@ def sheet(path, title, panels, diff_range):
             ax.axis("off")
     if shown is not None:
         fig.colorbar(shown, ax=axes, orientation="horizontal", shrink=0.5, aspect=40,
-                     label="ours − Mitsuba, mean of R, G, B [% of the reference's mean]; red: ours brighter")
+                     label=f"{diff_label}, mean of R, G, B [% of the reference's mean]; red: brighter than Mitsuba")
     fig.suptitle(title)
     fig.savefig(path, dpi=100)
     plt.close(fig)
@@ -605,21 +605,10 @@ def main():
             files["bust"] = os.path.join(tmp, "bust.obj")
             bust_obj(files["bust"])
         # The material behind the scene's boundary: index-matched (η = 1) unless the scene says.
-        ch = m["channels"]
         eta = sc.get("eta", 1.0)
-        toml = (f'name = "{a.material} (eta {eta})"\nunit = "cm"\n'
-                f'sigma_a = [{", ".join(str(ch[c]["sigma_a_per_cm"]) for c in "RGB")}]\n'
-                f'sigma_s = [{", ".join(str(ch[c]["sigma_s_per_cm"]) for c in "RGB")}]\n'
-                f'g = [{", ".join(str(ch[c]["g"]) for c in "RGB")}]\neta = {eta}\n')
-        mat = os.path.join(tmp, "medium.toml")
-        with open(mat, "w") as f:
-            f.write(toml)
+        mat = material_toml(m, eta, os.path.join(tmp, "medium.toml"))
         # The calibration's opaque Lambertian surfaces have no dielectric boundary: η = 1 there.
-        cal_mat = mat
-        if eta != 1.0:
-            cal_mat = os.path.join(tmp, "calibration.toml")
-            with open(cal_mat, "w") as f:
-                f.write(toml.replace(f"eta = {eta}", "eta = 1.0"))
+        cal_mat = mat if eta == 1.0 else material_toml(m, 1.0, os.path.join(tmp, "calibration.toml"))
         run([sss, "simulate", mat, "--photons", str(photons), "--profile-only", "--out", tmp])
         summary = json.load(open(os.path.join(tmp, "medium.summary.json")))
         rho = [summary["channels"][c]["rd"] for c in "RGB"]
