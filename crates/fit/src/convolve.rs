@@ -88,7 +88,7 @@ struct Plans {
 impl Spectrum {
     /// Pads `e` by `pad` pixels (clamp-to-edge) and transforms it.
     pub fn new(e: &Image, pad: usize) -> Self {
-        let (pw, ph) = (e.width + 2 * pad, e.height + 2 * pad);
+        let (pw, ph) = (fast_len(e.width + 2 * pad), fast_len(e.height + 2 * pad));
         let mut planner = FftPlanner::<f64>::new();
         let plans = Plans {
             fx: planner.plan_fft_forward(pw),
@@ -97,10 +97,10 @@ impl Spectrum {
             iy: planner.plan_fft_inverse(ph),
         };
         let n = pad as isize;
-        let mut data: Vec<Complex<f64>> = (0..pw * ph)
+        let data: Vec<Complex<f64>> = (0..pw * ph)
             .map(|p| Complex::new(e.clamped((p % pw) as isize - n, (p / pw) as isize - n), 0.0))
             .collect();
-        fft2(&mut data, pw, ph, &*plans.fx, &*plans.fy);
+        let data = forward(data, pw, ph, &*plans.fx, &*plans.fy);
         Spectrum {
             width: e.width,
             height: e.height,
@@ -131,14 +131,37 @@ impl Spectrum {
                 b[y * pw + x] += Complex::new(k.at(i, j), 0.0);
             }
         }
-        fft2(&mut b, pw, ph, &*self.plans.fx, &*self.plans.fy);
+        let mut b = forward(b, pw, ph, &*self.plans.fx, &*self.plans.fy);
         b.iter_mut().zip(&self.data).for_each(|(x, y)| *x *= y);
-        self.inverse(b)
+        self.pixels(&self.inverse(b), |z| z.re)
     }
 
     /// Σᵢ sᵢ·((E * aᵢ)ₓ * aᵢ)ᵧ for a separable kernel with half-width ≤ `pad`: the same as the
     /// horizontal-then-vertical clamp-to-edge passes, through the 1D transforms of each aᵢ.
     pub fn convolve_separable(&self, s: &Separable) -> Image {
+        let b = self.separable_product(s, self.data.clone());
+        self.pixels(&self.inverse(b), |z| z.re)
+    }
+
+    /// [`Spectrum::convolve_separable`] of this image and of `other` (padded alike) with one
+    /// inverse transform: both results are real, so the transform of E₁ + iE₂ carries E₁ * A in
+    /// its real part and E₂ * A in its imaginary part.
+    pub fn convolve_separable_pair(&self, other: &Spectrum, s: &Separable) -> (Image, Image) {
+        assert!(
+            (other.pw, other.ph, other.pad) == (self.pw, self.ph, self.pad)
+                && (other.width, other.height) == (self.width, self.height),
+            "a pair of images padded alike"
+        );
+        let i = Complex::new(0.0, 1.0);
+        let both = self.data.iter().zip(&other.data).map(|(a, b)| a + i * b);
+        let b = self.separable_product(s, both.collect());
+        let rows = self.inverse(b);
+        (self.pixels(&rows, |z| z.re), self.pixels(&rows, |z| z.im))
+    }
+
+    /// `data` (a spectrum stored as [`forward`] leaves it) times the transform of a separable
+    /// kernel with half-width ≤ `pad`.
+    fn separable_product(&self, s: &Separable, mut b: Vec<Complex<f64>>) -> Vec<Complex<f64>> {
         assert!(s.half() <= self.pad, "kernel wider than the padding");
         let (pw, ph) = (self.pw, self.ph);
         let transform = |a: &[f64], len: usize, plan: &dyn Fft<f64>| {
@@ -162,28 +185,38 @@ impl Spectrum {
                 )
             })
             .collect();
-        let mut b = self.data.clone();
-        for (v, row) in b.chunks_mut(pw).enumerate() {
-            for (u, x) in row.iter_mut().enumerate() {
-                *x *= terms
-                    .iter()
-                    .map(|(sign, ax, ay)| ax[u] * ay[v] * *sign)
-                    .sum::<Complex<f64>>();
+        // The kernel's transform along this row: Σᵢ sᵢ âᵢ(u) âᵢ(v) over v (the spectrum is
+        // stored transposed: one x frequency u per row, over y frequencies v).
+        let mut k = vec![Complex::new(0.0, 0.0); ph];
+        for (u, column) in b.chunks_mut(ph).enumerate() {
+            k.fill(Complex::new(0.0, 0.0));
+            for (sign, ax, ay) in &terms {
+                let su = ax[u] * *sign;
+                k.iter_mut().zip(ay).for_each(|(k, a)| *k += su * a);
             }
+            column.iter_mut().zip(&k).for_each(|(x, k)| *x *= k);
         }
-        self.inverse(b)
+        b
     }
 
-    /// The image's own pixels of the inverse transform of `b`.
-    fn inverse(&self, mut b: Vec<Complex<f64>>) -> Image {
+    /// The inverse transform of `b` (stored transposed, as [`forward`] leaves it) on the image's
+    /// own rows (`pw` values each): along y first, then along x on those rows only.
+    fn inverse(&self, mut b: Vec<Complex<f64>>) -> Vec<Complex<f64>> {
         let (pw, ph) = (self.pw, self.ph);
-        fft2(&mut b, pw, ph, &*self.plans.ix, &*self.plans.iy);
-        let scale = 1.0 / (pw * ph) as f64;
+        self.plans.iy.process(&mut b);
+        let mut rows = transpose(&b, ph, pw, self.pad..self.pad + self.height);
+        self.plans.ix.process(&mut rows);
+        rows
+    }
+
+    /// The image's own pixels of [`Spectrum::inverse`]'s rows: the part `part` of each value.
+    fn pixels(&self, rows: &[Complex<f64>], part: impl Fn(&Complex<f64>) -> f64) -> Image {
+        let scale = 1.0 / (self.pw * self.ph) as f64;
         let mut out = Image::new(self.width, self.height);
         for y in 0..self.height {
-            let row = &b[(y + self.pad) * pw + self.pad..][..self.width];
+            let row = &rows[y * self.pw + self.pad..][..self.width];
             for (o, x) in out.v[y * self.width..][..self.width].iter_mut().zip(row) {
-                *o = x.re * scale;
+                *o = part(x) * scale;
             }
         }
         out
@@ -202,22 +235,53 @@ pub fn convolve_separable(e: &Image, s: &Separable) -> Image {
 
 /// In-place 2D transform: every row, then every column (columns gathered in blocks so each pass
 /// reads memory in order).
-fn fft2(data: &mut [Complex<f64>], w: usize, h: usize, fx: &dyn Fft<f64>, fy: &dyn Fft<f64>) {
-    fx.process(data);
-    let mut t = transpose(data, w, h);
+/// The 2D transform of a `w`-wide, `h`-high row-major array, left transposed (x frequency u
+/// at row u, y frequency v at column v): the inverse undoes it without transposing back.
+fn forward(
+    mut data: Vec<Complex<f64>>,
+    w: usize,
+    h: usize,
+    fx: &dyn Fft<f64>,
+    fy: &dyn Fft<f64>,
+) -> Vec<Complex<f64>> {
+    fx.process(&mut data);
+    let mut t = transpose(&data, w, h, 0..w);
     fy.process(&mut t);
-    data.copy_from_slice(&transpose(&t, h, w));
+    t
 }
 
-/// The transpose of a `w`-wide, `h`-high row-major matrix.
-fn transpose(data: &[Complex<f64>], w: usize, h: usize) -> Vec<Complex<f64>> {
-    let mut t = vec![Complex::new(0.0, 0.0); w * h];
-    const B: usize = 32;
+/// The smallest length ≥ `n` of the form 2ᵃ3ᵇ, whose transforms are fast. Padding beyond the
+/// kernel's half-width keeps the circular convolution equal to the linear one in the image's
+/// pixels: the extra columns hold clamp-to-edge values as the padding does.
+fn fast_len(n: usize) -> usize {
+    (n..)
+        .find(|&m| {
+            let mut m = m;
+            for p in [2, 3] {
+                while m % p == 0 {
+                    m /= p;
+                }
+            }
+            m == 1
+        })
+        .expect("a 3-smooth length exists above any n")
+}
+
+/// The columns `cols` of a `w`-wide, `h`-high row-major matrix as rows (of `h` values each).
+fn transpose(
+    data: &[Complex<f64>],
+    w: usize,
+    h: usize,
+    cols: std::ops::Range<usize>,
+) -> Vec<Complex<f64>> {
+    let mut t = vec![Complex::new(0.0, 0.0); cols.len() * h];
+    const B: usize = 16;
     for y0 in (0..h).step_by(B) {
-        for x0 in (0..w).step_by(B) {
-            for y in y0..(y0 + B).min(h) {
-                for x in x0..(x0 + B).min(w) {
-                    t[x * h + y] = data[y * w + x];
+        for x0 in cols.clone().step_by(B) {
+            for x in x0..(x0 + B).min(cols.end) {
+                let out = &mut t[(x - cols.start) * h..][y0..(y0 + B).min(h)];
+                for (y, o) in (y0..).zip(out) {
+                    *o = data[y * w + x];
                 }
             }
         }
@@ -312,6 +376,31 @@ mod tests {
     }
 
     /// A dense kernel that is the outer product of a term gives the separable result.
+    /// Two real images through one inverse transform give each one's own convolution.
+    #[test]
+    fn a_pair_equals_each_alone() {
+        let (e1, e2) = (
+            test_image(37, 23),
+            Image {
+                v: test_image(37, 23).v.iter().map(|x| 1.0 - x * x).collect(),
+                ..test_image(37, 23)
+            },
+        );
+        let s = asymmetric_terms(6);
+        for pad in [6, 11] {
+            let (sp1, sp2) = (Spectrum::new(&e1, pad), Spectrum::new(&e2, pad));
+            let (got1, got2) = sp1.convolve_separable_pair(&sp2, &s);
+            for (got, want) in [
+                (got1, direct_separable(&e1, &s)),
+                (got2, direct_separable(&e2, &s)),
+            ] {
+                let scale = want.v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                let d = got.rms_diff(&want);
+                assert!(d <= 1e-12 * scale, "pad {pad}: {d:e}");
+            }
+        }
+    }
+
     #[test]
     fn dense_equals_separable_for_an_outer_product() {
         let e = test_image(30, 41);

@@ -104,11 +104,12 @@ pub struct BurleyProfileFit {
 }
 
 impl BurleyProfileFit {
-    /// Fits d per channel to the ground truths of `judge` (made from `p`).
+    /// Fits d per channel to `p` at its bins' radii ([`Burley::fit_profile`]) and scores the radial
+    /// kernel against the ground truths of `judge` (made from `p`).
     pub fn new(p: &Profile, judge: &Judge) -> Self {
         let (mut d_cm, mut kernel_rms_rel, mut image_rms) = ([0.0; 3], [0.0; 3], [0.0; 3]);
         for (c, k) in judge.truths().iter().enumerate() {
-            let b = Burley::fit(k);
+            let b = Burley::fit_profile(p, c);
             let mut dense = b.kernel(k.half, k.h);
             let s = k.l1() / dense.l1();
             dense.v.iter_mut().for_each(|x| *x *= s);

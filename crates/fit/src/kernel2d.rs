@@ -5,6 +5,8 @@
 //! radius ρ = √(x²+y²) by linear interpolation between the profile's sample radii (constant below
 //! the first, zero beyond the last). "Normalized" means the samples of a channel sum to 1.
 
+use rayon::prelude::*;
+
 use crate::profile::Profile;
 
 /// A dense, square, centred 2D kernel (row-major, `side × side`).
@@ -68,6 +70,46 @@ pub fn ground_truth(p: &Profile, c: usize, half: Option<usize>) -> Kernel2 {
         for j in 0..=n {
             let x = j as f64 * h;
             let value = p.at(c, (x * x + y * y).sqrt());
+            for row in [n + i, n - i] {
+                v[row * m + n + j] = value;
+                v[row * m + n - j] = value;
+            }
+        }
+    }
+    Kernel2 { half: n, h, v }.normalized()
+}
+
+/// Channel `c`'s normalized ground truth on a grid of the caller's choosing: samples `h` [cm]
+/// apart, half-width `half`, each the mean of Rd over its h × h cell from `sub` × `sub` midpoint
+/// subsamples. Block sums of these cells are the pixel integrals that [`ground_truth`] forms from
+/// the profile's own spacing, by another quadrature of the same integrals; with `h` = dr and
+/// `sub` = 1 it is [`ground_truth`] at half-width `half`. The samples are computed on one octant
+/// (the rotated profile is symmetric in x, in y and under x ↔ y).
+pub fn cell_ground_truth(p: &Profile, c: usize, h: f64, half: usize, sub: usize) -> Kernel2 {
+    let (n, m, sub) = (half, 2 * half + 1, sub.max(1));
+    // Subsample offsets from a cell's centre [cm].
+    let offsets: Vec<f64> = (0..sub)
+        .map(|k| ((k as f64 + 0.5) / sub as f64 - 0.5) * h)
+        .collect();
+    let cell = |i: usize, j: usize| {
+        let (y, x) = (i as f64 * h, j as f64 * h);
+        let mut sum = 0.0;
+        for dy in &offsets {
+            for dx in &offsets {
+                sum += p.at(c, ((x + dx).powi(2) + (y + dy).powi(2)).sqrt());
+            }
+        }
+        sum / (sub * sub) as f64
+    };
+    // Row i of the octant holds the cells j ≤ i.
+    let octant: Vec<Vec<f64>> = (0..=n)
+        .into_par_iter()
+        .map(|i| (0..=i).map(|j| cell(i, j)).collect())
+        .collect();
+    let mut v = vec![0.0; m * m];
+    for i in 0..=n {
+        for j in 0..=n {
+            let value = if j <= i { octant[i][j] } else { octant[j][i] };
             for row in [n + i, n - i] {
                 v[row * m + n + j] = value;
                 v[row * m + n - j] = value;

@@ -58,7 +58,7 @@ pub use analytic::burley::Burley;
 pub use error::{FitError, Result};
 pub use gaussians::Gaussians;
 pub use guided::{Guided, GuidedFit, GuidedStop};
-pub use kernel2d::{Kernel2, SUPPORT_EPSILON, ground_truth, ground_truths};
+pub use kernel2d::{Kernel2, SUPPORT_EPSILON, cell_ground_truth, ground_truth, ground_truths};
 pub use manual::{Manual, WSweep, table_a1};
 pub use model::{Family, FittedKernel, KernelModel, ManualParams, SkinParams};
 pub use preint::preint;

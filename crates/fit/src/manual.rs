@@ -55,9 +55,16 @@ impl Manual {
     /// Where the image-space fit starts: equal weights, a near Gaussian two samples wide and a
     /// far one an eighth of the kernel's half-width.
     pub fn start(k: &Kernel2) -> Manual {
+        Manual::start_with(k, k.h)
+    }
+
+    /// [`Manual::start`] with the near Gaussian two bins of width `dr` [cm] wide: on a ground
+    /// truth coarser than the profile's bins, the start the bins' own grid gives (the Nelder–Mead
+    /// fit finds the minimum nearest its start).
+    pub fn start_with(k: &Kernel2, dr: f64) -> Manual {
         Manual {
             w: 0.5,
-            tau_near: (2.0 * k.h).powi(2),
+            tau_near: (2.0 * dr).powi(2),
             tau_far: (k.half as f64 * k.h / 8.0).powi(2),
         }
     }

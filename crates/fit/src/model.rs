@@ -236,6 +236,29 @@ impl KernelModel {
 
     /// [`KernelModel::fit`] on given per-channel ground truths.
     pub fn fit_truths(&self, truths: &[Kernel2], material: &str) -> Result<FittedKernel> {
+        self.fit_with(truths, None, material)
+    }
+
+    /// [`KernelModel::fit_truths`] on ground truths made from `p` on a grid of its own
+    /// ([`crate::select::Judge`]'s): the models fit the truths, except Burley's d, which is fitted
+    /// to the profile at its bins' radii as on `p`'s own grid ([`Burley::fit_profile`]), since a
+    /// least-squares fit of its 1/r peak depends on how finely the centre is sampled, and the
+    /// manual model's fit starts where it does on `p`'s grid ([`Manual::start_with`]).
+    pub fn fit_judged(
+        &self,
+        p: &Profile,
+        truths: &[Kernel2],
+        material: &str,
+    ) -> Result<FittedKernel> {
+        self.fit_with(truths, Some(p), material)
+    }
+
+    fn fit_with(
+        &self,
+        truths: &[Kernel2],
+        profile: Option<&Profile>,
+        material: &str,
+    ) -> Result<FittedKernel> {
         self.validate()?;
         let start = std::time::Instant::now();
         let model = match *self {
@@ -243,10 +266,14 @@ impl KernelModel {
                 KernelModel::Manual(ManualParams::Given(match table_a1(material) {
                     Some(t) => t,
                     None => {
-                        let f = |c: usize| {
-                            Manual::fit_image_space(&truths[c], Manual::start(&truths[c]))
-                        };
-                        [f(0), f(1), f(2)]
+                        let fitted: Vec<Manual> = truths
+                            .par_iter()
+                            .map(|k| {
+                                let dr = profile.map_or(k.h, |p| p.dr);
+                                Manual::fit_image_space(k, Manual::start_with(k, dr))
+                            })
+                            .collect();
+                        [fitted[0], fitted[1], fitted[2]]
                     }
                 }))
             }
@@ -263,7 +290,7 @@ impl KernelModel {
             .enumerate()
             .map(|(c, k)| {
                 let t = std::time::Instant::now();
-                let fitted = model.fit_channel(k, c)?;
+                let fitted = model.fit_channel(k, c, profile)?;
                 Ok((fitted, shared + t.elapsed().as_secs_f64()))
             })
             .collect::<Result<Vec<_>>>()?
@@ -277,7 +304,7 @@ impl KernelModel {
     }
 
     /// Channel `c` of a model whose parameters are resolved.
-    fn fit_channel(&self, k: &Kernel2, c: usize) -> Result<Separable> {
+    fn fit_channel(&self, k: &Kernel2, c: usize, profile: Option<&Profile>) -> Result<Separable> {
         Ok(match *self {
             KernelModel::Svd { rank, renormalize } => {
                 let a = svd(k, rank).0;
@@ -303,7 +330,11 @@ impl KernelModel {
                 .ok_or_else(|| FitError::invalid("Gaussians", n, "no fit"))?
                 .to_separable(k.half, k.h),
             KernelModel::Skin(SkinParams::Given(s)) => s.separable(c, k.half, k.h),
-            KernelModel::Burley { radial: false } => Burley::fit(k).projected(k.half, k.h),
+            KernelModel::Burley { radial: false } => match profile {
+                Some(p) => Burley::fit_profile(p, c),
+                None => Burley::fit(k),
+            }
+            .projected(k.half, k.h),
             KernelModel::Burley { radial: true } => {
                 return Err(FitError::invalid(
                     "model",

@@ -259,7 +259,13 @@ impl Profile {
         if r > *rs.last().expect("validated non-empty") {
             return 0.0;
         }
-        let i = rs.partition_point(|&x| x < r).max(1);
+        // The first sample radius ≥ r (at least the second): near r/dr on a grid of bins, where
+        // a short walk finds it; a binary search otherwise.
+        let above = |i: usize| rs[i] >= r && (i == 1 || rs[i - 1] < r);
+        let guess = ((r / self.dr) as usize).clamp(1, rs.len() - 1);
+        let i = (guess.saturating_sub(1).max(1)..=(guess + 1).min(rs.len() - 1))
+            .find(|&i| above(i))
+            .unwrap_or_else(|| rs.partition_point(|&x| x < r).max(1));
         let t = (r - rs[i - 1]) / (rs[i] - rs[i - 1]);
         v[i - 1] + t * (v[i] - v[i - 1])
     }
@@ -268,6 +274,42 @@ impl Profile {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The lookup near r/dr finds the same interval as a binary search, on bins' centres, on
+    /// MCML's optimal coordinates and on radii that follow no grid.
+    #[test]
+    fn at_interpolates_between_the_right_samples() {
+        let dr = 0.01;
+        let grids: [Vec<f64>; 3] = [
+            (0..50).map(|i| (i as f64 + 0.5) * dr).collect(),
+            (0..50)
+                .map(|i| (i as f64 + 0.5 + 1.0 / (12.0 * (i as f64 + 0.5))) * dr)
+                .collect(),
+            (0..50).map(|i| 1e-3 * 1.2f64.powi(i)).collect(),
+        ];
+        for r in grids {
+            let v: Vec<f64> = r.iter().map(|x| (-x).exp() * (1.0 + x.sin())).collect();
+            let p = Profile {
+                dr,
+                rd: [v.clone(), v.clone(), v],
+                se: [vec![0.0; 50], vec![0.0; 50], vec![0.0; 50]],
+                r,
+            };
+            for k in 0..2000 {
+                let x = k as f64 * 0.0007 * p.r[49];
+                let i = p.r.partition_point(|&y| y < x).clamp(1, 49);
+                let want = if x <= p.r[0] {
+                    p.rd[0][0]
+                } else if x > p.r[49] {
+                    0.0
+                } else {
+                    let t = (x - p.r[i - 1]) / (p.r[i] - p.r[i - 1]);
+                    p.rd[0][i - 1] + t * (p.rd[0][i] - p.rd[0][i - 1])
+                };
+                assert_eq!(p.at(0, x), want, "r = {x}");
+            }
+        }
+    }
 
     /// The profile's total plus its overflow bin is `mc`'s total diffuse reflectance exactly:
     /// both sum the same photon weights over MCML's annuli.

@@ -56,28 +56,7 @@ impl Burley {
         // images.
         for i in 0..=half {
             for j in 0..=half {
-                let (di, dj) = (i as f64, j as f64);
-                let dist = (di * di + dj * dj).sqrt();
-                let value = if dist == 0.0 {
-                    self.cdf(h / std::f64::consts::PI.sqrt())
-                } else {
-                    let s = if dist < 4.0 {
-                        16
-                    } else if dist < 16.0 {
-                        4
-                    } else {
-                        1
-                    };
-                    let mut sum = 0.0;
-                    for u in 0..s {
-                        for w in 0..s {
-                            let x = (dj - 0.5 + (w as f64 + 0.5) / s as f64) * h;
-                            let y = (di - 0.5 + (u as f64 + 0.5) / s as f64) * h;
-                            sum += self.density((x * x + y * y).sqrt());
-                        }
-                    }
-                    sum * h * h / (s * s) as f64
-                };
+                let value = self.cell_mass(i, j, h);
                 for row in [half + i, half - i] {
                     v[row * m + half + j] = value;
                     v[row * m + half - j] = value;
@@ -87,19 +66,59 @@ impl Burley {
         Kernel2 { half, h, v }
     }
 
-    /// Fits d by golden-section search on log d against the ground truth's radial samples (the
-    /// centre row, weighted by annulus area 2πr·h as the plane's squared error); for each d the
-    /// total A is the least-squares optimum (the model is linear in A).
+    /// The profile's mass over the h×h cell centred at (j·h, i·h): midpoint sub-sampling, finer
+    /// near the centre; the centre cell takes the exact mass of the disc of equal area.
+    fn cell_mass(&self, i: usize, j: usize, h: f64) -> f64 {
+        let (di, dj) = (i as f64, j as f64);
+        let dist = (di * di + dj * dj).sqrt();
+        if dist == 0.0 {
+            return self.cdf(h / std::f64::consts::PI.sqrt());
+        }
+        let s = if dist < 4.0 {
+            16
+        } else if dist < 16.0 {
+            4
+        } else {
+            1
+        };
+        let mut sum = 0.0;
+        for u in 0..s {
+            for w in 0..s {
+                let x = (dj - 0.5 + (w as f64 + 0.5) / s as f64) * h;
+                let y = (di - 0.5 + (u as f64 + 0.5) / s as f64) * h;
+                sum += self.density((x * x + y * y).sqrt());
+            }
+        }
+        sum * h * h / (s * s) as f64
+    }
+
+    /// Fits d to a ground truth's radial samples: its centre row, sample j at r = j·h holding
+    /// the mass of its h×h cell ([`Burley::fit_radial`]).
     pub fn fit(k: &Kernel2) -> Burley {
         let (n, h) = (k.half, k.h);
-        let data: Vec<(f64, f64, f64)> = (0..=n)
-            .map(|j| {
+        let rd: Vec<f64> = (0..=n).map(|j| k.at(n, n + j) / (h * h)).collect();
+        Burley::fit_radial(&rd, h)
+    }
+
+    /// Fits d to channel `c` of a profile sampled at the radii j·dr of its own bins (what
+    /// [`Burley::fit`] sees on [`crate::ground_truth`], without forming the 2D kernel).
+    pub fn fit_profile(p: &crate::Profile, c: usize) -> Burley {
+        let rd: Vec<f64> = (0..=p.len()).map(|j| p.at(c, j as f64 * p.dr)).collect();
+        Burley::fit_radial(&rd, p.dr)
+    }
+
+    /// Fits d by golden-section search on log d against radial samples Rd(j·h) [any scale],
+    /// weighted by annulus area 2πr·h as the plane's squared error; the model is its density at
+    /// each radius and its mean over the disc of area h² at the centre. For each d the total A is
+    /// the least-squares optimum (the model is linear in A).
+    fn fit_radial(rd: &[f64], h: f64) -> Burley {
+        let n = rd.len() - 1;
+        let data: Vec<(f64, f64, f64)> = rd
+            .iter()
+            .enumerate()
+            .map(|(j, &v)| {
                 let r = j as f64 * h;
-                (
-                    r,
-                    k.at(n, n + j) / (h * h),
-                    2.0 * std::f64::consts::PI * r.max(0.25 * h) * h,
-                )
+                (r, v, 2.0 * std::f64::consts::PI * r.max(0.25 * h) * h)
             })
             .collect();
         let unit_value = |d: f64, r: f64| {
