@@ -60,23 +60,7 @@ pub fn ground_truths(p: &Profile) -> Vec<Kernel2> {
 /// The normalized ground truth of channel `c`, half-width `half` samples (default: the profile's
 /// length, so the axes reach its last radius).
 pub fn ground_truth(p: &Profile, c: usize, half: Option<usize>) -> Kernel2 {
-    let n = half.unwrap_or(p.len());
-    let m = 2 * n + 1;
-    let h = p.dr;
-    let mut v = vec![0.0; m * m];
-    // Each value of the quadrant x, y ≥ 0 goes to its four mirror images.
-    for i in 0..=n {
-        let y = i as f64 * h;
-        for j in 0..=n {
-            let x = j as f64 * h;
-            let value = p.at(c, (x * x + y * y).sqrt());
-            for row in [n + i, n - i] {
-                v[row * m + n + j] = value;
-                v[row * m + n - j] = value;
-            }
-        }
-    }
-    Kernel2 { half: n, h, v }.normalized()
+    cell_ground_truth(p, c, p.dr, half.unwrap_or(p.len()), 1)
 }
 
 /// Channel `c`'s normalized ground truth on a grid of the caller's choosing: samples `h` [cm]
