@@ -107,20 +107,23 @@ fn render_lights_refuse_hostile_values() {
     args.extend(["--out", "never"]);
     let o = sss(&args, dir.path());
     assert_refused(&o, "65 lights", &["--light"]);
-    // The directional dipole takes no area light.
-    let o = sss(
-        &[
-            "render",
-            "--method",
-            "directional-dipole",
-            "--light",
-            "area:0,20,0:0,0,0:4",
-            "--out",
-            "never",
-        ],
-        dir.path(),
+    // The directional dipole draws an area light as points in the slots other lights leave:
+    // with four point or directional lights there is none.
+    let mut args = vec![
+        "render",
+        "--method",
+        "directional-dipole",
+        "--light",
+        "area:0,20,0:0,0,0:4",
+    ];
+    args.extend(["--light", "dir:0,1,0"].repeat(4));
+    args.extend(["--out", "never"]);
+    let o = sss(&args, dir.path());
+    assert_refused(
+        &o,
+        "dipole with an area light and four others",
+        &["--light"],
     );
-    assert_refused(&o, "dipole with an area light", &["--light"]);
     // ... and at most four lights.
     let mut args = vec!["render", "--method", "directional-dipole"];
     args.extend(["--light", "dir:0,1,0"].repeat(5));

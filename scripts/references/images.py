@@ -70,8 +70,9 @@ AREA = [
     ("area-gather-incidence-exit", [], ["--method", "area-gather", "--material", "{material}",
                                         "--profiles", "{profiles}", "--incidence-aware", "on", "--exit-aware", "on"]),
 ]
-# The material's own Monte Carlo BSSRDF gathered over the lit surface (`--method surface-gather`,
-# point and directional lights only): the error budget's references on our side. Radial: the
+# The material's own Monte Carlo BSSRDF gathered over the lit surface (`--method surface-gather`;
+# an area light is drawn as four new points on it per frame): the error budget's references on
+# our side. Radial: the
 # profile at the 3-D distance with the incidence and exit tables, the best any radial-profile
 # method can reach with exact geometry and visibility; directional: mc's Rd(x, y; θ) at oblique
 # incidence. Each is rendered twice with independent frame seeds ({frames} frames each): their
@@ -148,7 +149,7 @@ BUST_MODELS = [m for m in MODELS if m[0] in (
 # shadow.
 AREA_LIGHT = ((-12.0, 20.0, 14.0), (0.0, 5.0, 0.0), 12.0, 6.0)   # centre, aim [cm], side [cm], radiance
 DIELECTRIC_MODELS = [m for m in MODELS if m[0] in (
-    "lambert", "preint", "svd1", "svd3", "preint-incidence", "preint-incidence-exit")]
+    "lambert", "preint", "svd1", "svd3", "preint-incidence", "preint-incidence-exit", *GATHER_LABELS)]
 
 # The bust and the fins behind the same boundary under a small light (issue 30): a 3 cm square
 # whose penumbrae (a few mm where the nose and the fins cast shadows) are no wider than Skin1's
@@ -161,9 +162,9 @@ BUST_AREA_LIGHT = ((-7.1, 13.8, 8.3), (0.0, 5.0, 0.0), 3.0, 20.0)
 FIN_AREA_LIGHT = ((-10.5, 9.9, 6.7), (3.0, 4.5, 0.0), 3.0, 57.0)
 DIELECTRIC_FIN_MODELS = [m for m in FIN_MODELS if m[0] in (
     "lambert", "preint", "preint-incidence", "preint-incidence-exit", "preint-incidence-translucency",
-    "preint-incidence-translucency-exit")]
+    "preint-incidence-translucency-exit", *GATHER_LABELS)]
 DIELECTRIC_BUST_MODELS = [m for m in BUST_MODELS if m[0] in (
-    "lambert", "preint", "svd1", "svd3", "preint-incidence", "preint-incidence-exit")]
+    "lambert", "preint", "svd1", "svd3", "preint-incidence", "preint-incidence-exit", *GATHER_LABELS)]
 
 # camera (eye, target, vertical fov [deg]); SSS media (sphere: centre, radius; box: corners [cm],
 # the geometry of `gpu::Scene`; obj: a generated mesh); black occluders; light (point: position, intensity; dir: towards
@@ -536,7 +537,7 @@ def error_budget(o2s, gather_noise, alone, r2, d2, mask, rows, shapes, interrefl
       scene has one SSS shape on a black floor); self_interreflection_lambert: for a Lambertian
       surface of the same albedo, all bounces over direct light, − 1 (what light leaving a concave
       shape and entering it again is worth there; with several shapes it includes the light
-      between them). None without both gathers (e.g. under an area light)."""
+      between them). None without both gathers (a run whose --models leaves them out)."""
     if not all(g in o2s for g in GATHER_LABELS):
         return None
     a0, a1 = blocks(alone[0]), blocks(alone[1])
@@ -655,9 +656,9 @@ def main():
         # occluders that still cast their shadows, the images summed (each pixel sees one shape).
         # With one SSS shape on a black floor it is the reference itself; light that leaves a
         # concave shape and enters it again elsewhere stays in both.
-        # Not under an area light: there the surface gathers, and so the error budget, are not
-        # rendered, and the small light's paths are costly enough (fin-dielectric).
-        several = len(sc["media"]) > 1 and sc["light"][0] != "area"
+        # Under the small area light (fin-dielectric, full run only) that is three more
+        # references' worth of Mitsuba's time.
+        several = len(sc["media"]) > 1
         if several:
             t1 = time.time()
             alone = [sum(mitsuba_image(mi, mitsuba_scene("medium", spp // 2, only=i), seed=s + 10 * i)

@@ -219,6 +219,32 @@ impl Light {
     }
 }
 
+impl Light {
+    /// A point of an area light at `(s, t)` ∈ [0, 1)² across its edges, carrying the whole
+    /// light: intensity L·A along its normal, falling as the cosine off it (a Lambertian emitter;
+    /// `cell` is the whole rectangle). The mean of such points' irradiance over (s, t) uniform
+    /// in the square is the area light's irradiance, exactly: what the disc gather draws, a few
+    /// points per frame. `None` for other lights.
+    pub fn point_on(&self, (s, t): (f32, f32)) -> Option<Emitter> {
+        let Light::Area {
+            center,
+            half_u,
+            half_v,
+            radiance,
+            shadow,
+        } = *self
+        else {
+            return None;
+        };
+        Some(Emitter {
+            pos_or_dir: (center + (2.0 * s - 1.0) * half_u + (2.0 * t - 1.0) * half_v).extend(1.0),
+            power: radiance * 4.0 * half_u.cross(half_v).length(),
+            shadow,
+            cell: Some([half_u, half_v]),
+        })
+    }
+}
+
 /// One light source as the shaders draw it (lighting.wgsl's `Light`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Emitter {
@@ -327,6 +353,56 @@ mod tests {
             cells.iter().map(|e| e.irradiance(x, aim).x).sum::<f32>(),
             0.0
         );
+    }
+
+    #[test]
+    fn points_on_a_square_light_average_to_lamberts_polygon_irradiance() {
+        let centre = Vec3::new(-7.1, 13.8, 8.3);
+        let light = Light::square(centre, Vec3::new(0.0, 5.0, 0.0), 3.0, Vec3::ONE, true).unwrap();
+        let Light::Area { half_u, half_v, .. } = light else {
+            panic!()
+        };
+        let corners = [
+            centre - half_u - half_v,
+            centre + half_u - half_v,
+            centre + half_u + half_v,
+            centre - half_u + half_v,
+        ];
+        // A 64 × 64 grid of points, and points close to the light where the cells' midpoint
+        // rule would be poor (the light 2 cm away, 3 cm wide).
+        let aim = (Vec3::new(0.0, 5.0, 0.0) - centre).normalize();
+        for (x, n) in [
+            (
+                Vec3::new(0.0, 8.0, 1.5),
+                Vec3::new(-0.6, 0.6, 0.52).normalize(),
+            ),
+            (centre + 2.0 * aim + 0.5 * half_u, -aim),
+            (
+                centre + 1.0 * aim - 1.2 * half_v,
+                (-aim + 0.5 * half_u).normalize(),
+            ),
+        ] {
+            let want = lambert_polygon(&corners, x, n);
+            let m = 64;
+            let got: f64 = (0..m * m)
+                .map(|k| {
+                    let st = ((k % m) as f32 + 0.5, (k / m) as f32 + 0.5);
+                    let e = light.point_on((st.0 / m as f32, st.1 / m as f32)).unwrap();
+                    e.irradiance(x, n).x as f64
+                })
+                .sum::<f64>()
+                / (m * m) as f64;
+            assert!(
+                (got - want).abs() < 2e-3 * want,
+                "at {x}: points {got} against Lambert's formula {want}"
+            );
+        }
+        let sun = Light::Directional {
+            towards: Vec3::Y,
+            irradiance: Vec3::ONE,
+            shadow: true,
+        };
+        assert_eq!(sun.point_on((0.5, 0.5)), None);
     }
 
     #[test]

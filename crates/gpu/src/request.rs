@@ -6,7 +6,7 @@
 
 use glam::Vec3;
 
-use crate::disc_gather::DISC_LIGHTS;
+use crate::disc_gather::{DISC_LIGHTS, area_slots};
 use crate::error::{GpuError, Result};
 use crate::light::{AREA_CELLS, Light, MAX_EMITTERS, emitters};
 use crate::mesh::Mesh;
@@ -33,7 +33,8 @@ pub enum Method {
 
 impl Method {
     /// Whether the method gathers over the lit surface through the lights' maps (directional
-    /// dipole, surface gather): those take at most [`DISC_LIGHTS`] directional or point lights.
+    /// dipole, surface gather): those take at most [`DISC_LIGHTS`] lights, an area light drawn as
+    /// points in the slots the others leave.
     pub fn gathers_lit_surface(self) -> bool {
         matches!(self, Method::DirectionalDipole | Method::SurfaceGather)
     }
@@ -253,20 +254,21 @@ impl RenderRequest {
 
 /// Refuses lights the renderer cannot draw, naming the field `lights`: an invalid light, more
 /// emitters than [`MAX_EMITTERS`] (an area light counts [`AREA_CELLS`]²), and, for the methods
-/// that gather over the lit surface, more than [`DISC_LIGHTS`] or any area light.
+/// that gather over the lit surface, more than [`DISC_LIGHTS`] directional and point lights, or
+/// area lights with no slot left among them (each is drawn as the slots' share of points per
+/// frame).
 pub(crate) fn check_lights(lights: &[Light], gathers_lit_surface: bool) -> Result<()> {
     for light in lights {
         light.validate()?;
     }
     let count = emitters(lights).len();
-    if gathers_lit_surface
-        && (count > DISC_LIGHTS || lights.iter().any(|l| matches!(l, Light::Area { .. })))
-    {
+    let areas = lights.iter().any(|l| matches!(l, Light::Area { .. }));
+    if gathers_lit_surface && (areas && area_slots(lights) == 0 || !areas && count > DISC_LIGHTS) {
         return Err(GpuError::invalid(
             "lights",
             lights.len(),
             format!(
-                "the directional dipole and the surface gather take at most {DISC_LIGHTS} directional or point lights, no area light"
+                "the directional dipole and the surface gather take at most {DISC_LIGHTS} lights, each area light counting at least 1"
             ),
         ));
     }

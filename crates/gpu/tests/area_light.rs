@@ -236,10 +236,13 @@ fn sss_surfaces_reflect_an_area_light_with_the_fresnel_reflectance() {
     );
 }
 
+/// The methods that gather over the lit surface draw an area light as points in the slots the
+/// other lights leave ([`gpu::DISC_LIGHTS`] in all): with one area light the directional dipole
+/// renders it; with every slot taken by point lights the area light is refused, naming `lights`.
 #[test]
-fn the_directional_dipole_refuses_an_area_light() {
+fn the_directional_dipole_takes_an_area_light_in_the_slots_left() {
     let Some(gpu) = gpu() else { return };
-    let setup = gpu::DipoleSetup::new(
+    let mut setup = gpu::DipoleSetup::new(
         &[fit::analytic::Medium {
             sigma_a: 0.5,
             sigma_s: 20.0,
@@ -248,9 +251,29 @@ fn the_directional_dipole_refuses_an_area_light() {
         }; 3],
     )
     .unwrap();
+    setup.sampling.frames = 2;
+    setup.sampling.map_size = 256;
+    let mut scene = sphere_under_square();
+    let frame = render(
+        &gpu,
+        &scene,
+        Scatter::DirectionalDipole(&setup),
+        &params(1.0),
+    )
+    .unwrap();
+    let lit = frame.scattered.iter().filter(|v| v[0] > 0.0).count();
+    assert!(lit > 1000, "{lit} pixels scatter light");
+    scene.lights.extend(std::iter::repeat_n(
+        Light::Point {
+            position: Vec3::new(0.0, 20.0, 0.0),
+            intensity: Vec3::ONE,
+            shadow: true,
+        },
+        gpu::DISC_LIGHTS,
+    ));
     let err = render(
         &gpu,
-        &sphere_under_square(),
+        &scene,
         Scatter::DirectionalDipole(&setup),
         &params(1.0),
     )

@@ -356,3 +356,73 @@ fn the_directional_bssrdf_carries_light_forward_across_a_shadow_edge() {
         );
     }
 }
+
+/// A square area light 10 cm from a thick flat slab, 37° off its normal and turned 39° away from
+/// the slab (its emission lobe matters, cos 39° = 0.78): the radial gather
+/// (which draws the light as a few new points each frame) returns, per unit of the exit table,
+/// the profile's total times the incidence ratio integrated over the light's irradiance,
+/// ∫ ρ(θ)/ρ(0) dE, computed here from the light's points on a fine grid (`Light::point_on`,
+/// whose mean is tested against Lambert's polygon formula), at five points of the image's
+/// central region.
+#[test]
+fn an_area_light_gathers_as_its_irradiance_weighted_by_the_incidence_table() {
+    let (s, p) = (spec(PHOTONS, 7), profile());
+    let mut radial = SurfaceGatherSetup::from_mc(&s, &p, Bssrdf::Radial, &|_| {}).unwrap();
+    let Some(gpu) = gpu() else { return };
+    radial.sampling.samples = 32;
+    radial.sampling.frames = 16;
+    radial.sampling.map_size = 2048;
+    let mut scene = slab_scene(4.0, 30.0, Vec3::Y);
+    let light = gpu::Light::square(
+        Vec3::new(6.0, 8.0, 0.0),
+        Vec3::new(-10.0, 4.0, 0.0),
+        6.0,
+        Vec3::splat(0.1),
+        true,
+    )
+    .unwrap();
+    scene.lights = vec![light];
+    let frame = render(&gpu, &scene, Scatter::SurfaceGather(&radial), &params()).unwrap();
+    let got = centre_mean(&frame, SIZE);
+    // The central 16 of 48 pixels span a third of the 2·30·tan 2° cm view.
+    let half = (30.0f32 * 2f32.to_radians().tan()) / 3.0;
+    let m = 128;
+    let mut want = [0.0f64; 3];
+    let mut plain = 0.0f64;
+    for (x, z) in [
+        (0.0, 0.0),
+        (-half, -half),
+        (half, -half),
+        (-half, half),
+        (half, half),
+    ] {
+        let at = Vec3::new(x, 0.0, z);
+        for k in 0..m * m {
+            let st = (
+                ((k % m) as f32 + 0.5) / m as f32,
+                ((k / m) as f32 + 0.5) / m as f32,
+            );
+            let e = light.point_on(st).unwrap();
+            let de = e.irradiance(at, Vec3::Y).x as f64 / (5 * m * m) as f64;
+            let cos = (e.pos_or_dir.truncate() - at).normalize().y;
+            let ratio = gpu::incidence_ratio(&radial.angles.incidence, cos);
+            for c in 0..3 {
+                want[c] += de * ratio[c] as f64;
+            }
+            plain += de;
+        }
+    }
+    let total = radial.profile_total();
+    for c in 0..3 {
+        let expect = want[c] * total[c] * radial.angles.exit[0][c] as f64;
+        eprintln!(
+            "channel {c}: gather {:.5}, expected {expect:.5} (E = {plain:.5})",
+            got[c]
+        );
+        assert!(
+            (got[c] / expect - 1.0).abs() < 0.025,
+            "channel {c}: {} vs {expect}",
+            got[c]
+        );
+    }
+}

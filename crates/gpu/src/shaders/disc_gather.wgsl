@@ -4,8 +4,8 @@
 // plane perpendicular to the light ray, radii drawn by the model (`model_sample_radius`, density
 // per unit disc area `model_pdf_area`); each p is carried along the light ray onto the first
 // surface the light sees (the light's position/normal map), the lit entry point x_i. The flux
-// through the disc element dA⊥ is E⊥·dA⊥ (directional) or I·cos α·dA⊥/|p − x_light|² (point),
-// so
+// through the disc element dA⊥ is E⊥·dA⊥ (directional) or I·cos α·dA⊥/|p − x_light|² (point;
+// I times the cosine off the light's normal for a point of an area light), so
 //   π·L_o ≈ exit(ω_o)·(1/N)·Σ flux density · response(x_i, ω_i; x_o) / pdf_A(p),
 // `model_response` the exitance at x_o per unit power entering at x_i [cm⁻²] and
 // `model_exit` what turns exitance into π·L_o towards the camera. Light the map marks as a
@@ -23,6 +23,9 @@ struct Light {
     // rgb: irradiance at normal incidence (directional) or intensity [irradiance × cm²] (point);
     // w: layer of the light maps.
     color: vec4<f32>,
+    // A point of an area light (w = 1): its intensity falls as the cosine off xyz, the light's
+    // unit normal on its emitting side (a Lambertian emitter); w = 0: isotropic.
+    lobe: vec4<f32>,
 };
 
 struct Gather {
@@ -180,6 +183,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                 let to_light = light.pos_or_dir.xyz - p;
                 wi = normalize(light.pos_or_dir.xyz - xi);
                 flux = flux * abs(dot(normalize(to_light), axis)) / dot(to_light, to_light);
+                if light.lobe.w > 0.5 {
+                    flux *= max(dot(light.lobe.xyz, ray_d), 0.0);
+                }
             }
             let cos_i = dot(wi, ni);
             if cos_i <= 0.0 {
