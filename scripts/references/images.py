@@ -163,8 +163,11 @@ FIN_AREA_LIGHT = ((-10.5, 9.9, 6.7), (3.0, 4.5, 0.0), 3.0, 57.0)
 DIELECTRIC_FIN_MODELS = [m for m in FIN_MODELS if m[0] in (
     "lambert", "preint", "preint-incidence", "preint-incidence-exit", "preint-incidence-translucency",
     "preint-incidence-translucency-exit", *GATHER_LABELS)]
-DIELECTRIC_BUST_MODELS = [m for m in BUST_MODELS if m[0] in (
-    "lambert", "preint", "svd1", "svd3", "preint-incidence", "preint-incidence-exit", *GATHER_LABELS)]
+# The area gather splats light from surface the camera does not see, which the bust's visible
+# side (facing away from the light) lacks most.
+DIELECTRIC_BUST_MODELS = [m for m in MODELS if m[0] in (
+    "lambert", "preint", "svd1", "svd3", "preint-incidence", "preint-incidence-exit", "area-gather",
+    "area-gather-incidence-exit", *GATHER_LABELS)]
 
 # camera (eye, target, vertical fov [deg]); SSS media (sphere: centre, radius; box: corners [cm],
 # the geometry of `gpu::Scene`; obj: a generated mesh); black occluders; light (point: position, intensity; dir: towards
