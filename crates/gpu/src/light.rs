@@ -304,14 +304,26 @@ mod tests {
         0.5 * sum.abs()
     }
 
+    /// A square light of radiance 1 at `centre` facing `aim`, its half edges and its corners.
+    fn square(centre: Vec3, aim: Vec3, side: f32) -> (Light, [Vec3; 2], [Vec3; 4]) {
+        let light = Light::square(centre, aim, side, Vec3::ONE, true).unwrap();
+        let Light::Area { half_u, half_v, .. } = light else {
+            panic!()
+        };
+        let corners = [
+            centre - half_u - half_v,
+            centre + half_u - half_v,
+            centre + half_u + half_v,
+            centre - half_u + half_v,
+        ];
+        (light, [half_u, half_v], corners)
+    }
+
     #[test]
     fn a_square_light_sums_to_lamberts_polygon_irradiance() {
         // A square like the references': side 16 cm, its centre 24 cm from the sphere's.
         let centre = Vec3::new(-12.0, 20.0, 14.0);
-        let light = Light::square(centre, Vec3::new(0.0, 5.0, 0.0), 16.0, Vec3::ONE, true).unwrap();
-        let Light::Area { half_u, half_v, .. } = light else {
-            panic!()
-        };
+        let (light, [half_u, half_v], corners) = square(centre, Vec3::new(0.0, 5.0, 0.0), 16.0);
         // The frame: u ⊥ y (Mitsuba's look_at), u × v along the aim.
         assert!(half_u.y.abs() < 1e-6 && (half_u.length() - 8.0).abs() < 1e-5);
         let aim = (Vec3::new(0.0, 5.0, 0.0) - centre).normalize();
@@ -320,12 +332,6 @@ mod tests {
         assert_eq!(cells.len(), AREA_CELLS * AREA_CELLS);
         let power: f32 = cells.iter().map(|e| e.power.x).sum();
         assert!((power - 256.0).abs() < 1e-3, "Σ intensity = L·A: {power}");
-        let corners = [
-            centre - half_u - half_v,
-            centre + half_u - half_v,
-            centre + half_u + half_v,
-            centre - half_u + half_v,
-        ];
         // Points of the sphere (centre (0, 5, 0), radius 5) and the floor the light sees.
         for (x, n) in [
             (Vec3::new(0.0, 10.0, 0.0), Vec3::Y),
@@ -358,16 +364,7 @@ mod tests {
     #[test]
     fn points_on_a_square_light_average_to_lamberts_polygon_irradiance() {
         let centre = Vec3::new(-7.1, 13.8, 8.3);
-        let light = Light::square(centre, Vec3::new(0.0, 5.0, 0.0), 3.0, Vec3::ONE, true).unwrap();
-        let Light::Area { half_u, half_v, .. } = light else {
-            panic!()
-        };
-        let corners = [
-            centre - half_u - half_v,
-            centre + half_u - half_v,
-            centre + half_u + half_v,
-            centre - half_u + half_v,
-        ];
+        let (light, [half_u, half_v], corners) = square(centre, Vec3::new(0.0, 5.0, 0.0), 3.0);
         // A 64 × 64 grid of points, and points close to the light where the cells' midpoint
         // rule would be poor (the light 2 cm away, 3 cm wide).
         let aim = (Vec3::new(0.0, 5.0, 0.0) - centre).normalize();

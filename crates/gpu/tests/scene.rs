@@ -21,6 +21,16 @@ fn pixel(scene: &Scene, p: Vec3) -> (usize, usize) {
     )
 }
 
+/// A `W`×`H` frame with the albedo applied after scattering (the irradiance buffer holds E).
+fn post_albedo() -> RenderParams {
+    RenderParams {
+        width: W,
+        height: H,
+        albedo: AlbedoMode::Post,
+        ..RenderParams::default()
+    }
+}
+
 #[test]
 fn irradiance_follows_the_cosine_law_and_shadows_fall_where_geometry_puts_them() {
     let Some(gpu) = gpu() else { return };
@@ -33,13 +43,7 @@ fn irradiance_follows_the_cosine_law_and_shadows_fall_where_geometry_puts_them()
     else {
         panic!()
     };
-    let params = RenderParams {
-        width: W,
-        height: H,
-        albedo: AlbedoMode::Post,
-        ..RenderParams::default()
-    };
-    let frame = render(&gpu, &scene, Scatter::None, &params).unwrap();
+    let frame = render(&gpu, &scene, Scatter::None, &post_albedo()).unwrap();
     let at = |(x, y): (usize, usize)| frame.irradiance[y * W as usize + x];
     // Points on the sphere (centre (0, 5, 0), radius 5) facing the camera: E = E₀·max(n·l, 0) + ambient.
     let centre = Vec3::new(0.0, 5.0, 0.0);
@@ -263,13 +267,7 @@ fn an_occluder_centimetres_in_front_shadows_under_a_close_point_light() {
         target: Vec3::new(4.5, 2.0, 0.5),
         fov_y_deg: 80.0,
     };
-    let params = RenderParams {
-        width: W,
-        height: H,
-        albedo: AlbedoMode::Post,
-        ..RenderParams::default()
-    };
-    let frame = render(&gpu, &scene, Scatter::None, &params).unwrap();
+    let frame = render(&gpu, &scene, Scatter::None, &post_albedo()).unwrap();
     let boxes = [
         (Vec3::new(1.5, 0.0, -3.0), Vec3::new(1.8, 9.0, 3.0)),
         (Vec3::new(4.5, 0.0, -2.0), Vec3::new(4.6, 6.0, 2.0)),
