@@ -338,11 +338,9 @@ pub(crate) fn encode(
     // lights are new points every frame, and their maps are drawn anew.
     let moving = area_slots(&scene.lights) > 0;
     let size = sampling.map_size;
-    let lights = Maps::new(
-        alloc,
-        frame_emitters(&scene.lights, 0, sampling.seed).len(),
-        (size, size),
-    );
+    let mut emitters = frame_emitters(&scene.lights, 0, sampling.seed);
+    let lights = Maps::new(alloc, emitters.len(), (size, size));
+    let mut vps = Vec::new();
     let uniform = |frame: u32, emitters: &[Emitter], vps: &[Mat4]| {
         let mut u_lights = [GatherLight {
             view_proj: Mat4::IDENTITY.to_cols_array_2d(),
@@ -351,10 +349,9 @@ pub(crate) fn encode(
             lobe: [0.0; 4],
         }; DISC_LIGHTS];
         for (i, (light, vp)) in emitters.iter().zip(vps).enumerate() {
-            let lobe = match light.cell {
-                Some([u, v]) => u.cross(v).normalize().extend(1.0),
-                None => glam::Vec4::ZERO,
-            };
+            let lobe = light
+                .emitting_normal()
+                .map_or(glam::Vec4::ZERO, |n| n.extend(1.0));
             u_lights[i] = GatherLight {
                 view_proj: vp.to_cols_array_2d(),
                 pos_or_dir: light.pos_or_dir.into(),
@@ -393,9 +390,11 @@ pub(crate) fn encode(
         .as_mut()
         .map(|t| t.span(&format!("{} ({} frames)", model.label, sampling.frames)));
     for frame in 0..sampling.frames {
-        let emitters = frame_emitters(&scene.lights, frame, sampling.seed);
-        let vps: Vec<Mat4> = emitters.iter().map(|l| scene.light_view_proj(l)).collect();
+        if frame > 0 && moving {
+            emitters = frame_emitters(&scene.lights, frame, sampling.seed);
+        }
         if frame == 0 || moving {
+            vps = emitters.iter().map(|l| scene.light_view_proj(l)).collect();
             lights.draw(alloc, maps, enc, target.mesh, &vps);
         }
         let uniform = uniform(frame, &emitters, &vps);

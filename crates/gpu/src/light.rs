@@ -262,6 +262,13 @@ pub struct Emitter {
 }
 
 impl Emitter {
+    /// For a cell or point of an area light, the unit normal of its emitting side (its
+    /// intensity falls as the cosine off it); `None` for an isotropic point or a directional
+    /// light.
+    pub fn emitting_normal(&self) -> Option<Vec3> {
+        self.cell.map(|[u, v]| u.cross(v).normalize())
+    }
+
     /// The irradiance this emitter delivers unshadowed to a surface at `x` [cm] with unit normal
     /// `n`: what the scene shader computes before the incidence table.
     pub fn irradiance(&self, x: Vec3, n: Vec3) -> Vec3 {
@@ -270,10 +277,9 @@ impl Emitter {
         }
         let d = self.pos_or_dir.truncate() - x;
         let l = d.normalize();
-        let emission = match self.cell {
-            Some([u, v]) => u.cross(v).normalize().dot(-l).max(0.0),
-            None => 1.0,
-        };
+        let emission = self
+            .emitting_normal()
+            .map_or(1.0, |normal| normal.dot(-l).max(0.0));
         self.power * emission * n.dot(l).max(0.0) / d.length_squared()
     }
 }
