@@ -26,6 +26,17 @@ pub enum OnOff {
     Off,
 }
 
+/// Which exit law exit-angle-aware shading applies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ExitAware {
+    /// h(θ_o) of light that entered along the normal, at every pixel
+    On,
+    /// h(θ_o; θ_i) at the entry angle of the pixel's lights
+    Entry,
+    /// Lambertian exit
+    Off,
+}
+
 /// A profile-only batch of `named` for the tables of the shading: the profiles' run settings
 /// (`--config`) and seed, `photons` per channel.
 fn table_spec(
@@ -68,16 +79,13 @@ fn angle_tables(
     }
     if exit {
         eprintln!(
-            "exit table of {} (h(θ): radiance over a Lambertian surface's, R G B, ± SE):",
+            "exit table of {} (h(θ_o; θ_i): radiance over a Lambertian surface's, R G B, ± SE; \
+             entering at 0°, 40° and 80° of the 0°…80° it holds):",
             named.slug
         );
         for k in 0..gpu::INCIDENCE_STEPS {
-            eprintln!(
-                "  {:>4}°  {}  ± {}",
-                10 * k,
-                rgb(t.exit[k]),
-                rgb(t.exit_se[k])
-            );
+            let row = |i: usize| format!("{}  ± {}", rgb(t.exit[i][k]), rgb(t.exit_se[i][k]));
+            eprintln!("  {:>4}°  {}  |  {}  |  {}", 10 * k, row(0), row(4), row(8));
         }
     }
     Ok(t)
@@ -315,10 +323,13 @@ pub struct RenderArgs {
 
     /// Exit-angle-aware shading: multiply the scattered light of SSS pixels by the material's
     /// reflected radiance at the pixel's view angle relative to a Lambertian surface's,
-    /// h(θ) = π·Rd_a(θ)/(Rd·cos θ) per channel, from `mc` at normal incidence in 10° exit bins
-    /// (its cosine-weighted mean is 1: it moves light between view angles, it adds none)
+    /// h(θ_o; θ_i) = π·Rd_a(θ_o)/(Rd·cos θ_o) per channel, from `mc` at each entry angle
+    /// θ_i = 0°, 10°, …, 80° in 10° exit bins: `on` reads the row of light that entered along
+    /// the normal, `entry` the row at the entry angle of the pixel's lights (weighted by the
+    /// irradiance each brings); its cosine-weighted mean is 1: it moves light between view
+    /// angles, it adds none
     #[arg(long, value_enum, default_value = "off")]
-    exit_aware: OnOff,
+    exit_aware: ExitAware,
 
     /// Photons per channel and angle for the tables of --incidence-aware and --exit-aware (and
     /// the surface gather's angle and directional tables)
@@ -735,7 +746,7 @@ fn params(
             a.incidence_photons,
             &a.source,
             a.incidence_aware == OnOff::On && !a.no_sss,
-            a.exit_aware == OnOff::On && !a.no_sss,
+            a.exit_aware != ExitAware::Off && !a.no_sss,
         )?;
         let translucency = match a.translucency.unwrap_or(OnOff::On) {
             OnOff::On if a.method == Method::Separable && !a.no_sss => {
@@ -745,7 +756,11 @@ fn params(
         };
         *s = Shading {
             incidence: tables.incidence,
-            exit: tables.exit,
+            // `on`: every row the normal-entry one, whatever angle the light enters at.
+            exit: match a.exit_aware {
+                ExitAware::Entry => tables.exit,
+                _ => [tables.exit[0]; gpu::INCIDENCE_STEPS],
+            },
             translucency,
             eta: n.material.eta as f32,
         };
@@ -1087,7 +1102,7 @@ fn dipole_setup(
     if a.kernel.is_some() || a.compare_models || a.no_sss {
         bail!("--method directional-dipole does not use --kernel, --compare-models or --no-sss");
     }
-    if a.incidence_aware == OnOff::On || a.exit_aware == OnOff::On {
+    if a.incidence_aware == OnOff::On || a.exit_aware != ExitAware::Off {
         bail!(
             "--incidence-aware and --exit-aware are for the separable method: the directional dipole depends on both angles itself"
         );
@@ -1155,7 +1170,7 @@ fn surface_setup(
         );
     }
     if a.incidence_aware == OnOff::On
-        || a.exit_aware == OnOff::On
+        || a.exit_aware != ExitAware::Off
         || a.translucency == Some(OnOff::On)
     {
         bail!(

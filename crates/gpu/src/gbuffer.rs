@@ -54,8 +54,8 @@ struct MaterialU {
     translucency_params: [f32; 4],
     /// h_T(θ; d_k) at θ = 0°, 10°, …, 80° for each thickness d_k, [k][θ] (rgb).
     translucency_exit: [[f32; 4]; TRANSLUCENCY_STEPS * INCIDENCE_STEPS],
-    /// h(θ) at θ = 0°, 10°, …, 80° (rgb).
-    exit: [[f32; 4]; INCIDENCE_STEPS],
+    /// h(θ_o; θ_i) at 0°, 10°, …, 80°, [θ_i·9 + θ_o] (rgb).
+    exit: [[f32; 4]; INCIDENCE_STEPS * INCIDENCE_STEPS],
 }
 
 impl MaterialU {
@@ -87,7 +87,7 @@ impl MaterialU {
                 }
                 None => [[1.0; 4]; TRANSLUCENCY_STEPS * INCIDENCE_STEPS],
             },
-            exit: s.exit.map(rgb),
+            exit: std::array::from_fn(|i| rgb(s.exit[i / INCIDENCE_STEPS][i % INCIDENCE_STEPS])),
         }
     }
 }
@@ -100,12 +100,12 @@ pub(crate) const SCENE_WGSL: &str = concat!(
 );
 
 /// The size of scene.wgsl's `Globals`: 2 mat4 + 3 vec4 + 64 emitters × 192 + per material 10 vec4
-/// of incidence, 17 vec4 of translucency, 16 × 9 vec4 of its exit and 9 vec4 of exit (checked
-/// against naga's layout in a test).
+/// of incidence, 17 vec4 of translucency, 16 × 9 vec4 of its exit and 9 × 9 vec4 of exit
+/// (checked against naga's layout in a test).
 pub(crate) const GLOBALS_SIZE: usize = 2 * 64
     + 3 * 16
     + MAX_EMITTERS * 192
-    + MAX_MATERIALS * (10 * 16 + 17 * 16 + 16 * 9 * 16 + 9 * 16);
+    + MAX_MATERIALS * (10 * 16 + 17 * 16 + 16 * 9 * 16 + 9 * 9 * 16);
 const _: () = assert!(std::mem::size_of::<Globals>() == GLOBALS_SIZE);
 
 /// Scene targets: diffuse; specular + strength; view depth + packed post-scatter albedo.

@@ -69,8 +69,8 @@ pub use render::{Frame, FrameTime, Renderer, SUBPIXEL_PX, Scatter, kernel_footpr
 pub use request::{Method, RenderRequest};
 pub use scene::{AlbedoMode, Camera, Scene};
 pub use shading::{
-    AngleTables, INCIDENCE_STEPS, RHO_PHOTONS, Shading, TRANSLUCENCY_STEPS, Translucency,
-    incidence_hemispherical, incidence_ratio,
+    AngleTables, ExitTable, INCIDENCE_STEPS, RHO_PHOTONS, Shading, TRANSLUCENCY_STEPS,
+    Translucency, exit_ratio, incidence_hemispherical, incidence_ratio,
 };
 pub use surface_gather::{Bssrdf, DirectionalTable, SurfaceGatherSetup};
 pub use timing::PassTime;

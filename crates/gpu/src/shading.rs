@@ -13,12 +13,15 @@ pub struct Shading {
     /// last value). The scene pass multiplies each light's irradiance on SSS surfaces by it, and
     /// the ambient light by its cosine-weighted hemispherical mean. All ones: off.
     pub incidence: [[f32; 3]; INCIDENCE_STEPS],
-    /// Exit-angle-aware shading: the radiance leaving the SSS material at polar angle
-    /// θ = 0°, 10°, …, 80° relative to that of a Lambertian surface with the same total
-    /// reflectance, h(θ) per channel (`mc::exitance`; beyond 80° the last value). The scattered
-    /// light of each SSS pixel is multiplied by h at the pixel's view angle. All ones: off
-    /// (Lambertian exit).
-    pub exit: [[f32; 3]; INCIDENCE_STEPS],
+    /// Exit-angle-aware shading: the radiance leaving the SSS material at polar angle θ_o
+    /// relative to that of a Lambertian surface with the same total reflectance, for light that
+    /// entered at θ_i, h(θ_o; θ_i) per channel (`mc::exitance`), [θ_i][θ_o] at 0°, 10°, …, 80°
+    /// (beyond 80° the last value): [`ExitTable`]. The scattered light of each SSS pixel is
+    /// multiplied by h at the pixel's view angle and at the cosine of incidence of its lights,
+    /// weighted by the irradiance each brings unshadowed (the normal-entry row where none faces
+    /// it; a table whose rows are all the normal-entry one applies that law everywhere). All ones:
+    /// off (Lambertian exit).
+    pub exit: ExitTable,
     /// Light through thin parts of SSS surfaces (None: off).
     pub translucency: Option<Translucency>,
     /// The relative refractive index η of the material's smooth boundary (1: index-matched).
@@ -39,13 +42,14 @@ impl Shading {
         }
         // Exit factors reach the shader through pack_albedo's 8-bit shared scale of at most 4:
         // with albedos ≤ 1, h up to 4 is exact to 8 bits.
+        let incidence: Vec<f32> = self.incidence.iter().flatten().copied().collect();
+        let exit: Vec<f32> = self.exit.iter().flatten().flatten().copied().collect();
         for (what, table, max) in [
-            ("incidence table", &self.incidence, None),
-            ("exit table", &self.exit, Some(4.0)),
+            ("incidence table", incidence, None),
+            ("exit table", exit, Some(4.0)),
         ] {
             if let Some(v) = table
                 .iter()
-                .flatten()
                 .find(|v| !(v.is_finite() && **v >= 0.0 && max.is_none_or(|m| **v <= m)))
             {
                 let reason = match max {
@@ -63,15 +67,22 @@ impl Default for Shading {
     fn default() -> Self {
         Shading {
             incidence: [[1.0; 3]; INCIDENCE_STEPS],
-            exit: [[1.0; 3]; INCIDENCE_STEPS],
+            exit: [[[1.0; 3]; INCIDENCE_STEPS]; INCIDENCE_STEPS],
             translucency: None,
             eta: 1.0,
         }
     }
 }
 
-/// Entries of [`Shading::incidence`] and [`Shading::exit`]: θ = 0°, 10°, …, 80°.
+/// Entries of [`Shading::incidence`] and of each axis of [`Shading::exit`]: θ = 0°, 10°, …, 80°.
 pub const INCIDENCE_STEPS: usize = 9;
+
+/// An exit table h(θ_o; θ_i) per channel, [θ_i][θ_o] at 0°, 10°, …, 80°: the angular law of the
+/// reflected light depends on the angle it entered at. For isotropic scattering behind a matched
+/// boundary the radiance leaving at cosine μ is ∝ H(μ)/(μ + μ₀) for light entering at cosine μ₀
+/// (Chandrasekhar 1960): towards the normal for normal entry and high albedo, flat or towards
+/// grazing angles for oblique entry.
+pub type ExitTable = [[[f32; 3]; INCIDENCE_STEPS]; INCIDENCE_STEPS];
 
 /// Photons per channel of [`Translucency::rho_of`]'s half-space run.
 pub const RHO_PHOTONS: u64 = 200_000;
@@ -311,10 +322,10 @@ pub struct AngleTables {
     /// The standard error of each `incidence` entry (the runs at each angle are independent;
     /// 0 at 0°, where the ratio is 1 by definition).
     pub incidence_se: [[f32; 3]; INCIDENCE_STEPS],
-    /// h(θ) per channel at θ = 0°, 10°, …, 80° ([`Shading::exit`]).
-    pub exit: [[f32; 3]; INCIDENCE_STEPS],
+    /// h(θ_o; θ_i) per channel, [θ_i][θ_o] ([`Shading::exit`]).
+    pub exit: ExitTable,
     /// The standard error of each `exit` entry.
-    pub exit_se: [[f32; 3]; INCIDENCE_STEPS],
+    pub exit_se: ExitTable,
 }
 
 impl AngleTables {
@@ -322,27 +333,28 @@ impl AngleTables {
     pub const ONES: AngleTables = AngleTables {
         incidence: [[1.0; 3]; INCIDENCE_STEPS],
         incidence_se: [[0.0; 3]; INCIDENCE_STEPS],
-        exit: [[1.0; 3]; INCIDENCE_STEPS],
-        exit_se: [[0.0; 3]; INCIDENCE_STEPS],
+        exit: [[[1.0; 3]; INCIDENCE_STEPS]; INCIDENCE_STEPS],
+        exit_se: [[[0.0; 3]; INCIDENCE_STEPS]; INCIDENCE_STEPS],
     };
 
-    /// The beam angles [degrees] the tables need: every table angle for `incidence`, else
-    /// normal incidence only (the exit table's run); none when neither table is asked for.
+    /// The beam angles [degrees] the tables need: every table angle for either table (the exit
+    /// table has a row per angle of entry); none when neither is asked for.
     pub fn angles(incidence: bool, exit: bool) -> Vec<f64> {
-        match (incidence, exit) {
-            (true, _) => (0..INCIDENCE_STEPS).map(|k| 10.0 * k as f64).collect(),
-            (false, true) => vec![0.0],
-            (false, false) => Vec::new(),
+        if incidence || exit {
+            (0..INCIDENCE_STEPS).map(|k| 10.0 * k as f64).collect()
+        } else {
+            Vec::new()
         }
     }
 
     /// The tables of the three channels of `spec` (a profile-only batch of one material; its
     /// exit-angle bins are set to [`INCIDENCE_STEPS`] here), each run of `spec.photons` per
     /// channel and angle ([`AngleTables::angles`]); `progress` receives photon counts. The
-    /// incidence table is ρ(θ)/ρ(0) (all ones unless `incidence`); the exit table h(θ) (all
-    /// ones unless `exit`) comes from the normal-incidence run: at 0° the first bin's, at
-    /// 10°…80° the mean of the two bins around the angle. Refuses a material that reflects
-    /// nothing at normal incidence in some channel.
+    /// incidence table is ρ(θ)/ρ(0) (all ones unless `incidence`); the exit table h(θ_o; θ_i)
+    /// (all ones unless `exit`) has the run at each θ_i as its row: at θ_o = 0° the first exit
+    /// bin's, at 10°…80° the mean of the two bins around the angle. Refuses a material that
+    /// reflects nothing in some channel (at normal incidence, or for the exit table at any
+    /// angle).
     pub fn from_mc(
         spec: &mc::BatchSpec,
         incidence: bool,
@@ -386,10 +398,22 @@ impl AngleTables {
             }
         }
         if exit {
-            for (c, channel) in rows[0].exit.iter().enumerate() {
-                for (k, (h, se)) in exit_angles(channel).into_iter().enumerate() {
-                    tables.exit[k][c] = h;
-                    tables.exit_se[k][c] = se;
+            for (i, row) in rows.iter().enumerate() {
+                for (c, channel) in row.exit.iter().enumerate() {
+                    if channel.len() < INCIDENCE_STEPS {
+                        return Err(GpuError::invalid(
+                            format!(
+                                "exit table: light reflected at {}° incidence in channel {c}",
+                                10 * i
+                            ),
+                            row.rd[c].value,
+                            "the material reflects nothing there",
+                        ));
+                    }
+                    for (k, (h, se)) in exit_angles(channel).into_iter().enumerate() {
+                        tables.exit[i][k][c] = h;
+                        tables.exit_se[i][k][c] = se;
+                    }
                 }
             }
         }
@@ -420,6 +444,20 @@ pub fn incidence_ratio(table: &[[f32; 3]; INCIDENCE_STEPS], cos_i: f32) -> [f32;
     }
     let f = t - i as f32;
     [0, 1, 2].map(|c| table[i][c] * (1.0 - f) + table[i + 1][c] * f)
+}
+
+/// h(θ_o; θ_i) from an exit table at exit cosine `cos_o` and entry cosine `cos_i`: linear in θ_o
+/// and in θ_i between entries, the 80° values beyond (what scene.wgsl's `exit_table` evaluates).
+pub fn exit_ratio(table: &ExitTable, cos_o: f32, cos_i: f32) -> [f32; 3] {
+    let t = cos_i.clamp(0.0, 1.0).acos().to_degrees() / 10.0;
+    let i = (t.floor() as usize).min(INCIDENCE_STEPS - 1);
+    let j = (i + 1).min(INCIDENCE_STEPS - 1);
+    let f = (t - i as f32).clamp(0.0, 1.0);
+    let (a, b) = (
+        incidence_ratio(&table[i], cos_o),
+        incidence_ratio(&table[j], cos_o),
+    );
+    [0, 1, 2].map(|c| a[c] * (1.0 - f) + b[c] * f)
 }
 
 /// The cosine-weighted hemispherical mean 2∫₀^{π/2} f(θ) cos θ sin θ dθ of an incidence table:

@@ -10,8 +10,8 @@
 //!   oriented in the plane of incidence at x_i: the exact half-space BSSRDF for the entry
 //!   direction.
 //!
-//! Both leave with the exit table h(θ_o) (radiance over a Lambertian surface's at the view
-//! angle, [`crate::AngleTables`]). Per unit power entering, the profile's annulus averages and
+//! Both leave with the exit table h(θ_o; θ_i) (radiance over a Lambertian surface's at the view
+//! angle, for light that entered at each sample's θ_i, [`crate::AngleTables`]). Per unit power entering, the profile's annulus averages and
 //! the tables' cells are integrals of the exact transport, so on a flat half-space lit at θ the
 //! gather returns E·cos θ·Rd(θ) (less what lies beyond the tables), tested.
 //!
@@ -397,15 +397,16 @@ struct TablesUniform {
     cell: [f32; 4],
     shape: [u32; 4],
     incidence: [[f32; 4]; INCIDENCE_STEPS],
-    exit: [[f32; 4]; INCIDENCE_STEPS],
+    exit: [[f32; 4]; INCIDENCE_STEPS * INCIDENCE_STEPS],
 }
 
 /// The Monte Carlo model and the disc gather.
 pub(crate) const MC_BSSRDF_WGSL: &str = gather_wgsl!("shaders/mc_bssrdf.wgsl");
 
-/// WGSL's size of `Tables`: 5 vec4 and 2 × 9 vec4 × 16 bytes (checked against naga's layout
-/// in a test).
-pub(crate) const TABLES_UNIFORM_SIZE: usize = (5 + 2 * INCIDENCE_STEPS) * 16;
+/// WGSL's size of `Tables`: 5 vec4, 9 vec4 of incidence and 9 × 9 vec4 of exit, 16 bytes each
+/// (checked against naga's layout in a test).
+pub(crate) const TABLES_UNIFORM_SIZE: usize =
+    (5 + INCIDENCE_STEPS + INCIDENCE_STEPS * INCIDENCE_STEPS) * 16;
 const _: () = assert!(std::mem::size_of::<TablesUniform>() == TABLES_UNIFORM_SIZE);
 
 fn rgb(v: [f64; 3]) -> [f32; 4] {
@@ -442,7 +443,9 @@ pub(crate) fn encode(
             0,
         ],
         incidence: setup.angles.incidence.map(|v| rgb(v.map(f64::from))),
-        exit: setup.angles.exit.map(|v| rgb(v.map(f64::from))),
+        exit: std::array::from_fn(|i| {
+            rgb(setup.angles.exit[i / INCIDENCE_STEPS][i % INCIDENCE_STEPS].map(f64::from))
+        }),
     };
     // The cumulative share of each channel's ∫Rd dA, exactly 1 at the last bin.
     let dr = setup.dr_cm;

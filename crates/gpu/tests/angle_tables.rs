@@ -9,9 +9,9 @@ use chandrasekhar::h_function as h;
 
 /// Three channels of albedo 0.99, 0.9 and 0.5, η = 1, g = 0, a half-space. The total diffuse
 /// reflectance at incidence cos θ = μ₀ is 1 − √(1−w)·H(μ₀), so the incidence table must be
-/// (1 − √(1−w)H(cos θ))/(1 − √(1−w)H(1)); the light reflected at normal incidence has radiance
-/// ∝ H(μ)/(1 + μ) at exit cosine μ, so h(θ) is that over 2∫H(μ)/(1 + μ)·μ dμ, compared at the
-/// exit bins the table averages (5° for 0°, 10k ± 5° for 10k°).
+/// (1 − √(1−w)H(cos θ))/(1 − √(1−w)H(1)); the light reflected at incidence cosine μ₀ has
+/// radiance ∝ H(μ)/(μ + μ₀) at exit cosine μ, so h(θ_o; θ_i) is that over 2∫H(μ)/(μ + μ₀)·μ dμ,
+/// compared on the exit bins the table averages (the 0–10° bin for 0°, the two around 10k°).
 #[test]
 fn tables_match_chandrasekhar_for_an_isotropic_half_space() {
     let albedo = [0.99, 0.9, 0.5];
@@ -40,27 +40,46 @@ fn tables_match_chandrasekhar_for_an_isotropic_half_space() {
                 10 * k
             );
         }
-        let radiance = |mu: f64| h(w, mu) / (1.0 + mu);
-        let norm: f64 = 2.0
-            * (0..n)
-                .map(|k| {
-                    let mu = (k as f64 + 0.5) / n as f64;
-                    radiance(mu) * mu / n as f64
-                })
-                .sum::<f64>();
-        let h_at = |deg: f64| radiance(deg.to_radians().cos()) / norm;
-        for k in 0..INCIDENCE_STEPS {
-            let want = if k == 0 {
-                h_at(5.0)
-            } else {
-                0.5 * (h_at(10.0 * k as f64 - 5.0) + h_at(10.0 * k as f64 + 5.0))
+        for (i, row) in t.exit.iter().enumerate() {
+            let mu0 = (10.0 * i as f64).to_radians().cos();
+            let radiance = |mu: f64| h(w, mu) / (mu + mu0);
+            let norm: f64 = 2.0
+                * (0..n)
+                    .map(|k| {
+                        let mu = (k as f64 + 0.5) / n as f64;
+                        radiance(mu) * mu / n as f64
+                    })
+                    .sum::<f64>();
+            // An exit bin's h as mc tallies it: the intensity (radiance · cos θ) averaged over
+            // the bin's solid angle, over cos θ at its centre (`mc::exitance`).
+            let bin = |b: usize| {
+                let (lo, hi) = (
+                    (10.0 * b as f64).to_radians(),
+                    (10.0 * (b + 1) as f64).to_radians(),
+                );
+                let m = 200;
+                let (mut num, mut den) = (0.0, 0.0);
+                for j in 0..m {
+                    let th = lo + (j as f64 + 0.5) / m as f64 * (hi - lo);
+                    num += radiance(th.cos()) * th.cos() * th.sin();
+                    den += th.sin();
+                }
+                num / den / (0.5 * (lo + hi)).cos() / norm
             };
-            let (got, se) = (t.exit[k][c] as f64, t.exit_se[k][c] as f64);
-            assert!(
-                (got - want).abs() <= 4.0 * se + 0.01 * want,
-                "w {w}, {}°: h(θ) {got} ± {se}, Chandrasekhar {want}",
-                10 * k
-            );
+            for (k, entry) in row.iter().enumerate() {
+                let want = if k == 0 {
+                    bin(0)
+                } else {
+                    0.5 * (bin(k - 1) + bin(k))
+                };
+                let (got, se) = (entry[c] as f64, t.exit_se[i][k][c] as f64);
+                assert!(
+                    (got - want).abs() <= 4.0 * se + 0.01 * want,
+                    "w {w}, entering at {}°, leaving at {}°: h {got} ± {se}, Chandrasekhar {want}",
+                    10 * i,
+                    10 * k
+                );
+            }
         }
     }
     // Off means all ones, and no run; a material that reflects nothing is refused by name.

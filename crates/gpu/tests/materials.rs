@@ -175,7 +175,7 @@ fn each_material_of_a_pair_gets_its_own_kernel_and_shading() {
 
     // Shading per material: an exit factor of 2 on material 1 doubles its light only.
     let mut shading = [Shading::default(); MAX_MATERIALS];
-    shading[1].exit = [[2.0; 3]; gpu::INCIDENCE_STEPS];
+    shading[1].exit = [[[2.0; 3]; gpu::INCIDENCE_STEPS]; gpu::INCIDENCE_STEPS];
     let plain = render(&gpu, &scene, Scatter::None, &params).unwrap();
     let lifted = render(
         &gpu,

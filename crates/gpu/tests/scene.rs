@@ -164,26 +164,34 @@ fn a_camera_straight_above_sees_the_sphere() {
     assert!(frame.irradiance[centre][0] > 0.0);
 }
 
-/// Exit-angle-aware shading multiplies what leaves each SSS pixel by h(θ) at its view angle and
-/// changes nothing else: without scattering or specular light, the ratio of the linear images with
-/// and without an exit table is the table at the angle between the sphere's normal and the
-/// direction to the camera (linear in θ between 10° entries: the CPU twin `incidence_ratio`),
+/// Exit-angle-aware shading multiplies what leaves each SSS pixel by h(θ_o; θ_i) at its view
+/// angle and at its light's angle of incidence, and changes nothing else: without scattering or
+/// specular light, the ratio of the linear images with and without an exit table is the table at
+/// the angle between the sphere's normal and the direction to the camera and at the sun's
+/// incidence there (the normal-entry row where the sun is behind the surface), linear in both
+/// angles between 10° entries (the CPU twin `exit_ratio`),
 /// including factors above 1 (the packed albedo's shared scale), and 1 on the floor.
 #[test]
-fn an_exit_table_scales_each_sss_pixel_by_its_view_angle() {
+fn an_exit_table_scales_each_sss_pixel_by_its_view_and_entry_angles() {
     let Some(gpu) = gpu() else { return };
     let mut scene = Scene::sphere();
     scene.specular = 0.0;
+    assert_eq!(scene.lights.len(), 1);
+    let Light::Directional { towards, .. } = scene.lights[0] else {
+        panic!()
+    };
     let plain = RenderParams {
         width: W,
         height: H,
         albedo: AlbedoMode::Post,
         ..RenderParams::default()
     };
-    let mut table = [[1.0f32; 3]; gpu::INCIDENCE_STEPS];
-    for (k, row) in table.iter_mut().enumerate() {
-        *row = [1.0 + 0.1 * k as f32, 1.0 - 0.08 * k as f32, 2.0];
-    }
+    let table: gpu::ExitTable = std::array::from_fn(|i| {
+        std::array::from_fn(|k| {
+            let e = 1.0 + 0.04 * i as f32;
+            [(1.0 + 0.1 * k as f32) * e, (1.0 - 0.08 * k as f32) / e, 2.0]
+        })
+    });
     let exit = RenderParams {
         shading: [Shading {
             exit: table,
@@ -204,7 +212,9 @@ fn an_exit_table_scales_each_sss_pixel_by_its_view_angle() {
         let p = centre + 5.0 * n;
         let (x, y) = pixel(&scene, p);
         let i = y * W as usize + x;
-        let want = gpu::incidence_ratio(&table, n.dot((scene.camera.position - p).normalize()));
+        let cos_o = n.dot((scene.camera.position - p).normalize());
+        let cos_i = n.dot(towards.normalize());
+        let want = gpu::exit_ratio(&table, cos_o, if cos_i > 0.0 { cos_i } else { 1.0 });
         for (c, h) in want.iter().enumerate() {
             let r = b.linear[i][c] / a.linear[i][c];
             assert!(

@@ -86,7 +86,8 @@ fn a_lit_half_space_returns_mcs_reflectance_at_that_incidence() {
             let frame = render(&gpu, &scene, Scatter::SurfaceGather(setup), &params()).unwrap();
             let got = centre_mean(&frame, SIZE);
             for c in 0..3 {
-                let h0 = setup.angles.exit[0][c] as f64;
+                // Seen along the normal, light that entered at θ: h(0°; θ).
+                let h0 = setup.angles.exit[k][0][c] as f64;
                 let per_e = got[c] / (cos * h0);
                 // The estimator's own expectation, and mc's total at that angle with what
                 // lies beyond the tables (the profile's or the table's shortfall at 0°).
@@ -173,7 +174,9 @@ fn quadrature(setup: &SurfaceGatherSetup, towards: Vec3, thickness: f64) -> [f64
             }
         }
     }
-    std::array::from_fn(|c| out[c] * setup.angles.exit[0][c] as f64)
+    // Seen along the normal, light that entered at θ_i: h(0°; θ_i).
+    let h = gpu::exit_ratio(&setup.angles.exit, 1.0, cos_i as f32);
+    std::array::from_fn(|c| out[c] * h[c] as f64)
 }
 
 #[test]
@@ -406,15 +409,17 @@ fn an_area_light_gathers_as_its_irradiance_weighted_by_the_incidence_table() {
             let de = e.irradiance(at, Vec3::Y).x as f64 / (5 * m * m) as f64;
             let cos = (e.pos_or_dir.truncate() - at).normalize().y;
             let ratio = gpu::incidence_ratio(&radial.angles.incidence, cos);
+            // Seen along the normal, light that entered at this point's angle: h(0°; θ_i).
+            let h = gpu::exit_ratio(&radial.angles.exit, 1.0, cos);
             for c in 0..3 {
-                want[c] += de * ratio[c] as f64;
+                want[c] += de * (ratio[c] * h[c]) as f64;
             }
             plain += de;
         }
     }
     let total = radial.profile_total();
     for c in 0..3 {
-        let expect = want[c] * total[c] * radial.angles.exit[0][c] as f64;
+        let expect = want[c] * total[c];
         eprintln!(
             "channel {c}: gather {:.5}, expected {expect:.5} (E = {plain:.5})",
             got[c]

@@ -181,7 +181,7 @@ fn transmitted_light_leaves_with_its_own_angular_distribution() {
     });
     let shading = Shading {
         translucency: Some(t),
-        exit: [[1.25; 3]; gpu::INCIDENCE_STEPS],
+        exit: [[[1.25; 3]; gpu::INCIDENCE_STEPS]; gpu::INCIDENCE_STEPS],
         eta: 1.3,
         ..Shading::default()
     };

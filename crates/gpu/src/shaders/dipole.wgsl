@@ -91,7 +91,7 @@ fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: v
 }
 
 // π·T(ω_o): leaving at exterior angle θ_o transmits as entering at θ_o does (Stokes
-// reciprocity).
-fn model_exit(cos_o: f32) -> vec3<f32> {
+// reciprocity); the entry angle is the response's.
+fn model_exit(cos_o: f32, cos_i: f32) -> vec3<f32> {
     return vec3<f32>(PI * (1.0 - fresnel(dp.boundary.w, cos_o)));
 }

@@ -6,9 +6,10 @@
 // surface the light sees (the light's position/normal map), the lit entry point x_i. The flux
 // through the disc element dA⊥ is E⊥·dA⊥ (directional) or I·cos α·dA⊥/|p − x_light|² (point;
 // I times the cosine off the light's normal for a point of an area light), so
-//   π·L_o ≈ exit(ω_o)·(1/N)·Σ flux density · response(x_i, ω_i; x_o) / pdf_A(p),
+//   π·L_o ≈ (1/N)·Σ exit(ω_o; ω_i) · flux density · response(x_i, ω_i; x_o) / pdf_A(p),
 // `model_response` the exitance at x_o per unit power entering at x_i [cm⁻²] and
-// `model_exit` what turns exitance into π·L_o towards the camera. Light the map marks as a
+// `model_exit(cos_o, cos_i)` what turns exitance into π·L_o towards the camera for light that
+// entered at cos_i. Light the map marks as a
 // non-SSS surface (an occluder, the floor) contributes nothing: shadows come for free. Each
 // frame adds its estimate × 1/(samples·frames) into `out` (π·L_o: the exitance convention of the
 // separable pipeline).
@@ -132,6 +133,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let xo = po.xyz;
     let no = normalize(textureLoad(cam_normal, vec2<i32>(id.xy), 0).xyz);
     let wo = normalize(u.camera_pos.xyz - xo);
+    let cos_o = dot(wo, no);
     var state = pcg(i ^ pcg(u.frame.x * 9781u + pcg(u.frame.y)));
     var sum = vec3<f32>(0.0);
     let map = f32(u.frame.z);
@@ -191,8 +193,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if cos_i <= 0.0 {
                 continue;
             }
-            sum += flux * model_response(xi, ni, wi, cos_i, xo, no) / model_pdf_area(r);
+            sum += flux * model_response(xi, ni, wi, cos_i, xo, no) * model_exit(cos_o, cos_i)
+                / model_pdf_area(r);
         }
     }
-    out[i] += vec4<f32>(model_exit(dot(wo, no)) * sum * u.disc.y, 0.0);
+    out[i] += vec4<f32>(sum * u.disc.y, 0.0);
 }

@@ -30,9 +30,10 @@ struct Material {
     // The transmitted light's radiance relative to a Lambertian surface's, h_T(θ; d_k) at
     // θ = 0°, 10°, …, 80° for each thickness d_k, [k·9 + θ index] (rgb; all ones: Lambertian).
     translucency_exit: array<vec4<f32>, 144>,
-    // Exit-angle-aware shading: the radiance leaving at view angle θ relative to a Lambertian
-    // surface's, h(θ) at θ = 0°, 10°, …, 80° (rgb; all ones: off).
-    exit: array<vec4<f32>, 9>,
+    // Exit-angle-aware shading: the radiance leaving at view angle θ_o relative to a Lambertian
+    // surface's for light that entered at θ_i, h(θ_o; θ_i) at 0°, 10°, …, 80°, [θ_i·9 + θ_o]
+    // (rgb; all ones: off).
+    exit: array<vec4<f32>, 81>,
 };
 
 struct Globals {
@@ -86,8 +87,8 @@ fn shadow(i: u32, world: vec3<f32>, l: vec3<f32>, n_dot_l: f32) -> f32 {
     return lit / 9.0;
 }
 
-// An angle table (θ = 0°, 10°, …, 80°: `incidence` or `exit`) at cos θ: linear in θ between
-// entries, the 80° value beyond (gpu::incidence_ratio is its CPU twin).
+// An angle table (θ = 0°, 10°, …, 80°: `incidence`) at cos θ: linear in θ between entries, the
+// 80° value beyond (gpu::incidence_ratio is its CPU twin).
 fn angle_table(table: array<vec4<f32>, 9>, cos_a: f32) -> vec3<f32> {
     var t = table;
     let x = degrees(acos(clamp(cos_a, 0.0, 1.0))) / 10.0;
@@ -210,9 +211,30 @@ fn mirror(i: u32, world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, eta: f32)
     return 3.14159265 * fresnel(eta, dot(n, view_dir)) * radiance;
 }
 
+// Material m's exit table h(θ_o; θ_i) at exit cosine cos_o and entry cosine cos_i: linear in
+// both angles between entries, the 80° values beyond (gpu::exit_ratio is its CPU twin).
+fn exit_table(m: u32, cos_o: f32, cos_i: f32) -> vec3<f32> {
+    let to = degrees(acos(clamp(cos_o, 0.0, 1.0))) / 10.0;
+    let ti = degrees(acos(clamp(cos_i, 0.0, 1.0))) / 10.0;
+    let o0 = min(u32(floor(to)), 8u);
+    let i0 = min(u32(floor(ti)), 8u);
+    let o1 = min(o0 + 1u, 8u);
+    let i1 = min(i0 + 1u, 8u);
+    let fo = clamp(to - f32(o0), 0.0, 1.0);
+    let fi = clamp(ti - f32(i0), 0.0, 1.0);
+    let a = mix(g.materials[m].exit[i0 * 9u + o0].rgb, g.materials[m].exit[i0 * 9u + o1].rgb, fo);
+    let b = mix(g.materials[m].exit[i1 * 9u + o0].rgb, g.materials[m].exit[i1 * 9u + o1].rgb, fo);
+    return mix(a, b, fi);
+}
+
 struct Lit {
     diffuse: vec3<f32>,
     specular: vec3<f32>,
+    // On SSS surfaces the exit factor h(θ_o; θ_i) towards the camera (1 elsewhere): the exit
+    // table at the view angle and at the cosine of incidence of the point's lights, weighted by
+    // the irradiance each brings unshadowed (its shadow is its neighbours' light), the
+    // normal-entry row where none faces it (light that diffused there from far).
+    exit: vec3<f32>,
 };
 
 // What arrives at `world` with unit normal `n`, seen from `view_dir`: the diffuse irradiance (on
@@ -222,6 +244,11 @@ struct Lit {
 fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool, through: bool) -> Lit {
     var irradiance = g.ambient.rgb * select(vec3<f32>(1.0), g.materials[m].incidence_ambient.rgb, sss);
     var spec = vec3<f32>(0.0);
+    var entry_w = 0.0;
+    var entry_c = 0.0;
+    // Light through thin parts, with its own angular distribution h_T.
+    var through_light = vec3<f32>(0.0);
+    let cos_o = dot(n, view_dir);
     for (var i = 0u; i < u32(g.params.x); i++) {
         let l4 = g.lights[i].pos_or_dir;
         var l = normalize(l4.xyz);
@@ -246,12 +273,7 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
                     let c = -dot(n, l);
                     let eta = g.materials[m].translucency_params.w;
                     let entry = (1.0 - fresnel(eta, c)) / (1.0 - fresnel(eta, 1.0));
-                    // Transmitted light leaves with its own angular distribution h_T; the
-                    // scattered light is multiplied by the reflection's h after the blur.
-                    let cos_o = dot(n, view_dir);
-                    let exit = translucency_exit(m, d, cos_o)
-                        / max(angle_table(g.materials[m].exit, cos_o), vec3<f32>(1e-3));
-                    irradiance += scale * c * entry * translucency(m, d) * exit;
+                    through_light += scale * c * entry * translucency(m, d) * translucency_exit(m, d, cos_o);
                 }
             }
             continue;
@@ -263,11 +285,20 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
             // centre (the cell's shadow map) hides the mirror image.
             spec += mirror(i, world, n, view_dir, eta) * vis;
         }
-        irradiance += scale * n_dot_l * vis * select(vec3<f32>(1.0), angle_table(g.materials[m].incidence, n_dot_l), sss);
+        let entering = scale * n_dot_l * select(vec3<f32>(1.0), angle_table(g.materials[m].incidence, n_dot_l), sss);
+        irradiance += entering * vis;
+        let w = entering.r + entering.g + entering.b;
+        entry_w += w;
+        entry_c += w * n_dot_l;
         let h = normalize(l + view_dir);
         spec += scale * g.params.z * pow(max(dot(n, h), 0.0), g.params.w) * n_dot_l * vis;
     }
-    return Lit(irradiance, spec);
+    let entry_cos = select(1.0, entry_c / entry_w, entry_w > 0.0);
+    // Transmitted light leaves with its own angular distribution h_T; the scattered light is
+    // multiplied by the reflection's h after the blur, which this divides out.
+    let exit = select(vec3<f32>(1.0), exit_table(m, cos_o, entry_cos), sss);
+    irradiance += through_light / max(exit, vec3<f32>(1e-3));
+    return Lit(irradiance, spec, exit);
 }
 
 // The albedo applied before scattering ([0]) and after it ([1]), by the mode in g.params.y

@@ -6,7 +6,7 @@
 //   85° (linear in θ between them; cells piecewise constant), x along the tangential part of
 //   the light's propagation at x_i, y ≥ 0 across it (the table is folded: Rd is even in y), with
 //   x² + y² = |x_o − x_i|².
-// Both leave with h(θ_o) (the exit table). Radii are drawn from a mixture of the profile's own
+// Both leave with h(θ_o; θ_i) (the exit table, at each sample's entry angle). Radii are drawn from a mixture of the profile's own
 // area density per channel (its CDF) and a share of uniform disc sampling, which keeps the
 // density positive wherever the 3-D distance may make the response non-zero.
 
@@ -21,9 +21,9 @@ struct Tables {
     cell: vec4<f32>,
     // x: 1 directional, 0 radial; y: the directional table's half width n; z: profile bins.
     shape: vec4<u32>,
-    // ρ(θ)/ρ(0) and h(θ) at θ = 0°, 10°, …, 80° (rgb).
+    // ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80°, and h(θ_o; θ_i) at 0°, 10°, …, 80°, [θ_i·9 + θ_o] (rgb).
     incidence: array<vec4<f32>, 9>,
-    exit: array<vec4<f32>, 9>,
+    exit: array<vec4<f32>, 81>,
 };
 
 @group(0) @binding(6) var<uniform> tb: Tables;
@@ -34,16 +34,32 @@ struct Tables {
 // Directional tables [cm⁻²]: [angle][channel][iy 0..=n][ix 0..=2n].
 @group(0) @binding(9) var<storage, read> directional: array<f32>;
 
-// An angle table (0: incidence, 1: exit) at cos θ, linear in θ, held beyond 80°.
-fn angle_table(which: u32, cos_t: f32) -> vec3<f32> {
+// The table's index and weight at cos θ: θ/10° split into a lower entry and the fraction
+// towards the next, held beyond 80°.
+fn angle_index(cos_t: f32) -> vec2<f32> {
     let t = degrees(acos(clamp(cos_t, 0.0, 1.0))) / 10.0;
-    let i = min(u32(floor(t)), 8u);
-    let j = min(i + 1u, 8u);
-    let f = clamp(t - f32(i), 0.0, 1.0);
-    if which == 0u {
-        return mix(tb.incidence[i].rgb, tb.incidence[j].rgb, f);
-    }
-    return mix(tb.exit[i].rgb, tb.exit[j].rgb, f);
+    let i = min(floor(t), 8.0);
+    return vec2<f32>(i, clamp(t - i, 0.0, 1.0));
+}
+
+// The incidence table ρ(θ)/ρ(0) at cos θ, linear in θ.
+fn incidence_table(cos_t: f32) -> vec3<f32> {
+    let a = angle_index(cos_t);
+    let i = u32(a.x);
+    return mix(tb.incidence[i].rgb, tb.incidence[min(i + 1u, 8u)].rgb, a.y);
+}
+
+// The exit table h(θ_o; θ_i), linear in both angles (gpu::exit_ratio is its CPU twin).
+fn exit_table(cos_o: f32, cos_i: f32) -> vec3<f32> {
+    let o = angle_index(cos_o);
+    let e = angle_index(cos_i);
+    let o0 = u32(o.x);
+    let i0 = u32(e.x);
+    let o1 = min(o0 + 1u, 8u);
+    let i1 = min(i0 + 1u, 8u);
+    let a = mix(tb.exit[i0 * 9u + o0].rgb, tb.exit[i0 * 9u + o1].rgb, o.y);
+    let b = mix(tb.exit[i1 * 9u + o0].rgb, tb.exit[i1 * 9u + o1].rgb, o.y);
+    return mix(a, b, e.y);
 }
 
 fn model_sample_radius(state: ptr<function, u32>) -> f32 {
@@ -115,7 +131,7 @@ fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: v
         if bin >= tb.shape.z {
             return vec3<f32>(0.0);
         }
-        return profile[bin].rgb * angle_table(0u, cos_i);
+        return profile[bin].rgb * incidence_table(cos_i);
     }
     // The incidence plane's tangential direction: the light's propagation −wi less its normal
     // part (any tangent at normal incidence, where the table is radially symmetric).
@@ -142,6 +158,6 @@ fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: v
     return result;
 }
 
-fn model_exit(cos_o: f32) -> vec3<f32> {
-    return angle_table(1u, cos_o);
+fn model_exit(cos_o: f32, cos_i: f32) -> vec3<f32> {
+    return exit_table(cos_o, cos_i);
 }

@@ -62,8 +62,7 @@ fn fs(v: VOut, @builtin(front_facing) front: bool) -> FOut {
     // Alpha: the material index (unpack.wgsl moves it next to depth and strength).
     o.diffuse = vec4<f32>(lit.diffuse * split[0], f32(m));
     o.specular = vec4<f32>(lit.specular, v.strength);
-    // What leaves towards the camera: h(θ) at the view angle on SSS surfaces.
-    let exit = select(vec3<f32>(1.0), angle_table(g.materials[m].exit, dot(n, view_dir)), sss);
-    o.geometry = vec4<f32>(v.view_depth, bitcast<f32>(pack_albedo(split[1] * exit)), 0.0, 1.0);
+    // What leaves towards the camera: h(θ_o; θ_i) on SSS surfaces (`shade`).
+    o.geometry = vec4<f32>(v.view_depth, bitcast<f32>(pack_albedo(split[1] * lit.exit)), 0.0, 1.0);
     return o;
 }
