@@ -107,9 +107,10 @@ fn mitsuba_references_agree() {
         }
     }
     let images = read("images");
-    // On the sphere, the best real-time method (incidence- and exit-aware pre-integration) and
-    // the radial Monte Carlo gather carry the same light (the same profile, incidence and exit
-    // tables): the screen-space part moves light, it adds or removes almost none.
+    // On the sphere, the real-time method with the radial gather's tables (incidence- and
+    // exit-aware pre-integration, the exit law read at the entry angle) and the radial Monte
+    // Carlo gather carry the same light (the same profile, incidence and exit tables): the
+    // screen-space part moves light, it adds or removes almost none.
     let screen_space = &images["error_budget"]["terms"]["screen_space"];
     for e in screen_space["energy_ratio"].as_array().unwrap() {
         let e = e.as_f64().unwrap();

@@ -465,7 +465,7 @@ def scene_command(a):
                      "diff"))
     I.sheet(os.path.join(out, "blender-sheet.png"),
             f"{a.scene} / {a.material}, {w}×{h}: Blender {bpy.app.version_string} with `sss engine-params` against "
-            f"Mitsuba; noise-corrected RMSE ± SE (% of the reference's mean)", head + panels, 0.2,
+            f"Mitsuba\nnoise-corrected RMSE ± SE (% of the reference's mean)", head + panels, 0.2,
             "each render − Mitsuba (Blender's, ours, or a calibration − Mitsuba's direct light)")
     info["models"] = [r for r in info["models"] if not r["model"].startswith("blender-")] + rows
     info["rankings"] = {k: v for k, v in info.get("rankings", {}).items() if not k.startswith("blender-")}

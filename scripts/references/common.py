@@ -29,7 +29,7 @@ BUDGET_TERMS = {
     "best_realtime": "best real-time ↔ reference",
     "radial": "radial MC gather ↔ reference",
     "directional": "directional MC gather ↔ reference (half-space limit)",
-    "screen_space": "screen-space part: best real-time ↔ radial",
+    "screen_space": "screen-space part: real-time (same tables) ↔ radial",
     "entry_direction": "entry direction: radial ↔ directional",
     "between_surfaces": "light between surfaces: full ↔ reference",
 }
@@ -39,7 +39,8 @@ def budget_lines(b, indent="    "):
     """The lines of an error budget: each term's noise-corrected RMSE ± SE, resolved or not."""
     lines = [f"{indent[:-2]}error budget against {b['reference']} (% of its mean; best real-time: "
              f"{b['best_realtime']}, {100 * b['best_realtime_full_reference']['rmse_noise_corrected']:.2f} ± "
-             f"{100 * b['best_realtime_full_reference']['rmse_noise_corrected_se']:.2f} % from the full reference):"]
+             f"{100 * b['best_realtime_full_reference']['rmse_noise_corrected_se']:.2f} % from the full reference; "
+             f"screen-space part with {b.get('screen_space_model', b['best_realtime'])}):"]
     for k, t in b["terms"].items():
         lines.append(f"{indent}{BUDGET_TERMS[k]:<52} {100 * t['rmse_noise_corrected']:6.2f} ± "
                      f"{100 * t['rmse_noise_corrected_se']:4.2f} % ({'resolved' if t['resolved'] else 'undecided'}), "

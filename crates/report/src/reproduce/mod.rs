@@ -311,7 +311,7 @@ pub struct BudgetTerms {
     /// The directional Monte Carlo gather against the reference: what a half-space BSSRDF cannot
     /// represent.
     pub directional: BudgetTerm,
-    /// The best screen-space method against the radial gather: the screen-space part.
+    /// The real-time method with the radial gather's tables against it: the screen-space part.
     pub screen_space: BudgetTerm,
     /// The radial gather against the directional one: what the entry direction adds.
     pub entry_direction: BudgetTerm,
@@ -330,7 +330,7 @@ impl BudgetTerms {
                 &self.directional,
             ),
             (
-                "screen-space part: best real-time ↔ radial gather",
+                "screen-space part: real-time with the gather's tables ↔ radial gather",
                 &self.screen_space,
             ),
             (
