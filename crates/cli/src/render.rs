@@ -142,11 +142,12 @@ pub enum Method {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum BssrdfArg {
-    /// Rd(|x_o − x_i|) of the Monte Carlo profile × ρ(θ_i)/ρ(0), leaving with h(θ_o): the
+    /// Rd(|x_o − x_i|) of the Monte Carlo profile × ρ(θ_i)/ρ(0), leaving with h(θ_o; θ_i): the
     /// best any radial-profile method can reach
     Radial,
     /// mc's Rd(x, y; θ_i) at 0°, 10°, …, 80°, 85° (385 × 193 cells per channel and angle, reaching
-    /// ln(10⁸)/σtr), oriented in the plane of incidence at x_i, leaving with h(θ_o)
+    /// ln(10⁸)/σtr), laid on the modified tangent plane (Frisvad et al. 2014: through x_i,
+    /// holding x_o) with the entry angle's total reflectance, leaving with h(θ_o; θ_i)
     Directional,
 }
 

@@ -6,9 +6,11 @@
 //! - [`Bssrdf::Radial`]: the Monte Carlo profile Rd(r) at the 3-D distance |x_o − x_i|, times
 //!   the incidence table ρ(θ_i)/ρ(0): the best any radial-profile method (separable kernels,
 //!   pre-integration, the area gather) can reach given exact geometry and visibility;
-//! - [`Bssrdf::Directional`]: `mc`'s Rd(x, y; θ_i) at oblique incidence ([`DirectionalTable`]),
-//!   oriented in the plane of incidence at x_i: the exact half-space BSSRDF for the entry
-//!   direction.
+//! - [`Bssrdf::Directional`]: `mc`'s Rd(x, y; θ) at oblique incidence ([`DirectionalTable`]),
+//!   laid on the modified tangent plane of Frisvad et al. 2014 (the plane through x_i that holds
+//!   x_o, closest to x_i's tangent plane; [`DirectionalTable::response`]) and carrying the true
+//!   entry angle's reflectance: the exact half-space BSSRDF for the entry direction on a flat
+//!   surface.
 //!
 //! Both leave with the exit table h(θ_o; θ_i) (radiance over a Lambertian surface's at the view
 //! angle, for light that entered at each sample's θ_i, [`crate::AngleTables`]). Per unit power entering, the profile's annulus averages and
@@ -141,6 +143,70 @@ impl DirectionalTable {
             return 0.0;
         }
         self.rd[((k * 3 + c) * (n + 1) + iy as usize) * (2 * n + 1) + ix as usize] as f64
+    }
+
+    /// The response at x_o per unit power entering at x_i [cm⁻²] for `d` = x_o − x_i [cm], the
+    /// entry's unit normal `ni` and the unit direction towards the light `wi` (the shader's
+    /// twin, shaders/mc_bssrdf.wgsl). The table is laid on the modified tangent plane of Frisvad
+    /// et al. 2014 (§3.3), normal n* = n_i less its part along d (n_i where d is 0 or along
+    /// n_i), which holds x_o: θ* = ∠(wi, n*), x along the propagation −wi projected on that
+    /// plane, y across it, x² + y² = |d|². Its amount is the true entry angle's: the table at θ*
+    /// times Rd(θ_i)/Rd(θ*), `mc`'s total reflectances (each linear in θ between the table's
+    /// angles). On a flat surface
+    /// (d ⊥ n_i) this is the table at θ_i in the plane of incidence.
+    pub fn response(&self, d: glam::DVec3, ni: glam::DVec3, wi: glam::DVec3) -> [f64; 3] {
+        let r = d.length();
+        let mut n_star = ni;
+        if r > 0.0 {
+            let tilted = ni - ni.dot(d / r) * (d / r);
+            if tilted.length() > 1e-6 {
+                n_star = tilted.normalize();
+            }
+        }
+        let cos_star = wi.dot(n_star);
+        let mut along = -wi + cos_star * n_star;
+        if along.length() < 1e-4 {
+            // Normal incidence: any direction in the plane (the shader's choice).
+            let axis = if n_star.x.abs() > 0.9 {
+                glam::DVec3::Y
+            } else {
+                glam::DVec3::X
+            };
+            along = axis - axis.dot(n_star) * n_star;
+        }
+        let x = d.dot(along.normalize());
+        let y = (r * r - x * x).max(0.0).sqrt();
+        let (k, f) = Self::angle_index(cos_star);
+        let (star, entry) = (self.total_at(cos_star), self.total_at(wi.dot(ni)));
+        std::array::from_fn(|c| {
+            if star[c] > 0.0 {
+                let v = (1.0 - f) * self.at(k, c, x, y) + f * self.at((k + 1).min(9), c, x, y);
+                v * entry[c] / star[c]
+            } else {
+                0.0
+            }
+        })
+    }
+
+    /// The table's angle index and the weight of the next at cos θ: θ = 0°, 10°, …, 80° at
+    /// indices 0–8, 85° at 9, held beyond.
+    fn angle_index(cos_t: f64) -> (usize, f64) {
+        let theta = cos_t.clamp(0.0, 1.0).acos().to_degrees();
+        let t = if theta > 80.0 {
+            8.0 + (theta - 80.0) / 5.0
+        } else {
+            theta / 10.0
+        };
+        let k = t.floor().min(9.0);
+        (k as usize, (t - k).clamp(0.0, 1.0))
+    }
+
+    /// `mc`'s total diffuse reflectance at cos θ per channel, linear in θ between the table's
+    /// angles.
+    fn total_at(&self, cos_t: f64) -> [f64; 3] {
+        let (k, f) = Self::angle_index(cos_t);
+        let (a, b) = (self.totals[k], self.totals[(k + 1).min(9)]);
+        std::array::from_fn(|c| (1.0 - f) * a[c].value + f * b[c].value)
     }
 
     /// ∫∫ Rd dx dy over the table at angle index `k` per channel [-] (the unfolded plane: rows
@@ -319,6 +385,25 @@ impl SurfaceGatherSetup {
                     "Rd must be finite and ≥ 0 in every cell",
                 ));
             }
+            if t.totals.len() != DIRECTIONAL_ANGLES.len() {
+                return Err(GpuError::invalid(
+                    "directional table: totals",
+                    t.totals.len(),
+                    format!("must hold one per angle, {}", DIRECTIONAL_ANGLES.len()),
+                ));
+            }
+            if let Some(v) = t
+                .totals
+                .iter()
+                .flatten()
+                .find(|e| !(e.value.is_finite() && e.value >= 0.0))
+            {
+                return Err(GpuError::invalid(
+                    "directional table: totals",
+                    v.value,
+                    "each total reflectance must be finite and ≥ 0",
+                ));
+            }
         }
         Ok(())
     }
@@ -398,15 +483,16 @@ struct TablesUniform {
     shape: [u32; 4],
     incidence: [[f32; 4]; INCIDENCE_STEPS],
     exit: [[f32; 4]; INCIDENCE_STEPS * INCIDENCE_STEPS],
+    directional_total: [[f32; 4]; DIRECTIONAL_ANGLES.len()],
 }
 
 /// The Monte Carlo model and the disc gather.
 pub(crate) const MC_BSSRDF_WGSL: &str = gather_wgsl!("shaders/mc_bssrdf.wgsl");
 
-/// WGSL's size of `Tables`: 5 vec4, 9 vec4 of incidence and 9 × 9 vec4 of exit, 16 bytes each
-/// (checked against naga's layout in a test).
+/// WGSL's size of `Tables`: 5 vec4, 9 vec4 of incidence, 9 × 9 vec4 of exit and 10 vec4 of the
+/// directional tables' total reflectances, 16 bytes each (checked against naga's layout in a test).
 pub(crate) const TABLES_UNIFORM_SIZE: usize =
-    (5 + INCIDENCE_STEPS + INCIDENCE_STEPS * INCIDENCE_STEPS) * 16;
+    (5 + INCIDENCE_STEPS + INCIDENCE_STEPS * INCIDENCE_STEPS + DIRECTIONAL_ANGLES.len()) * 16;
 const _: () = assert!(std::mem::size_of::<TablesUniform>() == TABLES_UNIFORM_SIZE);
 
 fn rgb(v: [f64; 3]) -> [f32; 4] {
@@ -445,6 +531,9 @@ pub(crate) fn encode(
         incidence: setup.angles.incidence.map(|v| rgb(v.map(f64::from))),
         exit: std::array::from_fn(|i| {
             rgb(setup.angles.exit[i / INCIDENCE_STEPS][i % INCIDENCE_STEPS].map(f64::from))
+        }),
+        directional_total: std::array::from_fn(|k| {
+            rgb(directional.map_or([0.0; 3], |t| t.totals[k].map(|e| e.value)))
         }),
     };
     // The cumulative share of each channel's ∫Rd dA, exactly 1 at the last bin.

@@ -5,7 +5,9 @@
 //!   within its standard error and what lies beyond the tables;
 //! - a 2 mm slab lit from behind: the GPU equals a CPU quadrature of the same estimator over
 //!   the disc (the light enters the far face, the camera sees the near one);
-//! - the image's error to its own converged limit falls as 1/√frames.
+//! - the image's error to its own converged limit falls as 1/√frames;
+//! - the directional table lies on the plane through both points (Frisvad et al.'s modified
+//!   tangent plane: between two points of a sphere, the bisector plane).
 //!
 //! Under CI=true a missing adapter fails.
 
@@ -141,9 +143,6 @@ fn quadrature(setup: &SurfaceGatherSetup, towards: Vec3, thickness: f64) -> [f64
     let r_max = setup.sampling.radius_cm as f64;
     let (nr, nphi) = (4000, 128);
     let cos_i = l.y;
-    // The propagation's tangential direction at the entry face: −l less its normal part.
-    let along = (-l + cos_i * glam::DVec3::Y).normalize();
-    let theta = cos_i.acos().to_degrees();
     let mut out = [0.0; 3];
     for i in 0..nr {
         let (a, b) = (
@@ -158,16 +157,7 @@ fn quadrature(setup: &SurfaceGatherSetup, towards: Vec3, thickness: f64) -> [f64
             let d = xo - xi;
             let response = match &setup.directional {
                 None => setup.radial_response(d.length(), cos_i),
-                Some(t) => {
-                    let x = d.dot(along);
-                    let y = (d.length_squared() - x * x).max(0.0).sqrt();
-                    // θ on the tables' grid: 0°, 10°, …, 80°, 85°.
-                    let k = (theta / 10.0).floor() as usize;
-                    let f = theta / 10.0 - k as f64;
-                    std::array::from_fn(|c| {
-                        (1.0 - f) * t.at(k, c, x, y) + f * t.at((k + 1).min(9), c, x, y)
-                    })
-                }
+                Some(t) => t.response(d, glam::DVec3::Y, l),
             };
             for c in 0..3 {
                 out[c] += response[c] * r * dr * 2.0 * PI / nphi as f64;
@@ -429,5 +419,81 @@ fn an_area_light_gathers_as_its_irradiance_weighted_by_the_incidence_table() {
             "channel {c}: {} vs {expect}",
             got[c]
         );
+    }
+}
+
+/// The directional table lies on Frisvad et al.'s modified tangent plane, the plane through x_i
+/// that holds x_o: for two points of a sphere it is the plane whose normal bisects theirs (the
+/// chord is perpendicular to the bisector), and the amount is the true entry angle's. A distant
+/// light straight above the point x_o enters x_i, 60° around the sphere, at 60°; the bisector
+/// plane meets the light at 30°. So the response is the flat one on that plane (the table at
+/// 30°) times Rd(60°)/Rd(30°); a rotation of the whole changes nothing. A synthetic table,
+/// distinct per angle, channel and cell and uneven in x, so a wrong plane or direction shows.
+#[test]
+fn the_directional_table_lies_on_the_plane_through_both_points() {
+    use glam::{DMat3, DVec3};
+    use gpu::surface_gather::DIRECTIONAL_ANGLES;
+    let n = 8;
+    let cells = DIRECTIONAL_ANGLES.len() * 3 * (n + 1) * (2 * n + 1);
+    let rd = (0..cells)
+        .map(|i| {
+            let (ix, iy, kc) = (
+                i % (2 * n + 1),
+                i / (2 * n + 1) % (n + 1),
+                i / ((2 * n + 1) * (n + 1)),
+            );
+            (1.0 + kc as f32) * (1.0 + 0.3 * ix as f32) / (1.0 + iy as f32)
+        })
+        .collect();
+    let totals = (0..DIRECTIONAL_ANGLES.len())
+        .map(|k| {
+            [0, 1, 2].map(|c| mc::Estimate {
+                value: 0.4 + 0.03 * k as f64 + 0.1 * c as f64,
+                se: 0.0,
+            })
+        })
+        .collect();
+    let t = gpu::DirectionalTable {
+        half_width: n,
+        cell_cm: [0.1, 0.12, 0.15],
+        rd,
+        totals,
+    };
+    // A chord of 0.5 cm, within every channel's table (8 cells of 0.1–0.15 cm).
+    let radius = 0.5;
+    let (ni, no, wi) = (
+        DVec3::new(60f64.to_radians().sin(), 0.0, 60f64.to_radians().cos()),
+        DVec3::Z,
+        DVec3::Z,
+    );
+    let d = radius * (no - ni);
+    let bisector = (ni + no).normalize();
+    let got = t.response(d, ni, wi);
+    let flat = t.response(d, bisector, wi);
+    for c in 0..3 {
+        let want = flat[c] * t.totals[6][c].value / t.totals[3][c].value;
+        assert!(flat[c] > 0.0);
+        assert!(
+            (got[c] / want - 1.0).abs() < 1e-4,
+            "channel {c}: {} against the bisector plane's {want}",
+            got[c]
+        );
+    }
+    // The same pair turned anywhere.
+    let turn = DMat3::from_axis_angle(DVec3::new(1.0, 2.0, -0.5).normalize(), 1.1);
+    let turned = t.response(turn * d, turn * ni, turn * wi);
+    for c in 0..3 {
+        assert!(
+            (turned[c] / got[c] - 1.0).abs() < 1e-4,
+            "channel {c} turned"
+        );
+    }
+    // Behind the table's reach from x_i, where the old plane (n_i's) would read it, nothing
+    // changes sign: the response is finite and non-negative everywhere around the sphere.
+    for k in 0..36 {
+        let a = (10.0 * k as f64).to_radians();
+        let xo = DVec3::new(a.sin(), 0.0, a.cos());
+        let v = t.response(radius * (xo - ni), ni, wi);
+        assert!(v.iter().all(|v| v.is_finite() && *v >= 0.0));
     }
 }
