@@ -45,10 +45,11 @@ def table(results):
                      f"{100 * r['reference_noise_rel']:.1f} % per 2×2 block")
         if not r["calibration_pass"]:
             continue
-        lines.append(f"  {'model':<30} {'error (noise-corrected)':>24} {'spatial':>8} {'SSIM':>7}  energy R/G/B")
+        w = max(30, *(len(m["model"]) for m in r["models"]))
+        lines.append(f"  {'model':<{w}} {'error (noise-corrected)':>24} {'spatial':>8} {'SSIM':>7}  energy R/G/B")
         for m in r["models"]:
             e = m["energy_ratio"]
-            lines.append(f"  {m['model']:<30} {100 * m['rmse_noise_corrected']:>14.2f} ± {100 * m['rmse_noise_corrected_se']:4.2f} %"
+            lines.append(f"  {m['model']:<{w}} {100 * m['rmse_noise_corrected']:>14.2f} ± {100 * m['rmse_noise_corrected_se']:4.2f} %"
                          f" {100 * m['rmse_spatial']:>6.2f} % {m['ssim']:>7.4f}  {e[0]:.3f}/{e[1]:.3f}/{e[2]:.3f}")
         if r.get("error_budget"):
             lines += budget_lines(r["error_budget"])
