@@ -111,11 +111,13 @@ struct GatherUniform {
 pub(crate) const GATHER_UNIFORM_SIZE: usize = DISC_LIGHTS * 112 + 4 * 16;
 const _: () = assert!(std::mem::size_of::<GatherUniform>() == GATHER_UNIFORM_SIZE);
 
-/// The gather's WGSL after a model's (`fresnel.wgsl` first, which both models use).
+/// The gather's WGSL after a model's (`fresnel.wgsl` and `angles.wgsl` first, which the models
+/// use).
 macro_rules! gather_wgsl {
     ($model:literal) => {
         concat!(
             include_str!("shaders/fresnel.wgsl"),
+            include_str!("shaders/angles.wgsl"),
             include_str!($model),
             include_str!("shaders/disc_gather.wgsl")
         )

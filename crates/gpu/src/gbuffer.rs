@@ -92,9 +92,10 @@ impl MaterialU {
     }
 }
 
-/// The scene shader with the shared Fresnel and lighting functions prepended.
+/// The scene shader with the shared Fresnel, angle-grid and lighting functions prepended.
 pub(crate) const SCENE_WGSL: &str = concat!(
     include_str!("shaders/fresnel.wgsl"),
+    include_str!("shaders/angles.wgsl"),
     include_str!("shaders/lighting.wgsl"),
     include_str!("shaders/scene.wgsl")
 );

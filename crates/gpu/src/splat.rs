@@ -58,9 +58,10 @@ const SEEN_SLOPE_PX: f32 = 2.0;
 /// The pyramid level the splats accumulate at: texels of 2² × 2² = 4 × 4 pixels.
 const SPLAT_LEVEL: usize = 2;
 
-/// The shader: Fresnel, lighting and the kernel lookup prepended.
+/// The shader: Fresnel, the angle grid, lighting and the kernel lookup prepended.
 pub(crate) const SPLAT_WGSL: &str = concat!(
     include_str!("shaders/fresnel.wgsl"),
+    include_str!("shaders/angles.wgsl"),
     include_str!("shaders/lighting.wgsl"),
     include_str!("shaders/area_kernel.wgsl"),
     include_str!("shaders/splat.wgsl")

@@ -91,12 +91,9 @@ fn shadow(i: u32, world: vec3<f32>, l: vec3<f32>, n_dot_l: f32) -> f32 {
 // 80° value beyond (gpu::incidence_ratio is its CPU twin).
 fn angle_table(table: array<vec4<f32>, 9>, cos_a: f32) -> vec3<f32> {
     var t = table;
-    let x = degrees(acos(clamp(cos_a, 0.0, 1.0))) / 10.0;
-    let i = min(u32(floor(x)), 8u);
-    if i >= 8u {
-        return t[8].rgb;
-    }
-    return mix(t[i].rgb, t[i + 1u].rgb, x - f32(i));
+    let a = angle_index(cos_a);
+    let i = u32(a.x);
+    return mix(t[i].rgb, t[min(i + 1u, 8u)].rgb, a.y);
 }
 
 // Material m's h_T at thickness d [cm] and exit cosine cos_o: linear in ln d and in θ, held
@@ -110,10 +107,10 @@ fn translucency_exit(m: u32, d: f32, cos_o: f32) -> vec3<f32> {
         f = select(t - f32(i), 0.0, i >= 15u);
     }
     let j = min(i + 1u, 15u);
-    let x = degrees(acos(clamp(cos_o, 0.0, 1.0))) / 10.0;
-    let a = min(u32(floor(x)), 8u);
+    let o = angle_index(cos_o);
+    let a = u32(o.x);
     let b = min(a + 1u, 8u);
-    let fa = select(x - f32(a), 0.0, a >= 8u);
+    let fa = o.y;
     let lo = mix(g.materials[m].translucency_exit[i * 9u + a].rgb, g.materials[m].translucency_exit[i * 9u + b].rgb, fa);
     let hi = mix(g.materials[m].translucency_exit[j * 9u + a].rgb, g.materials[m].translucency_exit[j * 9u + b].rgb, fa);
     return mix(lo, hi, f);
@@ -214,17 +211,15 @@ fn mirror(i: u32, world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, eta: f32)
 // Material m's exit table h(θ_o; θ_i) at exit cosine cos_o and entry cosine cos_i: linear in
 // both angles between entries, the 80° values beyond (gpu::exit_ratio is its CPU twin).
 fn exit_table(m: u32, cos_o: f32, cos_i: f32) -> vec3<f32> {
-    let to = degrees(acos(clamp(cos_o, 0.0, 1.0))) / 10.0;
-    let ti = degrees(acos(clamp(cos_i, 0.0, 1.0))) / 10.0;
-    let o0 = min(u32(floor(to)), 8u);
-    let i0 = min(u32(floor(ti)), 8u);
+    let o = angle_index(cos_o);
+    let e = angle_index(cos_i);
+    let o0 = u32(o.x);
+    let i0 = u32(e.x);
     let o1 = min(o0 + 1u, 8u);
     let i1 = min(i0 + 1u, 8u);
-    let fo = clamp(to - f32(o0), 0.0, 1.0);
-    let fi = clamp(ti - f32(i0), 0.0, 1.0);
-    let a = mix(g.materials[m].exit[i0 * 9u + o0].rgb, g.materials[m].exit[i0 * 9u + o1].rgb, fo);
-    let b = mix(g.materials[m].exit[i1 * 9u + o0].rgb, g.materials[m].exit[i1 * 9u + o1].rgb, fo);
-    return mix(a, b, fi);
+    let a = mix(g.materials[m].exit[i0 * 9u + o0].rgb, g.materials[m].exit[i0 * 9u + o1].rgb, o.y);
+    let b = mix(g.materials[m].exit[i1 * 9u + o0].rgb, g.materials[m].exit[i1 * 9u + o1].rgb, o.y);
+    return mix(a, b, e.y);
 }
 
 struct Lit {

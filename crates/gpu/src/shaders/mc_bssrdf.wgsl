@@ -46,14 +46,6 @@ struct Tables {
 // Directional tables [cm⁻²]: [angle][channel][iy 0..=n][ix 0..=2n].
 @group(0) @binding(9) var<storage, read> directional: array<f32>;
 
-// The table's index and weight at cos θ: θ/10° split into a lower entry and the fraction
-// towards the next, held beyond 80°.
-fn angle_index(cos_t: f32) -> vec2<f32> {
-    let t = degrees(acos(clamp(cos_t, 0.0, 1.0))) / 10.0;
-    let i = min(floor(t), 8.0);
-    return vec2<f32>(i, clamp(t - i, 0.0, 1.0));
-}
-
 // The incidence table ρ(θ)/ρ(0) at cos θ, linear in θ.
 fn incidence_table(cos_t: f32) -> vec3<f32> {
     let a = angle_index(cos_t);
