@@ -31,6 +31,7 @@ BUDGET_TERMS = {
     "directional": "directional MC gather ↔ reference (half-space limit)",
     "screen_space": "screen-space part: real-time (same tables) ↔ radial",
     "entry_direction": "entry direction: radial ↔ directional",
+    "shifted_screen_space": "entry-shifted real-time ↔ directional",
     "between_surfaces": "light between surfaces: full ↔ reference",
 }
 

@@ -91,6 +91,38 @@ fn angle_tables(
     Ok(t)
 }
 
+/// The material's entry shift (`gpu::EntryShift::from_mc`, printed on stderr): the centroid of
+/// the light a half-space returns at each incidence table angle, `photons` per channel and angle,
+/// with the profiles' seed and run settings.
+fn entry_shift_table(
+    named: &library::Named,
+    photons: u64,
+    source: &ProfileSource,
+) -> Result<gpu::EntryShift> {
+    let spec = table_spec(named, photons, source)?;
+    let bar = crate::progress::photons(
+        photons * spec.groups().len() as u64 * gpu::INCIDENCE_STEPS as u64,
+        "entry shift",
+    );
+    let t = gpu::EntryShift::from_mc(&spec, &|k| bar.inc(k))
+        .with_context(|| format!("--entry-shift: {}", named.slug))?;
+    bar.finish_and_clear();
+    eprintln!(
+        "entry shift of {} (centroid of the returned light ahead of the entry, δ(θ) [mm], R G B ± SE):",
+        named.slug
+    );
+    for k in 0..gpu::INCIDENCE_STEPS {
+        let mm = |v: [f32; 3]| format!("{:.3} {:.3} {:.3}", 10.0 * v[0], 10.0 * v[1], 10.0 * v[2]);
+        eprintln!(
+            "  {:>4}°  {}  ± {}",
+            10 * k,
+            mm(t.shift_cm[k]),
+            mm(t.shift_se_cm[k])
+        );
+    }
+    Ok(t)
+}
+
 /// The material's translucency table (`gpu::Translucency::from_mc`, printed on stderr), `photons`
 /// per channel and thickness, with the profiles' seed and run settings; ρ from a half-space run
 /// of `gpu::RHO_PHOTONS` (`Translucency::rho_of`), not from a whole profile.
@@ -332,8 +364,16 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value = "off")]
     exit_aware: ExitAware,
 
-    /// Photons per channel and angle for the tables of --incidence-aware and --exit-aware (and
-    /// the surface gather's angle and directional tables)
+    /// Entry-shifted shading: light entering a half-space at θ leaves, on average, δ(θ) ahead of
+    /// its entry along its propagation over the surface (mc's centroid at θ = 0°, 10°, …, 80°,
+    /// about 0.6 transport mean free paths at grazing entry); each SSS pixel is shaded with the
+    /// light that entered δ behind it (that point's shadow, and its normal from the surface's
+    /// curvature) before the kernel spreads it
+    #[arg(long, value_enum, default_value = "off")]
+    entry_shift: OnOff,
+
+    /// Photons per channel and angle for the tables of --incidence-aware, --exit-aware and
+    /// --entry-shift (and the surface gather's angle and directional tables)
     #[arg(long, value_parser = crate::parse_count, default_value = "100000")]
     incidence_photons: u64,
 
@@ -755,8 +795,14 @@ fn params(
             }
             _ => None,
         };
+        let entry_shift = if a.entry_shift == OnOff::On && !a.no_sss {
+            entry_shift_table(n, a.incidence_photons, &a.source)?
+        } else {
+            gpu::EntryShift::NONE
+        };
         *s = Shading {
             incidence: tables.incidence,
+            entry_shift,
             // `on`: every row the normal-entry one, whatever angle the light enters at.
             exit: match a.exit_aware {
                 ExitAware::Entry => tables.exit,
@@ -1103,9 +1149,12 @@ fn dipole_setup(
     if a.kernel.is_some() || a.compare_models || a.no_sss {
         bail!("--method directional-dipole does not use --kernel, --compare-models or --no-sss");
     }
-    if a.incidence_aware == OnOff::On || a.exit_aware != ExitAware::Off {
+    if a.incidence_aware == OnOff::On
+        || a.exit_aware != ExitAware::Off
+        || a.entry_shift == OnOff::On
+    {
         bail!(
-            "--incidence-aware and --exit-aware are for the separable method: the directional dipole depends on both angles itself"
+            "--incidence-aware, --exit-aware and --entry-shift are for the separable method: the directional dipole depends on both angles itself"
         );
     }
     if a.translucency == Some(OnOff::On) {
@@ -1172,10 +1221,11 @@ fn surface_setup(
     }
     if a.incidence_aware == OnOff::On
         || a.exit_aware != ExitAware::Off
+        || a.entry_shift == OnOff::On
         || a.translucency == Some(OnOff::On)
     {
         bail!(
-            "--incidence-aware, --exit-aware and --translucency are for the separable method: the surface gather brings the angle tables and the light through thin parts itself"
+            "--incidence-aware, --exit-aware, --entry-shift and --translucency are for the separable method: the surface gather brings the angle tables, the entry direction and the light through thin parts itself"
         );
     }
     let profile = a.source.profile(named, files)?;

@@ -7,13 +7,15 @@
 
 use glam::Mat4;
 
+use crate::angles::INCIDENCE_STEPS;
 use crate::context::{Gpu, cleared_depth, compute_pipeline};
+use crate::entry_shift::EntryShift;
 use crate::light::MAX_EMITTERS;
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
 use crate::recording::Recording;
 use crate::scene::{AlbedoMode, Scene};
-use crate::shading::{INCIDENCE_STEPS, Shading, TRANSLUCENCY_STEPS, incidence_hemispherical};
+use crate::shading::{Shading, TRANSLUCENCY_STEPS, incidence_hemispherical};
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -56,6 +58,8 @@ struct MaterialU {
     translucency_exit: [[f32; 4]; TRANSLUCENCY_STEPS * INCIDENCE_STEPS],
     /// h(θ_o; θ_i) at 0°, 10°, …, 80°, [θ_i·9 + θ_o] (rgb).
     exit: [[f32; 4]; INCIDENCE_STEPS * INCIDENCE_STEPS],
+    /// The entry shift δ(θ) [cm] at 0°, 10°, …, 80° (rgb); w of the first: 1 on, 0 off.
+    shift: [[f32; 4]; INCIDENCE_STEPS],
 }
 
 impl MaterialU {
@@ -88,6 +92,11 @@ impl MaterialU {
                 None => [[1.0; 4]; TRANSLUCENCY_STEPS * INCIDENCE_STEPS],
             },
             exit: std::array::from_fn(|i| rgb(s.exit[i / INCIDENCE_STEPS][i % INCIDENCE_STEPS])),
+            shift: {
+                let mut t = s.entry_shift.shift_cm.map(rgb);
+                t[0][3] = (s.entry_shift != EntryShift::NONE) as u32 as f32;
+                t
+            },
         }
     }
 }
@@ -101,12 +110,12 @@ pub(crate) const SCENE_WGSL: &str = concat!(
 );
 
 /// The size of scene.wgsl's `Globals`: 2 mat4 + 3 vec4 + 64 emitters × 192 + per material 10 vec4
-/// of incidence, 17 vec4 of translucency, 16 × 9 vec4 of its exit and 9 × 9 vec4 of exit
-/// (checked against naga's layout in a test).
+/// of incidence, 17 vec4 of translucency, 16 × 9 vec4 of its exit, 9 × 9 vec4 of exit and 9
+/// vec4 of entry shift (checked against naga's layout in a test).
 pub(crate) const GLOBALS_SIZE: usize = 2 * 64
     + 3 * 16
     + MAX_EMITTERS * 192
-    + MAX_MATERIALS * (10 * 16 + 17 * 16 + 16 * 9 * 16 + 9 * 9 * 16);
+    + MAX_MATERIALS * (10 * 16 + 17 * 16 + 16 * 9 * 16 + 9 * 9 * 16 + 9 * 16);
 const _: () = assert!(std::mem::size_of::<Globals>() == GLOBALS_SIZE);
 
 /// Scene targets: diffuse; specular + strength; view depth + packed post-scatter albedo.

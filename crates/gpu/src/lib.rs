@@ -29,6 +29,7 @@
 // Units are written in brackets as in the papers, [cm⁻¹]; rustdoc would take them for links.
 #![allow(rustdoc::broken_intra_doc_links)]
 
+mod angles;
 pub mod area_gather;
 pub mod bench;
 mod blur;
@@ -37,6 +38,7 @@ pub mod compare;
 mod context;
 pub mod dipole;
 pub mod disc_gather;
+mod entry_shift;
 mod error;
 mod gbuffer;
 mod half;
@@ -55,12 +57,14 @@ pub mod surface_gather;
 mod target;
 mod timing;
 
+pub use angles::{INCIDENCE_STEPS, incidence_ratio};
 pub use area_gather::{AreaGatherSetup, AreaKernel, GatherPattern};
 pub use blur::{BlurParams, DepthMode, GpuKernel, blur_image};
 pub use compare::{Comparison, compare_kernels, compare_models};
 pub use context::Gpu;
 pub use dipole::DipoleSetup;
 pub use disc_gather::{DISC_LIGHTS, Sampling};
+pub use entry_shift::{EntryShift, SHIFT_GRID_HALF_WIDTH, SHIFT_GRID_REACH_MFP};
 pub use error::{GpuError, Result};
 pub use light::{AREA_CELLS, Emitter, Light, MAX_EMITTERS, emitters};
 pub use mesh::{Mesh, Vertex};
@@ -69,8 +73,8 @@ pub use render::{Frame, FrameTime, Renderer, SUBPIXEL_PX, Scatter, kernel_footpr
 pub use request::{Method, RenderRequest};
 pub use scene::{AlbedoMode, Camera, Scene};
 pub use shading::{
-    AngleTables, ExitTable, INCIDENCE_STEPS, RHO_PHOTONS, Shading, TRANSLUCENCY_STEPS,
-    Translucency, exit_ratio, incidence_hemispherical, incidence_ratio,
+    AngleTables, ExitTable, RHO_PHOTONS, Shading, TRANSLUCENCY_STEPS, Translucency, exit_ratio,
+    incidence_hemispherical,
 };
 pub use surface_gather::{Bssrdf, DirectionalTable, SurfaceGatherSetup};
 pub use timing::PassTime;

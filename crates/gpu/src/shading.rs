@@ -2,6 +2,8 @@
 //! against the angle of incidence, the radiance against the exit angle, and the light carried
 //! through thin parts (tables from `mc`, read by the scene pass).
 
+use crate::angles::{INCIDENCE_STEPS, incidence_ratio};
+use crate::entry_shift::EntryShift;
 use crate::error::{GpuError, Result};
 
 /// How the surfaces of one SSS material are shaded around the scattering; the default is off
@@ -24,6 +26,12 @@ pub struct Shading {
     pub exit: ExitTable,
     /// Light through thin parts of SSS surfaces (None: off).
     pub translucency: Option<Translucency>,
+    /// Entry-shifted shading: light entering at θ leaves a half-space δ(θ) ahead of its entry
+    /// on average ([`EntryShift`]); the scene pass shades each SSS pixel with the light that
+    /// entered δ behind it along each light's propagation over the surface (that point's
+    /// shadow, and its normal from the surface's curvature), which the radial blur then
+    /// spreads. [`EntryShift::NONE`]: off.
+    pub entry_shift: EntryShift,
     /// The relative refractive index η of the material's smooth boundary (1: index-matched).
     /// SSS surfaces reflect area lights in mirror with the Fresnel reflectance F(η, θ) at the
     /// view angle, and light entering the back face of a thin part at incidence θ is scaled by
@@ -37,6 +45,7 @@ impl Shading {
         if let Some(t) = &self.translucency {
             t.validate()?;
         }
+        self.entry_shift.validate()?;
         if !(self.eta.is_finite() && self.eta > 0.0) {
             return Err(GpuError::invalid("eta", self.eta, "must be positive"));
         }
@@ -69,13 +78,11 @@ impl Default for Shading {
             incidence: [[1.0; 3]; INCIDENCE_STEPS],
             exit: [[[1.0; 3]; INCIDENCE_STEPS]; INCIDENCE_STEPS],
             translucency: None,
+            entry_shift: EntryShift::NONE,
             eta: 1.0,
         }
     }
 }
-
-/// Entries of [`Shading::incidence`] and of each axis of [`Shading::exit`]: θ = 0°, 10°, …, 80°.
-pub const INCIDENCE_STEPS: usize = 9;
 
 /// An exit table h(θ_o; θ_i) per channel, [θ_i][θ_o] at 0°, 10°, …, 80°: the angular law of the
 /// reflected light depends on the angle it entered at. For isotropic scattering behind a matched
@@ -432,18 +439,6 @@ fn exit_angles(bins: &[mc::exitance::ExitBin]) -> [(f32, f32); INCIDENCE_STEPS] 
             (0.5 * (a.se.powi(2) + b.se.powi(2)).sqrt()) as f32,
         )
     })
-}
-
-/// ρ(θ)/ρ(0) at cos θ = `cos_i` from an incidence table (or h(θ) from an exit table), linear in θ
-/// between entries (what the scene shader evaluates).
-pub fn incidence_ratio(table: &[[f32; 3]; INCIDENCE_STEPS], cos_i: f32) -> [f32; 3] {
-    let t = cos_i.clamp(0.0, 1.0).acos().to_degrees() / 10.0;
-    let i = (t.floor() as usize).min(INCIDENCE_STEPS - 1);
-    if i + 1 >= INCIDENCE_STEPS {
-        return table[INCIDENCE_STEPS - 1];
-    }
-    let f = t - i as f32;
-    [0, 1, 2].map(|c| table[i][c] * (1.0 - f) + table[i + 1][c] * f)
 }
 
 /// h(θ_o; θ_i) from an exit table at exit cosine `cos_o` and entry cosine `cos_i`: linear in θ_o

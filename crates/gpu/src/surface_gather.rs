@@ -22,10 +22,11 @@
 //! sampling: where the surface curves, the 3-D distance |x_o − x_i| differs from the disc radius,
 //! and the uniform share keeps the density positive wherever the response may be.
 
+use crate::angles::{INCIDENCE_STEPS, incidence_ratio};
 use crate::disc_gather::{DiscPipelines, Model, Sampling, gather_wgsl};
 use crate::error::{GpuError, Result};
 use crate::recording::Recording;
-use crate::shading::{AngleTables, INCIDENCE_STEPS};
+use crate::shading::AngleTables;
 use crate::target::Target;
 
 /// Which Monte Carlo BSSRDF the surface gather integrates.
@@ -464,7 +465,7 @@ impl SurfaceGatherSetup {
     /// distance `r` [cm] (the shader's [`Bssrdf::Radial`] twin) [cm⁻²].
     pub fn radial_response(&self, r: f64, cos_i: f64) -> [f64; 3] {
         let bin = (r / self.dr_cm) as usize;
-        let ratio = crate::shading::incidence_ratio(&self.angles.incidence, cos_i as f32);
+        let ratio = incidence_ratio(&self.angles.incidence, cos_i as f32);
         match self.profile.get(bin) {
             Some(v) => std::array::from_fn(|c| v[c] * ratio[c] as f64),
             None => [0.0; 3],

@@ -12,11 +12,11 @@
 //! Under CI=true a missing adapter fails.
 
 use glam::Vec3;
-use gpu::{Bssrdf, Camera, Mesh, RenderParams, Scatter, SurfaceGatherSetup, render};
+use gpu::{Bssrdf, RenderParams, Scatter, SurfaceGatherSetup, render};
 use std::f64::consts::PI;
 
 mod common;
-use common::{centre_mean, gpu, slab_scene};
+use common::{centre_mean, gpu, shadow_edge_scene, slab_scene};
 
 const SIZE: u32 = 48;
 const PHOTONS: u64 = 100_000;
@@ -280,29 +280,9 @@ fn the_directional_bssrdf_carries_light_forward_across_a_shadow_edge() {
         sx / sw
     });
     let Some(gpu) = gpu() else { return };
-    // Light from −x at 60° propagates towards +x. A black box 10–10.5 cm above the slab over
-    // x < −10.5·tan 60° puts the shadow edge (cast by its upper corner) at x = 0, the shadow on
-    // its −x side, the box outside the camera's view.
-    let (sin, cos) = 60f32.to_radians().sin_cos();
-    let reach = 10.5 * sin / cos;
-    let mut scene = slab_scene(4.0, 100.0, Vec3::new(-sin, cos, 0.0));
-    scene.mesh = Mesh::cuboid(
-        Vec3::new(-60.0, -4.0, -40.0),
-        Vec3::new(40.0, 0.0, 40.0),
-        [1.0; 3],
-        1.0,
-    );
-    scene.mesh.append(&Mesh::cuboid(
-        Vec3::new(-60.0, 10.0, -40.0),
-        Vec3::new(-reach, 10.5, 40.0),
-        [0.0; 3],
-        0.0,
-    ));
-    scene.camera = Camera {
-        position: Vec3::new(0.0, 100.0, 0.0),
-        target: Vec3::new(0.0, 0.0, 0.0),
-        fov_y_deg: 2.0 * (3.0f32 / 100.0).atan().to_degrees(),
-    };
+    // Light from −x at 60° propagates towards +x; the shadow edge at x = 0, the shadow on its
+    // −x side.
+    let scene = shadow_edge_scene(3.0);
     // Pixels of 1/64 cm: the blue exit distribution is about 0.1 cm wide.
     let size = 384u32;
     let px = 6.0 / size as f64; // [cm]

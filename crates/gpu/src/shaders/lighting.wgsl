@@ -34,6 +34,9 @@ struct Material {
     // surface's for light that entered at θ_i, h(θ_o; θ_i) at 0°, 10°, …, 80°, [θ_i·9 + θ_o]
     // (rgb; all ones: off).
     exit: array<vec4<f32>, 81>,
+    // Entry-shifted shading: the centroid δ(θ) [cm] of the light a half-space returns ahead of
+    // where it entered at θ = 0°, 10°, …, 80° (rgb; gpu::EntryShift); shift[0].w: 1 on, 0 off.
+    shift: array<vec4<f32>, 9>,
 };
 
 struct Globals {
@@ -222,6 +225,69 @@ fn exit_table(m: u32, cos_o: f32, cos_i: f32) -> vec3<f32> {
     return mix(a, b, e.y);
 }
 
+// How the surface turns around a point: the screen-space derivatives of the position [cm] and of
+// the unit normal (scene.wgsl); all 0 where they are unknown (the splats), read as flat.
+struct Local {
+    dpx: vec3<f32>,
+    dpy: vec3<f32>,
+    dnx: vec3<f32>,
+    dny: vec3<f32>,
+};
+
+// The change of the unit normal over a displacement d [cm] along the surface: d written in the
+// position's two screen derivatives (least squares), the normal's derivatives applied. At most
+// half a unit (≈ 30°): across a crease or a silhouette the derivatives say nothing of the
+// surface.
+fn normal_turn(loc: Local, d: vec3<f32>) -> vec3<f32> {
+    let a = dot(loc.dpx, loc.dpx);
+    let b = dot(loc.dpx, loc.dpy);
+    let c = dot(loc.dpy, loc.dpy);
+    let det = a * c - b * b;
+    if !(det > 1e-6 * a * c) {
+        return vec3<f32>(0.0);
+    }
+    let u = dot(loc.dpx, d);
+    let v = dot(loc.dpy, d);
+    let dn = ((c * u - b * v) * loc.dnx + (a * v - b * u) * loc.dny) / det;
+    return dn * min(1.0, 0.5 / max(length(dn), 1e-30));
+}
+
+// Light i entering SSS material m where it leaves at `world` (unit normal n, `l` the unit
+// direction towards the light, `scale` its irradiance at normal incidence), entry-shifted
+// (gpu::EntryShift): light entering at θ leaves a half-space δ(θ) ahead of its entry along the
+// propagation projected on the surface, t = −l less its part along n. So the light that leaves
+// here entered δ behind, at world − δ·t (per channel), where the normal has turned by the
+// surface's curvature (normal_turn) and the shadow is that point's: the light's incidence there,
+// the incidence table at it, its shadow map. δ is read at the angle here (from behind, cos ≤ 0,
+// the 80° value: what enters just before the terminator reaches past it). x: the entering
+// light (rgb), y: unshadowed (rgb), z.x: the cosine of incidence weighted by it.
+fn shifted_entry(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, scale: vec3<f32>,
+                 loc: Local) -> array<vec3<f32>, 3> {
+    let t = -l + dot(n, l) * n;
+    let along = length(t);
+    let delta = angle_table(g.materials[m].shift, dot(n, l));
+    var entering = vec3<f32>(0.0);
+    var unshadowed = vec3<f32>(0.0);
+    var cos_w = 0.0;
+    for (var c = 0u; c < 3u; c++) {
+        var p = world;
+        var nc = n;
+        if along > 1e-4 {
+            let d = -delta[c] * t / along;
+            p = world + d;
+            nc = normalize(n + normal_turn(loc, d));
+        }
+        let ndl = dot(nc, l);
+        if ndl > 0.0 {
+            let e = scale[c] * ndl * angle_table(g.materials[m].incidence, ndl)[c];
+            unshadowed[c] = e;
+            entering[c] = e * shadow(i, p, l, ndl);
+            cos_w += e * ndl;
+        }
+    }
+    return array<vec3<f32>, 3>(entering, unshadowed, vec3<f32>(cos_w, 0.0, 0.0));
+}
+
 struct Lit {
     diffuse: vec3<f32>,
     specular: vec3<f32>,
@@ -234,9 +300,11 @@ struct Lit {
 
 // What arrives at `world` with unit normal `n`, seen from `view_dir`: the diffuse irradiance (on
 // SSS surfaces of material m with its incidence table and, with `through`, the light that crosses
-// thin parts from behind) and the specular: Blinn–Phong, plus on SSS surfaces the mirror image
-// of area lights in their dielectric boundary.
-fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool, through: bool) -> Lit {
+// thin parts from behind; entry-shifted where the material says so, `loc` the surface's turn)
+// and the specular: Blinn–Phong, plus on SSS surfaces the mirror image of area lights in their
+// dielectric boundary.
+fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool, through: bool,
+         loc: Local) -> Lit {
     var irradiance = g.ambient.rgb * select(vec3<f32>(1.0), g.materials[m].incidence_ambient.rgb, sss);
     var spec = vec3<f32>(0.0);
     var entry_w = 0.0;
@@ -244,6 +312,7 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
     // Light through thin parts, with its own angular distribution h_T.
     var through_light = vec3<f32>(0.0);
     let cos_o = dot(n, view_dir);
+    let shifting = sss && g.materials[m].shift[0].w > 0.5;
     for (var i = 0u; i < u32(g.params.x); i++) {
         let l4 = g.lights[i].pos_or_dir;
         var l = normalize(l4.xyz);
@@ -271,6 +340,14 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
                     through_light += scale * c * entry * translucency(m, d) * translucency_exit(m, d, cos_o);
                 }
             }
+        }
+        if shifting {
+            let e = shifted_entry(i, m, world, n, l, scale, loc);
+            irradiance += e[0];
+            entry_w += e[1].r + e[1].g + e[1].b;
+            entry_c += e[2].x;
+        }
+        if n_dot_l <= 0.0 {
             continue;
         }
         let vis = shadow(i, world, l, n_dot_l);
@@ -280,11 +357,13 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
             // centre (the cell's shadow map) hides the mirror image.
             spec += mirror(i, world, n, view_dir, eta) * vis;
         }
-        let entering = scale * n_dot_l * select(vec3<f32>(1.0), angle_table(g.materials[m].incidence, n_dot_l), sss);
-        irradiance += entering * vis;
-        let w = entering.r + entering.g + entering.b;
-        entry_w += w;
-        entry_c += w * n_dot_l;
+        if !shifting {
+            let entering = scale * n_dot_l * select(vec3<f32>(1.0), angle_table(g.materials[m].incidence, n_dot_l), sss);
+            irradiance += entering * vis;
+            let w = entering.r + entering.g + entering.b;
+            entry_w += w;
+            entry_c += w * n_dot_l;
+        }
         let h = normalize(l + view_dir);
         spec += scale * g.params.z * pow(max(dot(n, h), 0.0), g.params.w) * n_dot_l * vis;
     }

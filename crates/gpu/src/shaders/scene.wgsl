@@ -49,14 +49,13 @@ struct FOut {
 
 @fragment
 fn fs(v: VOut, @builtin(front_facing) front: bool) -> FOut {
-    var n = normalize(v.normal);
-    if !front {
-        n = -n;
-    }
+    let n = select(-1.0, 1.0, front) * normalize(v.normal);
+    // How the surface turns here (entry-shifted shading, lighting.wgsl).
+    let loc = Local(dpdxFine(v.world), dpdyFine(v.world), dpdxFine(n), dpdyFine(n));
     let view_dir = normalize(g.camera_pos.xyz - v.world);
     let sss = v.strength > 0.0;
     let m = min(v.material, 3u);
-    let lit = shade(v.world, n, view_dir, m, sss, true);
+    let lit = shade(v.world, n, view_dir, m, sss, true, loc);
     let split = albedo_split(v.albedo);
     var o: FOut;
     // Alpha: the material index (unpack.wgsl moves it next to depth and strength).

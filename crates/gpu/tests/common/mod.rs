@@ -57,6 +57,35 @@ pub fn slab_scene(thickness: f32, camera_y: f32, towards: Vec3) -> Scene {
     }
 }
 
+/// A straight shadow edge across a thick slab of SSS material (y ∈ [−4, 0], x ∈ [−60, 40] cm)
+/// under a distant light of unit irradiance from −x at 60°, whose propagation runs towards +x: a
+/// black box 10–10.5 cm above the slab over x < −10.5·tan 60° puts the edge (cast by its upper
+/// corner) at x = 0, the shadow on its −x side. The camera looks straight down from 100 cm at
+/// ±`half_view_cm` around the edge (the box outside its view).
+pub fn shadow_edge_scene(half_view_cm: f32) -> Scene {
+    let (sin, cos) = 60f32.to_radians().sin_cos();
+    let reach = 10.5 * sin / cos;
+    let mut scene = slab_scene(4.0, 100.0, Vec3::new(-sin, cos, 0.0));
+    scene.mesh = Mesh::cuboid(
+        Vec3::new(-60.0, -4.0, -40.0),
+        Vec3::new(40.0, 0.0, 40.0),
+        [1.0; 3],
+        1.0,
+    );
+    scene.mesh.append(&Mesh::cuboid(
+        Vec3::new(-60.0, 10.0, -40.0),
+        Vec3::new(-reach, 10.5, 40.0),
+        [0.0; 3],
+        0.0,
+    ));
+    scene.camera = Camera {
+        position: Vec3::new(0.0, 100.0, 0.0),
+        target: Vec3::new(0.0, 0.0, 0.0),
+        fov_y_deg: 2.0 * (half_view_cm / 100.0).atan().to_degrees(),
+    };
+    scene
+}
+
 /// The mean of the scattered light over the central 16×16 pixels of a `size`² frame.
 pub fn centre_mean(frame: &gpu::Frame, size: u32) -> [f64; 3] {
     let mut acc = [0.0; 3];

@@ -1,0 +1,145 @@
+//! Entry-shifted shading (`Shading::entry_shift`) against geometry computed here: each SSS pixel
+//! is shaded with the light that entered δ(θ) behind it along the light's propagation over the
+//! surface.
+//! - On a flat surface under a distant light that is an exact translation of the irradiance by
+//!   δ along the propagation: across a straight shadow edge, ∫(E − E′) dx = δ·E_lit, whatever
+//!   the shadow filter does to the edge's shape.
+//! - On a sphere the normal turns: a point past the terminator gets the light of the point δ
+//!   behind it, I·max(n′·l, 0) with n′ that point's normal, and the unshifted shading leaves it
+//!   black.
+//!
+//! Under CI=true a missing adapter fails.
+
+use glam::Vec3;
+use gpu::{
+    AlbedoMode, EntryShift, INCIDENCE_STEPS, Light, MAX_MATERIALS, RenderParams, Scatter, Scene,
+    Shading, render,
+};
+
+mod common;
+use common::{gpu, shadow_edge_scene};
+
+/// A table δ(θ) = d_c·sin θ [cm] at the incidence table's angles.
+fn table(d: [f32; 3]) -> EntryShift {
+    let mut t = EntryShift::NONE;
+    for k in 0..INCIDENCE_STEPS {
+        let s = (10.0 * k as f32).to_radians().sin();
+        t.shift_cm[k] = d.map(|v| v * s);
+    }
+    t
+}
+
+fn params(width: u32, height: u32, shift: EntryShift) -> RenderParams {
+    RenderParams {
+        width,
+        height,
+        albedo: AlbedoMode::Post,
+        shading: [Shading {
+            entry_shift: shift,
+            ..Shading::default()
+        }; MAX_MATERIALS],
+        ..RenderParams::default()
+    }
+}
+
+#[test]
+fn a_flat_surface_moves_its_shadow_edge_forward_by_the_shift() {
+    let Some(gpu) = gpu() else { return };
+    // The edge at x = 0, its shadow on the −x side, the light's propagation towards +x.
+    let scene = shadow_edge_scene(1.5);
+    let (sin, cos) = 60f32.to_radians().sin_cos();
+    let size = 256u32;
+    let px = 3.0 / size as f64; // [cm]
+    let d = [0.05, 0.1, 0.2];
+    let plain = render(
+        &gpu,
+        &scene,
+        Scatter::None,
+        &params(size, size, EntryShift::NONE),
+    )
+    .unwrap();
+    let shifted = render(&gpu, &scene, Scatter::None, &params(size, size, table(d))).unwrap();
+    let w = size as usize;
+    let column = |f: &gpu::Frame, x: usize, c: usize| {
+        (0..w)
+            .map(|y| f.irradiance[y * w + x][c] as f64)
+            .sum::<f64>()
+            / w as f64
+    };
+    // Which side is lit in the image (the edge is in the middle column).
+    let lit_left = column(&plain, 2, 0) > column(&plain, w - 3, 0);
+    let lit_x = if lit_left { 2 } else { w - 3 };
+    for (c, dc) in d.iter().enumerate() {
+        let lit = column(&plain, lit_x, c);
+        assert!(
+            (lit - cos as f64).abs() < 1e-3,
+            "lit irradiance {lit} vs cos 60° {cos}"
+        );
+        let lost: f64 = (0..w)
+            .map(|x| column(&plain, x, c) - column(&shifted, x, c))
+            .sum::<f64>()
+            * px
+            / lit;
+        let want = (dc * sin) as f64;
+        eprintln!("channel {c}: the shadow edge moved {lost:.4} cm forward; δ(60°) = {want:.4} cm");
+        assert!(
+            (lost / want - 1.0).abs() < 0.02,
+            "channel {c}: {lost} vs {want}"
+        );
+    }
+}
+
+#[test]
+fn a_sphere_is_lit_past_its_terminator_by_the_shift() {
+    let Some(gpu) = gpu() else { return };
+    let mut scene = Scene::sphere();
+    let towards = Vec3::new(1.0, 0.3, -0.2).normalize();
+    // Without a shadow map: what reaches each point is its cosine alone.
+    scene.lights = vec![Light::Directional {
+        towards,
+        irradiance: Vec3::ONE,
+        shadow: false,
+    }];
+    scene.ambient = Vec3::ZERO;
+    scene.specular = 0.0;
+    let (w, h) = (640u32, 360u32);
+    let d = [0.2f32, 0.4, 0.8];
+    let shift = table(d);
+    let plain = render(&gpu, &scene, Scatter::None, &params(w, h, EntryShift::NONE)).unwrap();
+    let shifted = render(&gpu, &scene, Scatter::None, &params(w, h, shift)).unwrap();
+    let (centre, radius) = (Vec3::new(0.0, 5.0, 0.0), 5.0f32);
+    // Points on the great circle through the terminator that faces the camera, at angle a from
+    // it (n·l = sin a).
+    let to_camera = (scene.camera.position - centre).normalize();
+    let u = (to_camera - to_camera.dot(towards) * towards).normalize();
+    let vp = scene.camera.projection(w as f32 / h as f32, 1.0, 5000.0) * scene.camera.view();
+    for a_deg in [-10.0f32, -6.0, -3.0, 2.0, 6.0, 20.0] {
+        let a = a_deg.to_radians();
+        let n = a.cos() * u + a.sin() * towards;
+        let x = centre + radius * n;
+        let clip = vp * x.extend(1.0);
+        let (px, py) = (
+            ((clip.x / clip.w * 0.5 + 0.5) * w as f32) as usize,
+            ((0.5 - clip.y / clip.w * 0.5) * h as f32) as usize,
+        );
+        let i = py * w as usize + px;
+        // The entry δ behind along the propagation over the surface, on the sphere.
+        let t = (-towards + n.dot(towards) * n).normalize();
+        let cos_i = n.dot(towards);
+        for c in 0..3 {
+            let delta = shift.at(cos_i)[c];
+            let n2 = (x - delta * t - centre).normalize();
+            let want = n2.dot(towards).max(0.0);
+            let got = shifted.irradiance[i][c];
+            eprintln!(
+                "a = {a_deg}°, channel {c}: {got:.4} (δ behind: {want:.4}; unshifted {:.4})",
+                plain.irradiance[i][c]
+            );
+            assert!(
+                (got - want).abs() < 0.015,
+                "a = {a_deg}°, channel {c}: {got} vs {want}"
+            );
+            assert!((plain.irradiance[i][c] - cos_i.max(0.0)).abs() < 0.015);
+        }
+    }
+}
