@@ -51,10 +51,8 @@ impl EntryShift {
             ));
         }
         let n = SHIFT_GRID_HALF_WIDTH;
-        let mut s = spec.clone();
-        s.tallies.surface_xy = n;
         let mut cells = [0.0f64; 3];
-        for (c, ch) in s.channels.iter_mut().enumerate() {
+        for (c, ch) in spec.channels.iter().enumerate() {
             let m = fit::analytic::Medium::of_layer(&ch.layer, spec.n_above);
             let mfp = 1.0 / m.sigma_t_reduced();
             if !(mfp.is_finite() && mfp > 0.0) {
@@ -65,43 +63,32 @@ impl EntryShift {
                 ));
             }
             cells[c] = SHIFT_GRID_REACH_MFP * mfp / n as f64;
-            ch.grid.dr = cells[c];
-            ch.grid.nr = n;
         }
         let side = 2 * n + 1;
+        let angles: Vec<f64> = (0..INCIDENCE_STEPS).map(|k| 10.0 * k as f64).collect();
         let mut table = EntryShift::NONE;
-        for k in 0..INCIDENCE_STEPS {
-            let run = mc::BatchSpec {
-                seed: spec.seed.wrapping_add(k as u64),
-                ..s.clone()
-            };
-            let theta_deg = 10.0 * k as f64;
-            let out = mc::run_batch_at(&run, mc::incidence::Incidence { theta_deg }, progress)?;
+        mc::incidence::surface_grid_runs(spec, n, &cells, &angles, progress, |k, out| {
             for (c, o) in out.iter().enumerate() {
-                // Cell (ix, iy) is centred at x = (ix − n)·s: the first moment and its standard
-                // error (cells independent: each photon exits once), δ = Σx·w/Σw.
-                let (mut sum_w, mut sum_xw) = (0.0, 0.0);
-                for (i, v) in o.rd_xy.iter().enumerate() {
-                    let x = ((i % side) as f64 - n as f64) * cells[c];
-                    sum_w += v.value;
-                    sum_xw += x * v.value;
-                }
+                // Cell (ix, iy) is centred at x = (ix − n)·s: the first moment δ = Σx·w/Σw and
+                // its standard error (cells independent: each photon exits once).
+                let x = |i: usize| ((i % side) as f64 - n as f64) * cells[c];
+                let sum_w: f64 = o.rd_xy.iter().map(|v| v.value).sum();
                 if sum_w > 0.0 {
-                    let delta = sum_xw / sum_w;
-                    let var: f64 = o
+                    let sum_xw: f64 = o
                         .rd_xy
                         .iter()
                         .enumerate()
-                        .map(|(i, v)| {
-                            let x = ((i % side) as f64 - n as f64) * cells[c];
-                            ((x - delta) / sum_w * v.se).powi(2)
-                        })
+                        .map(|(i, v)| x(i) * v.value)
+                        .sum();
+                    let delta = sum_xw / sum_w;
+                    let var: f64 = (o.rd_xy.iter().enumerate())
+                        .map(|(i, v)| ((x(i) - delta) / sum_w * v.se).powi(2))
                         .sum();
                     table.shift_cm[k][c] = delta as f32;
                     table.shift_se_cm[k][c] = var.sqrt() as f32;
                 }
             }
-        }
+        })?;
         table.validate()?;
         Ok(table)
     }
@@ -128,7 +115,7 @@ impl EntryShift {
     }
 
     /// δ at cos θ = `cos_i` per channel [cm], linear in θ between entries, the 80° value beyond
-    /// (also for light from behind, cos θ ≤ 0): what lighting.wgsl's `entry_shift` evaluates.
+    /// (also for light from behind, cos θ ≤ 0): what lighting.wgsl's `shifted_entry` reads.
     pub fn at(&self, cos_i: f32) -> [f32; 3] {
         incidence_ratio(&self.shift_cm, cos_i)
     }

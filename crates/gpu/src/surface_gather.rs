@@ -99,32 +99,29 @@ impl DirectionalTable {
         }
         let n = half_width;
         let cell_cm = reach_cm.map(|r| r / n as f64);
-        let mut s = spec.clone();
-        s.tallies.surface_xy = n;
-        for (ch, cell) in s.channels.iter_mut().zip(cell_cm) {
-            ch.grid.dr = cell;
-            ch.grid.nr = n;
-        }
         let (side, rows) = (2 * n + 1, n + 1);
         let mut rd = Vec::with_capacity(DIRECTIONAL_ANGLES.len() * 3 * side * rows);
         let mut totals = Vec::new();
-        for (k, &theta_deg) in DIRECTIONAL_ANGLES.iter().enumerate() {
-            let run = mc::BatchSpec {
-                seed: spec.seed.wrapping_add(k as u64),
-                ..s.clone()
-            };
-            let out = mc::run_batch_at(&run, mc::incidence::Incidence { theta_deg }, progress)?;
-            for o in &out {
-                for iy in 0..rows {
-                    let (a, b) = (n + iy, n - iy);
-                    for ix in 0..side {
-                        let v = 0.5 * (o.rd_xy[a * side + ix].value + o.rd_xy[b * side + ix].value);
-                        rd.push(v as f32);
+        mc::incidence::surface_grid_runs(
+            spec,
+            n,
+            &cell_cm,
+            &DIRECTIONAL_ANGLES,
+            progress,
+            |_, out| {
+                for o in out {
+                    for iy in 0..rows {
+                        let (a, b) = (n + iy, n - iy);
+                        for ix in 0..side {
+                            let v =
+                                0.5 * (o.rd_xy[a * side + ix].value + o.rd_xy[b * side + ix].value);
+                            rd.push(v as f32);
+                        }
                     }
                 }
-            }
-            totals.push([out[0].rd, out[1].rd, out[2].rd]);
-        }
+                totals.push([out[0].rd, out[1].rd, out[2].rd]);
+            },
+        )?;
         Ok(DirectionalTable {
             half_width: n,
             cell_cm,

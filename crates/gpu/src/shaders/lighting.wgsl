@@ -259,16 +259,21 @@ fn normal_turn(loc: Local, d: vec3<f32>) -> vec3<f32> {
 // here entered δ behind, at world − δ·t (per channel), where the normal has turned by the
 // surface's curvature (normal_turn) and the shadow is that point's: the light's incidence there,
 // the incidence table at it, its shadow map. δ is read at the angle here (from behind, cos ≤ 0,
-// the 80° value: what enters just before the terminator reaches past it). x: the entering
-// light (rgb), y: unshadowed (rgb), z.x: the cosine of incidence weighted by it.
+// the 80° value: what enters just before the terminator reaches past it).
+struct Entry {
+    // The entering light (rgb), and without shadows (what weighs the exit law's entry angle).
+    light: vec3<f32>,
+    unshadowed: vec3<f32>,
+    // Σ over channels of the unshadowed light × its cosine of incidence.
+    cos_weighted: f32,
+};
+
 fn shifted_entry(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, scale: vec3<f32>,
-                 loc: Local) -> array<vec3<f32>, 3> {
+                 loc: Local) -> Entry {
     let t = -l + dot(n, l) * n;
     let along = length(t);
     let delta = angle_table(g.materials[m].shift, dot(n, l));
-    var entering = vec3<f32>(0.0);
-    var unshadowed = vec3<f32>(0.0);
-    var cos_w = 0.0;
+    var e = Entry(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
     for (var c = 0u; c < 3u; c++) {
         var p = world;
         var nc = n;
@@ -279,13 +284,13 @@ fn shifted_entry(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, s
         }
         let ndl = dot(nc, l);
         if ndl > 0.0 {
-            let e = scale[c] * ndl * angle_table(g.materials[m].incidence, ndl)[c];
-            unshadowed[c] = e;
-            entering[c] = e * shadow(i, p, l, ndl);
-            cos_w += e * ndl;
+            let u = scale[c] * ndl * angle_table(g.materials[m].incidence, ndl)[c];
+            e.unshadowed[c] = u;
+            e.light[c] = u * shadow(i, p, l, ndl);
+            e.cos_weighted += u * ndl;
         }
     }
-    return array<vec3<f32>, 3>(entering, unshadowed, vec3<f32>(cos_w, 0.0, 0.0));
+    return e;
 }
 
 struct Lit {
@@ -341,18 +346,23 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
                 }
             }
         }
+        let eta = g.materials[m].translucency_params.w;
+        let mirrored = cell && sss && eta != 1.0;
         if shifting {
             let e = shifted_entry(i, m, world, n, l, scale, loc);
-            irradiance += e[0];
-            entry_w += e[1].r + e[1].g + e[1].b;
-            entry_c += e[2].x;
+            irradiance += e.light;
+            entry_w += e.unshadowed.r + e.unshadowed.g + e.unshadowed.b;
+            entry_c += e.cos_weighted;
+            // What remains here is the specular light: without any, no shadow test here.
+            if !(g.params.z > 0.0 || mirrored) {
+                continue;
+            }
         }
         if n_dot_l <= 0.0 {
             continue;
         }
         let vis = shadow(i, world, l, n_dot_l);
-        let eta = g.materials[m].translucency_params.w;
-        if cell && sss && eta != 1.0 {
+        if mirrored {
             // The mirror ray meets the cell within half a cell of its centre: what hides the
             // centre (the cell's shadow map) hides the mirror image.
             spec += mirror(i, world, n, view_dir, eta) * vis;
