@@ -5,7 +5,8 @@ use anyhow::Result;
 use clap::{Args, Subcommand};
 use serde_json::json;
 
-use crate::{library, parse_count};
+use crate::common::parse_count;
+use crate::library;
 
 #[derive(Args)]
 pub struct BenchArgs {

@@ -17,9 +17,9 @@ use clap::Args;
 use fit::Profile;
 use mc::provenance::{self, Explicit, Provenance, Reuse, provenance_path};
 
+use crate::common::{self, parse_count};
 use crate::files::Outputs;
 use crate::library::{self, Named};
-use crate::{parse_count, progress, simulate};
 
 /// Where Monte Carlo profiles come from: a folder, with missing or mismatching ones simulated
 /// and written there.
@@ -61,7 +61,9 @@ pub struct ProfileSource {
 impl ProfileSource {
     /// The profile folder: `--profiles`, or `out`.
     pub fn folder(&self) -> PathBuf {
-        self.profiles.clone().unwrap_or_else(crate::default_out)
+        self.profiles
+            .clone()
+            .unwrap_or_else(crate::common::default_out)
     }
 
     /// The seed of every run: `--seed`, else the run settings' (`--config`, default the thesis's).
@@ -119,23 +121,21 @@ impl ProfileSource {
                 Reuse::Replace(why) => eprintln!("{why}: simulating again"),
             }
         }
-        let bar = progress::photons(
+        let bar = common::photons(
             photons * spec.groups().len() as u64,
             &format!("simulating {}", n.slug),
         );
-        let outputs = simulate::thread_pool(self.threads)?
-            .install(|| mc::run_batch(&spec, &|k| bar.inc(k)))?;
+        let simulated = crate::common::thread_pool(self.threads)?
+            .install(|| shading::profile::simulate(&spec, &name, &|k| bar.inc(k)))?;
         bar.finish_and_clear();
-        let text = Profile::csv_from_mc([&outputs[0], &outputs[1], &outputs[2]]);
         eprintln!(
             "simulated {} ({}) → {name} (written when the command has finished)",
             n.slug,
             asked.describe()
         );
-        let p = Profile::from_csv(&text, &name)?;
         out.add(provenance_path(&csv), asked.to_json());
-        out.add(csv, text);
-        Ok(p)
+        out.add(csv, simulated.csv);
+        Ok(simulated.profile)
     }
 }
 

@@ -15,7 +15,6 @@ use serde_json::json;
 use crate::cache::ProfileSource;
 use crate::files::Outputs;
 use crate::library;
-use crate::simulate;
 
 #[derive(Args)]
 pub struct EvalArgs {
@@ -38,7 +37,7 @@ pub struct EvalArgs {
 
 pub fn run(a: EvalArgs) -> Result<()> {
     let named = library::materials(&a.materials)?;
-    let pool = simulate::thread_pool(a.source.threads)?;
+    let pool = crate::common::thread_pool(a.source.threads)?;
     let mut out = Outputs::default();
     let mut materials = Vec::new();
     for n in &named {

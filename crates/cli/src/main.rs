@@ -6,6 +6,7 @@
 mod area_table;
 mod bench;
 mod cache;
+mod common;
 mod engine;
 mod eval;
 mod export;
@@ -14,7 +15,6 @@ mod fit;
 mod library;
 mod materials;
 mod profile;
-mod progress;
 mod render;
 mod reproduce;
 mod shard;
@@ -24,7 +24,8 @@ mod table;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use anyhow::Result;
+use clap::{Args, Parser, Subcommand};
 
 #[derive(Parser)]
 #[command(
@@ -63,7 +64,7 @@ enum Command {
     /// Apply a kernel in wgpu screen-space passes on a scene (PNG + linear PFM); --compare-models, --bench
     Render(render::RenderArgs),
     /// Merge shard files of one `simulate --shard` run or one `table --shard` build into its outputs
-    Merge(simulate::MergeArgs),
+    Merge(MergeArgs),
     /// Build Monte Carlo profile tables R̂(ρ; albedo) per (g, η): any material's profile then by interpolation, in milliseconds
     Table(table::TableArgs),
     /// List the built-in materials with σa, σs, g, η, albedo and mean free path per channel
@@ -80,7 +81,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Simulate(a) => simulate::simulate(a),
-        Command::Merge(a) => simulate::merge(a),
+        Command::Merge(a) => merge(a),
         Command::Table(a) => table::run(a),
         Command::Render(a) => render::run(a),
         Command::Profile(a) => profile::profile(a),
@@ -105,19 +106,29 @@ fn main() -> ExitCode {
     }
 }
 
-/// Parses a positive count written as an integer or in scientific notation (`1e6`).
-pub fn parse_count(s: &str) -> Result<u64, String> {
-    let v: f64 = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("{s:?} is not a number"))?;
-    if !(v.is_finite() && v >= 1.0 && v.fract() == 0.0 && v < u64::MAX as f64) {
-        return Err(format!("{s:?} must be a positive whole number"));
-    }
-    Ok(v as u64)
+#[derive(Args)]
+struct MergeArgs {
+    /// Shard files written by `sss simulate --shard` (all of one run), or by `sss table --shard` (all of one build)
+    #[arg(required = true, value_name = "SHARD.json")]
+    shards: Vec<PathBuf>,
+
+    /// Output folder (the same files as `simulate` or `table` writes)
+    #[arg(long, value_name = "DIR", default_value = "out")]
+    out: PathBuf,
+
+    /// Print a machine-readable summary on stdout
+    #[arg(long)]
+    json: bool,
 }
 
-/// Default output folder.
-pub fn default_out() -> PathBuf {
-    PathBuf::from("out")
+/// `sss merge`: a table build's shards (`sss table --shard`) or a profile run's (`sss simulate
+/// --shard`), told apart by the first file's format.
+fn merge(a: MergeArgs) -> Result<()> {
+    let texts = files::read_named(&a.shards, "shard")?;
+    match texts.first() {
+        Some((_, text)) if mc::table::TableShard::is_shard(text) => {
+            table::merge(&texts, &a.out, a.json)
+        }
+        _ => simulate::merge(&texts, &a.out, a.json),
+    }
 }

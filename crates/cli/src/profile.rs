@@ -12,7 +12,6 @@ use serde_json::{Value, json};
 use crate::cache::ProfileSource;
 use crate::files::{Outputs, out_file};
 use crate::library;
-use crate::simulate;
 
 /// An analytic model, or Monte Carlo tables.
 #[derive(Clone, Copy)]
@@ -84,7 +83,7 @@ pub fn profile(a: ProfileArgs) -> Result<()> {
     let name = format!("{}.{}.profile.csv", n.slug, a.model.name());
     let out = match &a.out {
         Some(o) => out_file(o, &name),
-        None => crate::default_out().join(name),
+        None => crate::common::default_out().join(name),
     };
     let mut files = Outputs::default();
     files.add(&out, csv);
@@ -126,7 +125,7 @@ fn band_name(b: usize) -> String {
 /// Tabulates and plots every analytic model against each material's MC profile.
 pub fn compare_profiles(a: CompareArgs) -> Result<()> {
     let named = library::materials(&a.materials)?;
-    let pool = simulate::thread_pool(a.source.threads)?;
+    let pool = crate::common::thread_pool(a.source.threads)?;
     let mut files = Outputs::default();
     let mut out = Vec::new();
     for n in &named {

@@ -11,9 +11,9 @@ use fit::{KernelModel, Profile};
 use glam::Vec3;
 use gpu::{
     AlbedoMode, DepthMode, DipoleSetup, Gpu, GpuKernel, Light, RenderParams, Scatter, Scene,
-    Shading,
 };
 use serde_json::{Value, json};
+use shading::Shading;
 
 use crate::cache::ProfileSource;
 use crate::files::Outputs;
@@ -48,7 +48,7 @@ fn table_spec(
     Ok(config.batch(&[&named.material], photons, source.seed_in(&config), true)?)
 }
 
-/// The material's angle tables (`gpu::AngleTables::from_mc`, printed on stderr): the incidence
+/// The material's angle tables (`shading::AngleTables::from_mc`, printed on stderr): the incidence
 /// table if `incidence`, the exit table if `exit`, `photons` per channel and angle, with the
 /// profiles' seed and run settings (`source`).
 fn angle_tables(
@@ -57,17 +57,17 @@ fn angle_tables(
     source: &ProfileSource,
     incidence: bool,
     exit: bool,
-) -> Result<gpu::AngleTables> {
-    let angles = gpu::AngleTables::angles(incidence, exit).len() as u64;
+) -> Result<shading::AngleTables> {
+    let angles = shading::AngleTables::angles(incidence, exit).len() as u64;
     if angles == 0 {
-        return Ok(gpu::AngleTables::ONES);
+        return Ok(shading::AngleTables::ONES);
     }
     let spec = table_spec(named, photons, source)?;
-    let bar = crate::progress::photons(
+    let bar = crate::common::photons(
         photons * spec.groups().len() as u64 * angles,
         "angle tables",
     );
-    let t = gpu::AngleTables::from_mc(&spec, incidence, exit, &|k| bar.inc(k))
+    let t = shading::AngleTables::from_mc(&spec, incidence, exit, &|k| bar.inc(k))
         .with_context(|| format!("--incidence-aware/--exit-aware: {}", named.slug))?;
     bar.finish_and_clear();
     let rgb = |v: [f32; 3]| format!("{:.3} {:.3} {:.3}", v[0], v[1], v[2]);
@@ -83,7 +83,7 @@ fn angle_tables(
              entering at 0°, 40° and 80° of the 0°…80° it holds):",
             named.slug
         );
-        for k in 0..gpu::INCIDENCE_STEPS {
+        for k in 0..shading::INCIDENCE_STEPS {
             let row = |i: usize| format!("{}  ± {}", rgb(t.exit[i][k]), rgb(t.exit_se[i][k]));
             eprintln!("  {:>4}°  {}  |  {}  |  {}", 10 * k, row(0), row(4), row(8));
         }
@@ -91,27 +91,27 @@ fn angle_tables(
     Ok(t)
 }
 
-/// The material's entry shift (`gpu::EntryShift::from_mc`, printed on stderr): the centroid of
+/// The material's entry shift (`shading::EntryShift::from_mc`, printed on stderr): the centroid of
 /// the light a half-space returns at each incidence table angle, `photons` per channel and angle,
 /// with the profiles' seed and run settings.
 fn entry_shift_table(
     named: &library::Named,
     photons: u64,
     source: &ProfileSource,
-) -> Result<gpu::EntryShift> {
+) -> Result<shading::EntryShift> {
     let spec = table_spec(named, photons, source)?;
-    let bar = crate::progress::photons(
-        photons * spec.groups().len() as u64 * gpu::INCIDENCE_STEPS as u64,
+    let bar = crate::common::photons(
+        photons * spec.groups().len() as u64 * shading::INCIDENCE_STEPS as u64,
         "entry shift",
     );
-    let t = gpu::EntryShift::from_mc(&spec, &|k| bar.inc(k))
+    let t = shading::EntryShift::from_mc(&spec, &|k| bar.inc(k))
         .with_context(|| format!("--entry-shift: {}", named.slug))?;
     bar.finish_and_clear();
     eprintln!(
         "entry shift of {} (centroid of the returned light ahead of the entry, δ(θ) [mm], R G B ± SE):",
         named.slug
     );
-    for k in 0..gpu::INCIDENCE_STEPS {
+    for k in 0..shading::INCIDENCE_STEPS {
         let mm = |v: [f32; 3]| format!("{:.3} {:.3} {:.3}", 10.0 * v[0], 10.0 * v[1], 10.0 * v[2]);
         eprintln!(
             "  {:>4}°  {}  ± {}",
@@ -123,22 +123,23 @@ fn entry_shift_table(
     Ok(t)
 }
 
-/// The material's translucency table (`gpu::Translucency::from_mc`, printed on stderr), `photons`
+/// The material's translucency table (`shading::Translucency::from_mc`, printed on stderr), `photons`
 /// per channel and thickness, with the profiles' seed and run settings; ρ from a half-space run
-/// of `gpu::RHO_PHOTONS` (`Translucency::rho_of`), not from a whole profile.
+/// of `shading::RHO_PHOTONS` (`Translucency::rho_of`), not from a whole profile.
 fn translucency_table(
     named: &library::Named,
     photons: u64,
     source: &ProfileSource,
-) -> Result<gpu::Translucency> {
+) -> Result<shading::Translucency> {
     let spec = table_spec(named, photons, source)?;
     let context = || format!("--translucency: {}", named.slug);
-    let bar = crate::progress::photons(
-        (gpu::RHO_PHOTONS + photons * gpu::TRANSLUCENCY_STEPS as u64) * spec.groups().len() as u64,
+    let bar = crate::common::photons(
+        (shading::RHO_PHOTONS + photons * shading::TRANSLUCENCY_STEPS as u64)
+            * spec.groups().len() as u64,
         "translucency table",
     );
-    let rho = gpu::Translucency::rho_of(&spec, &|k| bar.inc(k)).with_context(context)?;
-    let t = gpu::Translucency::from_mc(&spec, rho.map(|r| r.value), &|k| bar.inc(k))
+    let rho = shading::Translucency::rho_of(&spec, &|k| bar.inc(k)).with_context(context)?;
+    let t = shading::Translucency::from_mc(&spec, rho.map(|r| r.value), &|k| bar.inc(k))
         .with_context(context)?;
     bar.finish_and_clear();
     eprintln!(
@@ -374,7 +375,7 @@ pub struct RenderArgs {
 
     /// Photons per channel and angle for the tables of --incidence-aware, --exit-aware and
     /// --entry-shift (and the surface gather's angle and directional tables)
-    #[arg(long, value_parser = crate::parse_count, default_value = "100000")]
+    #[arg(long, value_parser = crate::common::parse_count, default_value = "100000")]
     incidence_photons: u64,
 
     /// Light through thin parts: on SSS surfaces facing away from a light, add the light the
@@ -386,7 +387,7 @@ pub struct RenderArgs {
     translucency: Option<OnOff>,
 
     /// Photons per channel and thickness for the table of --translucency on
-    #[arg(long, value_parser = crate::parse_count, default_value = "20000")]
+    #[arg(long, value_parser = crate::common::parse_count, default_value = "20000")]
     translucency_photons: u64,
 
     /// How SSS surfaces scatter light
@@ -766,10 +767,10 @@ impl Gather {
     }
 }
 
-fn bssrdf_name(b: gpu::Bssrdf) -> &'static str {
+fn bssrdf_name(b: shading::Bssrdf) -> &'static str {
     match b {
-        gpu::Bssrdf::Radial => "radial",
-        gpu::Bssrdf::Directional => "directional",
+        shading::Bssrdf::Radial => "radial",
+        shading::Bssrdf::Directional => "directional",
     }
 }
 
@@ -798,7 +799,7 @@ fn params(
         let entry_shift = if a.entry_shift == OnOff::On && !a.no_sss {
             entry_shift_table(n, a.incidence_photons, &a.source)?
         } else {
-            gpu::EntryShift::NONE
+            shading::EntryShift::NONE
         };
         *s = Shading {
             incidence: tables.incidence,
@@ -806,7 +807,7 @@ fn params(
             // `on`: every row the normal-entry one, whatever angle the light enters at.
             exit: match a.exit_aware {
                 ExitAware::Entry => tables.exit,
-                _ => [tables.exit[0]; gpu::INCIDENCE_STEPS],
+                _ => [tables.exit[0]; shading::INCIDENCE_STEPS],
             },
             translucency,
             eta: n.material.eta as f32,
@@ -1063,8 +1064,12 @@ fn compare(
         scene,
         base,
         &gpu::AreaGatherSetup::new(
-            gpu::AreaKernel::for_material(&named.material, p)
-                .with_context(|| format!("the area gather of {slug}"))?,
+            gpu::AreaKernel::for_material(
+                slug,
+                &fit::analytic::Medium::channels(&named.material),
+                p,
+            )
+            .with_context(|| format!("the area gather of {slug}"))?,
         ),
     )?;
     let labels = MODELS.iter().map(|(l, _)| *l).chain(["area-gather"]);
@@ -1132,8 +1137,12 @@ fn area_setup(
         .context("invalid --gather-inner/--gather-layers")?;
     let p = a.source.profile(named, files)?;
     Ok(gpu::AreaGatherSetup {
-        kernel: gpu::AreaKernel::for_material(&named.material, &p)
-            .with_context(|| format!("--method area-gather: {}", named.slug))?,
+        kernel: gpu::AreaKernel::for_material(
+            &named.slug,
+            &fit::analytic::Medium::channels(&named.material),
+            &p,
+        )
+        .with_context(|| format!("--method area-gather: {}", named.slug))?,
         pattern,
         splat_clamp: a.splat_clamp,
     })
@@ -1162,8 +1171,7 @@ fn dipole_setup(
             "--translucency is for the separable method: the directional dipole carries light through thin parts itself"
         );
     }
-    let media: [fit::analytic::Medium; 3] =
-        [0, 1, 2].map(|c| fit::analytic::Medium::channel(&named.material, c));
+    let media = fit::analytic::Medium::channels(&named.material);
     let mut setup = DipoleSetup::new(&media)?;
     sampling(&mut setup.sampling, a)?;
     setup
@@ -1231,17 +1239,19 @@ fn surface_setup(
     let profile = a.source.profile(named, files)?;
     let spec = table_spec(named, a.incidence_photons, &a.source)?;
     let bssrdf = match a.bssrdf {
-        BssrdfArg::Radial => gpu::Bssrdf::Radial,
-        BssrdfArg::Directional => gpu::Bssrdf::Directional,
+        BssrdfArg::Radial => shading::Bssrdf::Radial,
+        BssrdfArg::Directional => shading::Bssrdf::Directional,
     };
-    let bar = crate::progress::photons(
-        a.incidence_photons
-            * spec.groups().len() as u64
-            * gpu::SurfaceGatherSetup::batch_runs(bssrdf),
+    let bar = crate::common::photons(
+        a.incidence_photons * spec.groups().len() as u64 * shading::gather_batch_runs(bssrdf),
         "surface gather tables",
     );
-    let mut setup = gpu::SurfaceGatherSetup::from_mc(&spec, &profile, bssrdf, &|k| bar.inc(k))
-        .with_context(|| format!("--method surface-gather: {}", named.slug))?;
+    let context = || format!("--method surface-gather: {}", named.slug);
+    let r_max = gpu::SurfaceGatherSetup::table_radius_cm(&profile);
+    let (angles, directional) =
+        shading::gather_tables(&spec, bssrdf, r_max, &|k| bar.inc(k)).with_context(context)?;
+    let mut setup =
+        gpu::SurfaceGatherSetup::new(&profile, angles, directional).with_context(context)?;
     bar.finish_and_clear();
     sampling(&mut setup.sampling, a)?;
     setup

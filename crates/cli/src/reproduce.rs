@@ -13,8 +13,9 @@ use fit::evaluate::{ImageSize, evaluate};
 use mc::provenance::{self, Explicit, Provenance, Reuse, provenance_path};
 use report::reproduce::{MAIN, MitsubaImages, Published, RenderedTables, Report};
 
+use crate::common::{self, parse_count};
 use crate::files::Outputs;
-use crate::{eval, library, parse_count, progress, simulate};
+use crate::{eval, library};
 
 #[derive(Args)]
 pub struct ReproduceArgs {
@@ -91,7 +92,7 @@ fn read_profile(
 pub fn run(a: ReproduceArgs) -> Result<()> {
     let start = Instant::now();
     let published = Published::thesis();
-    let pool = simulate::thread_pool(a.threads)?;
+    let pool = crate::common::thread_pool(a.threads)?;
     let mut config = library::config(None)?;
     let extent_mfp = config.grid.r_max_mfp;
     let image = if a.quick {
@@ -141,7 +142,7 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
                 .unzip()
         }
         None => {
-            let bar = progress::photons(
+            let bar = common::photons(
                 photons * spec.groups().len() as u64,
                 "simulating the library",
             );

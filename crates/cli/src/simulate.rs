@@ -15,9 +15,9 @@ use rayon::prelude::*;
 use report::incidence::IncidenceComparison;
 use serde_json::{Value, json};
 
+use crate::common::{self, parse_count};
 use crate::files::Outputs;
 use crate::library::{self, Named};
-use crate::{parse_count, progress};
 use mc::provenance::{Provenance, provenance_path};
 
 #[derive(Args)]
@@ -88,23 +88,8 @@ pub struct SimulateArgs {
     json: bool,
 }
 
-#[derive(Args)]
-pub struct MergeArgs {
-    /// Shard files written by `sss simulate --shard` (all of one run), or by `sss table --shard` (all of one build)
-    #[arg(required = true, value_name = "SHARD.json")]
-    shards: Vec<PathBuf>,
-
-    /// Output folder (the same files as `simulate` or `table` writes)
-    #[arg(long, value_name = "DIR", default_value = "out")]
-    out: PathBuf,
-
-    /// Print a machine-readable summary on stdout
-    #[arg(long)]
-    json: bool,
-}
-
 pub fn simulate(args: SimulateArgs) -> Result<()> {
-    let pool = thread_pool(args.threads)?;
+    let pool = crate::common::thread_pool(args.threads)?;
     if let Some(mci) = &args.mci {
         if !args.materials.is_empty() {
             bail!("give either materials or --mci, not both");
@@ -149,7 +134,7 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
     if let Some(s) = &args.shard {
         let (i, n) = crate::shard::parse(s)?;
         let chunks = shard::shard_chunks(photons, i - 1, n);
-        let bar = progress::photons(
+        let bar = common::photons(
             shard::chunk_photons(photons, &chunks) * groups,
             &format!("shard {i}/{n}"),
         );
@@ -180,7 +165,7 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
         return Ok(());
     }
 
-    let bar = progress::photons(
+    let bar = common::photons(
         photons * groups,
         &format!(
             "{} channel(s) in {groups} walk group(s)",
@@ -199,7 +184,7 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
         .zip(&named)
         .map(|(s, n)| {
             let angles = &args.incidence_angles;
-            let bar = progress::photons(
+            let bar = common::photons(
                 s.photons * s.groups().len() as u64 * angles.len() as u64,
                 &format!("{}: Rd(θ) at {} angle(s)", n.slug, angles.len()),
             );
@@ -220,15 +205,8 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
     finish(&run, &args.out, args.json)
 }
 
-pub fn merge(args: MergeArgs) -> Result<()> {
+pub fn merge(texts: &[(String, String)], out: &Path, json: bool) -> Result<()> {
     let start = Instant::now();
-    let texts = crate::files::read_named(&args.shards, "shard")?;
-    if texts
-        .first()
-        .is_some_and(|(_, text)| crate::table::is_table_shard(text))
-    {
-        return crate::table::merge(&texts, &args.out, args.json);
-    }
     let shards = texts
         .iter()
         .map(|(name, text)| Ok((name.clone(), Shard::from_json(text, name)?)))
@@ -245,7 +223,7 @@ pub fn merge(args: MergeArgs) -> Result<()> {
         threads: 1,
         target_error: None,
     };
-    finish(&run, &args.out, args.json)
+    finish(&run, out, json)
 }
 
 /// Output files are named after the shards' labels, so they must be what `simulate` writes: one
@@ -498,7 +476,7 @@ fn run_mci(path: &Path, args: &SimulateArgs) -> Result<()> {
     let mut report = Vec::new();
     for (k, r) in runs.iter().enumerate() {
         let start = Instant::now();
-        let bar = progress::photons(r.spec.photons, &format!("run {}/{}", k + 1, runs.len()));
+        let bar = common::photons(r.spec.photons, &format!("run {}/{}", k + 1, runs.len()));
         let out = mc::run(&r.spec, &|n| bar.inc(n))?;
         bar.finish_and_clear();
         let seconds = start.elapsed().as_secs_f64();
@@ -549,13 +527,4 @@ fn parse_angle(s: &str) -> Result<f64, String> {
         return Err(format!("{s:?} must be in [0, 90) degrees"));
     }
     Ok(v)
-}
-
-pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
-    if threads == Some(0) {
-        bail!("invalid --threads 0: must be at least 1");
-    }
-    Ok(rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.unwrap_or(0))
-        .build()?)
 }

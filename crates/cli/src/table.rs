@@ -10,8 +10,8 @@ use fit::table_profile::Tables;
 use mc::table::{self, Table, TableShard, TableSpec};
 use serde_json::json;
 
+use crate::common::{self, parse_count};
 use crate::files::Outputs;
-use crate::{parse_count, progress, simulate};
 
 #[derive(Args)]
 pub struct TableArgs {
@@ -100,7 +100,7 @@ fn specs(a: &TableArgs) -> Result<Vec<TableSpec>> {
 
 pub fn run(a: TableArgs) -> Result<()> {
     let specs = specs(&a)?;
-    let pool = simulate::thread_pool(a.threads)?;
+    let pool = crate::common::thread_pool(a.threads)?;
     let (i, n) = match &a.shard {
         Some(s) => crate::shard::parse(s)?,
         None => (1, 1),
@@ -111,7 +111,7 @@ pub fn run(a: TableArgs) -> Result<()> {
     } else {
         format!("{} table(s)", specs.len())
     };
-    let bar = progress::photons(TableShard::photons(&specs, i, n), &label);
+    let bar = common::photons(TableShard::photons(&specs, i, n), &label);
     let shard = pool.install(|| TableShard::trace(&specs, i, n, &|k| bar.inc(k)))?;
     bar.finish_and_clear();
     let seconds = start.elapsed().as_secs_f64();
@@ -137,18 +137,6 @@ pub fn run(a: TableArgs) -> Result<()> {
     }
     let tables = table::merge_tables(&[(String::new(), shard)])?;
     write(&tables, &a.out, a.json, seconds, Some(events))
-}
-
-/// Whether a shard file's text is a table build's (else `simulate`'s).
-pub fn is_table_shard(text: &str) -> bool {
-    #[derive(serde::Deserialize)]
-    struct Tag {
-        format: Option<String>,
-    }
-    serde_json::from_str::<Tag>(text)
-        .ok()
-        .and_then(|t| t.format)
-        .is_some_and(|f| f == table::SHARD_FORMAT)
 }
 
 /// `sss merge` of table shards, given each file's name and text.

@@ -119,20 +119,23 @@ impl AreaKernel {
         })
     }
 
-    /// The kernel of a material (Maisch & Ropinski 2020 §7.1): its Monte Carlo profile
+    /// The kernel of a material `name` with the three channels' `media` (Maisch & Ropinski 2020
+    /// §7.1): its Monte Carlo profile
     /// `profile` averaged over discs ([`AREA_TABLE_SIZE`]² texels) out to r_max, where the
     /// source term α′σt′e^{−σt′r} of the slowest-decaying channel falls to 10⁻⁷ cm⁻¹. Refuses a
     /// material whose source term never reaches that (nothing scatters).
-    pub fn for_material(material: &mc::Material, profile: &fit::Profile) -> Result<AreaKernel> {
-        let r_max = (0..3)
-            .map(|c| {
-                let m = fit::analytic::Medium::channel(material, c);
-                fit::area_table::cutoff_radius(&m, 1e-7)
-            })
+    pub fn for_material(
+        name: &str,
+        media: &[fit::analytic::Medium; 3],
+        profile: &fit::Profile,
+    ) -> Result<AreaKernel> {
+        let r_max = media
+            .iter()
+            .map(|m| fit::area_table::cutoff_radius(m, 1e-7))
             .fold(0.0, f64::max);
         if r_max.is_nan() || r_max <= 0.0 {
             return Err(GpuError::invalid(
-                format!("area gather: r_max of {}", material.name),
+                format!("area gather: r_max of {name}"),
                 r_max,
                 "the source term never reaches 1e-7/cm (no scattering to gather)",
             ));

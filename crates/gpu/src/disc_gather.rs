@@ -115,9 +115,9 @@ const _: () = assert!(std::mem::size_of::<GatherUniform>() == GATHER_UNIFORM_SIZ
 /// use).
 macro_rules! gather_wgsl {
     ($model:literal) => {
-        concat!(
-            include_str!("shaders/fresnel.wgsl"),
-            include_str!("shaders/angles.wgsl"),
+        const_format::concatcp!(
+            shading::FRESNEL_WGSL,
+            shading::ANGLES_WGSL,
             include_str!($model),
             include_str!("shaders/disc_gather.wgsl")
         )

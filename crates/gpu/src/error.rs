@@ -35,9 +35,9 @@ pub enum GpuError {
     /// Fitting a kernel model for a comparison failed.
     #[error(transparent)]
     Fit(#[from] fit::FitError),
-    /// A Monte Carlo run for a shading table failed.
+    /// A shading table is unusable.
     #[error(transparent)]
-    Mc(#[from] mc::McError),
+    Shading(#[from] shading::ShadingError),
 }
 
 impl GpuError {

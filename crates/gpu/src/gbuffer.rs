@@ -1,5 +1,5 @@
 //! The scene pass (G-buffer): every surface lit by the scene's lights with shadows, the SSS
-//! materials' incidence, exit and thin-part tables ([`crate::Shading`]) applied, into three render
+//! materials' incidence, exit and thin-part tables ([`shading::Shading`]) applied, into three render
 //! targets (32 bytes per pixel, WebGPU's portable limit), then unpacked into the storage buffers
 //! the blur and the recombination read: diffuse light (irradiance × pre-scatter albedo), specular,
 //! geometry (x: view depth [cm], y: SSS strength, z: material index) and the post-scatter albedo
@@ -7,15 +7,16 @@
 
 use glam::Mat4;
 
-use crate::angles::INCIDENCE_STEPS;
 use crate::context::{Gpu, cleared_depth, compute_pipeline};
-use crate::entry_shift::EntryShift;
 use crate::light::MAX_EMITTERS;
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
 use crate::recording::Recording;
 use crate::scene::{AlbedoMode, Scene};
-use crate::shading::{Shading, TRANSLUCENCY_STEPS, incidence_hemispherical};
+use shading::{
+    ANGLES_WGSL, EntryShift, FRESNEL_WGSL, INCIDENCE_STEPS, Shading, TRANSLUCENCY_STEPS,
+    incidence_hemispherical,
+};
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -102,9 +103,9 @@ impl MaterialU {
 }
 
 /// The scene shader with the shared Fresnel, angle-grid and lighting functions prepended.
-pub(crate) const SCENE_WGSL: &str = concat!(
-    include_str!("shaders/fresnel.wgsl"),
-    include_str!("shaders/angles.wgsl"),
+pub(crate) const SCENE_WGSL: &str = const_format::concatcp!(
+    FRESNEL_WGSL,
+    ANGLES_WGSL,
     include_str!("shaders/lighting.wgsl"),
     include_str!("shaders/scene.wgsl")
 );

@@ -22,6 +22,9 @@
 //! For large scattering distances, [`Scatter::AreaGather`] ([`area_gather`]) gathers an area
 //! pre-integrated kernel over Maisch & Ropinski's layered sampling pattern instead.
 //!
+//! The tables a material is shaded with (incidence, exit, entry shift, translucency, the
+//! directional table) come from the `shading` crate as plain data; this crate uploads them.
+//!
 //! Conventions: images are row-major, top row first, RGBA f32 per pixel. A pixel at view depth z
 //! spans z/f cm with f = height/(2·tan(fov_y/2)) (`px_per_cm_at_unit_depth`).
 
@@ -29,7 +32,6 @@
 // Units are written in brackets as in the papers, [cm⁻¹]; rustdoc would take them for links.
 #![allow(rustdoc::broken_intra_doc_links)]
 
-mod angles;
 pub mod area_gather;
 pub mod bench;
 mod blur;
@@ -38,7 +40,6 @@ pub mod compare;
 mod context;
 pub mod dipole;
 pub mod disc_gather;
-mod entry_shift;
 mod error;
 mod gbuffer;
 mod half;
@@ -50,21 +51,18 @@ mod recording;
 mod render;
 pub mod request;
 mod scene;
-mod shading;
 mod shadow;
 mod splat;
 pub mod surface_gather;
 mod target;
 mod timing;
 
-pub use angles::{INCIDENCE_STEPS, incidence_ratio};
 pub use area_gather::{AreaGatherSetup, AreaKernel, GatherPattern};
 pub use blur::{BlurParams, DepthMode, GpuKernel, blur_image};
 pub use compare::{Comparison, compare_kernels, compare_models};
 pub use context::Gpu;
 pub use dipole::DipoleSetup;
 pub use disc_gather::{DISC_LIGHTS, Sampling};
-pub use entry_shift::{EntryShift, SHIFT_GRID_HALF_WIDTH, SHIFT_GRID_REACH_MFP};
 pub use error::{GpuError, Result};
 pub use light::{AREA_CELLS, Emitter, Light, MAX_EMITTERS, emitters};
 pub use mesh::{Mesh, Vertex};
@@ -72,11 +70,7 @@ pub use params::{MAX_MATERIALS, RenderParams};
 pub use render::{Frame, FrameTime, Renderer, SUBPIXEL_PX, Scatter, kernel_footprint_px, render};
 pub use request::{Method, RenderRequest};
 pub use scene::{AlbedoMode, Camera, Scene};
-pub use shading::{
-    AngleTables, ExitTable, RHO_PHOTONS, Shading, TRANSLUCENCY_STEPS, Translucency, exit_ratio,
-    incidence_hemispherical,
-};
-pub use surface_gather::{Bssrdf, DirectionalTable, SurfaceGatherSetup};
+pub use surface_gather::SurfaceGatherSetup;
 pub use timing::PassTime;
 
 #[cfg(test)]

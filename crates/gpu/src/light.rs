@@ -43,7 +43,7 @@ pub enum Light {
     /// A rectangle of uniform `radiance` emitting from its front face, the side `half_u × half_v`
     /// points to (Mitsuba's `area` emitter on a `rectangle`); its edges are perpendicular. SSS surfaces
     /// reflect it in mirror with the Fresnel reflectance of their material's η
-    /// ([`crate::Shading::eta`]), as a smooth dielectric boundary does.
+    /// (`shading::Shading::eta`), as a smooth dielectric boundary does.
     Area {
         /// Centre [cm].
         center: Vec3,

@@ -2,7 +2,7 @@
 
 use crate::blur::DepthMode;
 use crate::scene::AlbedoMode;
-use crate::shading::Shading;
+use shading::Shading;
 
 /// Render settings.
 #[derive(Clone, Copy, Debug, PartialEq)]

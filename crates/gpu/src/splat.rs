@@ -59,9 +59,9 @@ const SEEN_SLOPE_PX: f32 = 2.0;
 const SPLAT_LEVEL: usize = 2;
 
 /// The shader: Fresnel, the angle grid, lighting and the kernel lookup prepended.
-pub(crate) const SPLAT_WGSL: &str = concat!(
-    include_str!("shaders/fresnel.wgsl"),
-    include_str!("shaders/angles.wgsl"),
+pub(crate) const SPLAT_WGSL: &str = const_format::concatcp!(
+    shading::FRESNEL_WGSL,
+    shading::ANGLES_WGSL,
     include_str!("shaders/lighting.wgsl"),
     include_str!("shaders/area_kernel.wgsl"),
     include_str!("shaders/splat.wgsl")

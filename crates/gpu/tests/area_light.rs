@@ -4,9 +4,8 @@
 //! Fresnel reflectance of their η. Under CI=true a missing adapter fails.
 
 use glam::{Vec3, Vec4Swizzles};
-use gpu::{
-    AlbedoMode, Camera, Light, MAX_MATERIALS, Mesh, RenderParams, Scatter, Scene, Shading, render,
-};
+use gpu::{AlbedoMode, Camera, Light, MAX_MATERIALS, Mesh, RenderParams, Scatter, Scene, render};
+use shading::Shading;
 
 mod common;
 use common::gpu;
@@ -218,7 +217,7 @@ fn sss_surfaces_reflect_an_area_light_with_the_fresnel_reflectance() {
         let cos = -d.y as f64;
         let want = if seen {
             inside += 1;
-            std::f64::consts::PI * mc::fresnel(1.0, eta as f64, cos).0 * radiance as f64
+            std::f64::consts::PI * shading::fresnel(eta as f64, cos) * radiance as f64
         } else {
             0.0
         };

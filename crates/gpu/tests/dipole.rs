@@ -50,8 +50,8 @@ fn quadrature(
     let mut out = [0.0; 3];
     for (c, m) in media.iter().enumerate() {
         let dd = DirectionalDipole::new(m);
-        let t_in = 1.0 - mc::fresnel(1.0, m.eta, l.y).0;
-        let t_out = 1.0 - mc::fresnel(1.0, m.eta, 1.0).0;
+        let t_in = 1.0 - shading::fresnel(m.eta, l.y);
+        let t_out = 1.0 - shading::fresnel(m.eta, 1.0);
         let mut sum = 0.0;
         for i in 0..nr {
             // Radii graded towards the centre, where S_d peaks.
@@ -118,7 +118,7 @@ fn front_lit_slab_matches_the_quadrature_and_the_models_total_reflectance() {
                 total += dd.rd_xy(r * phi.cos(), r * phi.sin(), 45.0) * r * dr * 2.0 * PI / 128.0;
             }
         }
-        let t_out = 1.0 - mc::fresnel(1.0, m.eta, 1.0).0;
+        let t_out = 1.0 - shading::fresnel(m.eta, 1.0);
         let want = 45f64.to_radians().cos() * t_out * total / (4.0 * c_phi(1.0 / m.eta));
         assert!(
             (big[c] / want - 1.0).abs() < 0.01,

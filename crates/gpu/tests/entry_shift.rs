@@ -11,10 +11,8 @@
 //! Under CI=true a missing adapter fails.
 
 use glam::Vec3;
-use gpu::{
-    AlbedoMode, EntryShift, INCIDENCE_STEPS, Light, MAX_MATERIALS, RenderParams, Scatter, Scene,
-    Shading, render,
-};
+use gpu::{AlbedoMode, Light, MAX_MATERIALS, RenderParams, Scatter, Scene, render};
+use shading::{EntryShift, INCIDENCE_STEPS, Shading};
 
 mod common;
 use common::{gpu, shadow_edge_scene};

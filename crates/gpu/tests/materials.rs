@@ -6,8 +6,9 @@
 
 use gpu::{
     AlbedoMode, BlurParams, DepthMode, GpuKernel, MAX_MATERIALS, RenderParams, Renderer,
-    SUBPIXEL_PX, Scatter, Scene, Shading, blur_image, kernel_footprint_px, render,
+    SUBPIXEL_PX, Scatter, Scene, blur_image, kernel_footprint_px, render,
 };
+use shading::Shading;
 
 mod common;
 use common::gpu;
@@ -175,7 +176,7 @@ fn each_material_of_a_pair_gets_its_own_kernel_and_shading() {
 
     // Shading per material: an exit factor of 2 on material 1 doubles its light only.
     let mut shading = [Shading::default(); MAX_MATERIALS];
-    shading[1].exit = [[[2.0; 3]; gpu::INCIDENCE_STEPS]; gpu::INCIDENCE_STEPS];
+    shading[1].exit = [[[2.0; 3]; shading::INCIDENCE_STEPS]; shading::INCIDENCE_STEPS];
     let plain = render(&gpu, &scene, Scatter::None, &params).unwrap();
     let lifted = render(
         &gpu,

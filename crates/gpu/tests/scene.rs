@@ -2,7 +2,8 @@
 //! the sphere's shadow on the floor. Under CI=true a missing adapter fails.
 
 use glam::{Vec3, Vec4Swizzles};
-use gpu::{AlbedoMode, Light, MAX_MATERIALS, RenderParams, Scatter, Scene, Shading, render};
+use gpu::{AlbedoMode, Light, MAX_MATERIALS, RenderParams, Scatter, Scene, render};
+use shading::Shading;
 
 mod common;
 use common::gpu;
@@ -96,7 +97,7 @@ fn incidence_table_scales_irradiance_on_sss_surfaces_only() {
     else {
         panic!()
     };
-    let table: [[f32; 3]; gpu::INCIDENCE_STEPS] =
+    let table: [[f32; 3]; shading::INCIDENCE_STEPS] =
         std::array::from_fn(|k| [1.0 + 0.1 * k as f32, 1.0, 1.0 + 0.05 * k as f32]);
     let params = RenderParams {
         width: W,
@@ -110,7 +111,7 @@ fn incidence_table_scales_irradiance_on_sss_surfaces_only() {
     };
     let frame = render(&gpu, &scene, Scatter::None, &params).unwrap();
     let at = |(x, y): (usize, usize)| frame.irradiance[y * W as usize + x];
-    let hemi = gpu::incidence_hemispherical(&table);
+    let hemi = shading::incidence_hemispherical(&table);
     let centre = Vec3::new(0.0, 5.0, 0.0);
     for dir in [
         Vec3::new(0.0, 0.3, 1.0),
@@ -120,7 +121,7 @@ fn incidence_table_scales_irradiance_on_sss_surfaces_only() {
         let n = dir.normalize();
         let cos_i = n.dot(towards).max(0.0);
         let e = at(pixel(&scene, centre + 5.0 * n));
-        let f = gpu::incidence_ratio(&table, cos_i);
+        let f = shading::incidence_ratio(&table, cos_i);
         for c in [0, 2] {
             let want = irradiance.x * cos_i * f[c] + scene.ambient.x * hemi[c];
             assert!(
@@ -186,7 +187,7 @@ fn an_exit_table_scales_each_sss_pixel_by_its_view_and_entry_angles() {
         albedo: AlbedoMode::Post,
         ..RenderParams::default()
     };
-    let table: gpu::ExitTable = std::array::from_fn(|i| {
+    let table: shading::ExitTable = std::array::from_fn(|i| {
         std::array::from_fn(|k| {
             let e = 1.0 + 0.04 * i as f32;
             [(1.0 + 0.1 * k as f32) * e, (1.0 - 0.08 * k as f32) / e, 2.0]
@@ -214,7 +215,7 @@ fn an_exit_table_scales_each_sss_pixel_by_its_view_and_entry_angles() {
         let i = y * W as usize + x;
         let cos_o = n.dot((scene.camera.position - p).normalize());
         let cos_i = n.dot(towards.normalize());
-        let want = gpu::exit_ratio(&table, cos_o, if cos_i > 0.0 { cos_i } else { 1.0 });
+        let want = shading::exit_ratio(&table, cos_o, if cos_i > 0.0 { cos_i } else { 1.0 });
         for (c, h) in want.iter().enumerate() {
             let r = b.linear[i][c] / a.linear[i][c];
             assert!(

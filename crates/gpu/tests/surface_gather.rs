@@ -12,7 +12,8 @@
 //! Under CI=true a missing adapter fails.
 
 use glam::Vec3;
-use gpu::{Bssrdf, RenderParams, Scatter, SurfaceGatherSetup, render};
+use gpu::{RenderParams, Scatter, SurfaceGatherSetup, render};
+use shading::Bssrdf;
 use std::f64::consts::PI;
 
 mod common;
@@ -21,8 +22,8 @@ use common::{centre_mean, gpu, shadow_edge_scene, slab_scene};
 const SIZE: u32 = 48;
 const PHOTONS: u64 = 100_000;
 
-fn skin1() -> mc::Material {
-    mc::Material {
+fn skin1() -> shading::Material {
+    shading::Material {
         name: "Skin1".into(),
         source: String::new(),
         sigma_a: [0.32, 1.7, 4.8],
@@ -33,25 +34,29 @@ fn skin1() -> mc::Material {
     }
 }
 
-fn spec(photons: u64, seed: u64) -> mc::BatchSpec {
-    let config = mc::SimConfig::thesis().unwrap();
+fn spec(photons: u64, seed: u64) -> shading::BatchSpec {
+    let config = shading::SimConfig::thesis().unwrap();
     config.batch(&[&skin1()], photons, seed, true).unwrap()
 }
 
 /// Skin1's Monte Carlo profile (independent of the tables' runs: another seed).
 fn profile() -> fit::Profile {
-    let out = mc::run_batch(&spec(4 * PHOTONS, 101), &|_| {}).unwrap();
-    fit::Profile::from_csv(
-        &fit::Profile::csv_from_mc([&out[0], &out[1], &out[2]]),
-        "mc",
-    )
-    .unwrap()
+    shading::profile::simulate(&spec(4 * PHOTONS, 101), "mc", &|_| {})
+        .unwrap()
+        .profile
+}
+
+/// The gather of `bssrdf` with the tables of `spec` (`shading::gather_tables`) and `profile`.
+fn setup(spec: &shading::BatchSpec, profile: &fit::Profile, bssrdf: Bssrdf) -> SurfaceGatherSetup {
+    let r_max = SurfaceGatherSetup::table_radius_cm(profile);
+    let (angles, directional) = shading::gather_tables(spec, bssrdf, r_max, &|_| {}).unwrap();
+    SurfaceGatherSetup::new(profile, angles, directional).unwrap()
 }
 
 fn setups() -> (SurfaceGatherSetup, SurfaceGatherSetup) {
     let (s, p) = (spec(PHOTONS, 7), profile());
-    let radial = SurfaceGatherSetup::from_mc(&s, &p, Bssrdf::Radial, &|_| {}).unwrap();
-    let directional = SurfaceGatherSetup::from_mc(&s, &p, Bssrdf::Directional, &|_| {}).unwrap();
+    let radial = setup(&s, &p, Bssrdf::Radial);
+    let directional = setup(&s, &p, Bssrdf::Directional);
     (radial, directional)
 }
 
@@ -165,7 +170,7 @@ fn quadrature(setup: &SurfaceGatherSetup, towards: Vec3, thickness: f64) -> [f64
         }
     }
     // Seen along the normal, light that entered at θ_i: h(0°; θ_i).
-    let h = gpu::exit_ratio(&setup.angles.exit, 1.0, cos_i as f32);
+    let h = shading::exit_ratio(&setup.angles.exit, 1.0, cos_i as f32);
     std::array::from_fn(|c| out[c] * h[c] as f64)
 }
 
@@ -243,25 +248,21 @@ fn the_error_to_the_limit_falls_as_one_over_root_frames() {
 /// the lit region's border; a reversed table would add it.
 #[test]
 fn the_directional_bssrdf_carries_light_forward_across_a_shadow_edge() {
-    let material = mc::Material {
+    let material = shading::Material {
         eta: 1.0,
         ..skin1()
     };
-    let config = mc::SimConfig::thesis().unwrap();
+    let config = shading::SimConfig::thesis().unwrap();
     let s = config.batch(&[&material], PHOTONS, 7, true).unwrap();
-    let out = mc::run_batch(
+    let p = shading::profile::simulate(
         &config.batch(&[&material], 4 * PHOTONS, 101, true).unwrap(),
+        "mc",
         &|_| {},
     )
-    .unwrap();
-    let p = fit::Profile::from_csv(
-        &fit::Profile::csv_from_mc([&out[0], &out[1], &out[2]]),
-        "mc",
-    )
-    .unwrap();
-    let mut radial = SurfaceGatherSetup::from_mc(&s, &p, Bssrdf::Radial, &|_| {}).unwrap();
-    let mut directional =
-        SurfaceGatherSetup::from_mc(&s, &p, Bssrdf::Directional, &|_| {}).unwrap();
+    .unwrap()
+    .profile;
+    let mut radial = setup(&s, &p, Bssrdf::Radial);
+    let mut directional = setup(&s, &p, Bssrdf::Directional);
     // The centroid of mc's table at 60° (index 6) per channel [cm]: the mean of the exit
     // offset along the propagation, x.
     let t = directional.directional.as_ref().unwrap();
@@ -340,7 +341,7 @@ fn the_directional_bssrdf_carries_light_forward_across_a_shadow_edge() {
 #[test]
 fn an_area_light_gathers_as_its_irradiance_weighted_by_the_incidence_table() {
     let (s, p) = (spec(PHOTONS, 7), profile());
-    let mut radial = SurfaceGatherSetup::from_mc(&s, &p, Bssrdf::Radial, &|_| {}).unwrap();
+    let mut radial = setup(&s, &p, Bssrdf::Radial);
     let Some(gpu) = gpu() else { return };
     radial.sampling.samples = 32;
     radial.sampling.frames = 16;
@@ -378,9 +379,9 @@ fn an_area_light_gathers_as_its_irradiance_weighted_by_the_incidence_table() {
             let e = light.point_on(st).unwrap();
             let de = e.irradiance(at, Vec3::Y).x as f64 / (5 * m * m) as f64;
             let cos = (e.pos_or_dir.truncate() - at).normalize().y;
-            let ratio = gpu::incidence_ratio(&radial.angles.incidence, cos);
+            let ratio = shading::incidence_ratio(&radial.angles.incidence, cos);
             // Seen along the normal, light that entered at this point's angle: h(0°; θ_i).
-            let h = gpu::exit_ratio(&radial.angles.exit, 1.0, cos);
+            let h = shading::exit_ratio(&radial.angles.exit, 1.0, cos);
             for c in 0..3 {
                 want[c] += de * (ratio[c] * h[c]) as f64;
             }
@@ -412,7 +413,7 @@ fn an_area_light_gathers_as_its_irradiance_weighted_by_the_incidence_table() {
 #[test]
 fn the_directional_table_lies_on_the_plane_through_both_points() {
     use glam::{DMat3, DVec3};
-    use gpu::surface_gather::DIRECTIONAL_ANGLES;
+    use shading::DIRECTIONAL_ANGLES;
     let n = 8;
     let cells = DIRECTIONAL_ANGLES.len() * 3 * (n + 1) * (2 * n + 1);
     let rd = (0..cells)
@@ -427,13 +428,13 @@ fn the_directional_table_lies_on_the_plane_through_both_points() {
         .collect();
     let totals = (0..DIRECTIONAL_ANGLES.len())
         .map(|k| {
-            [0, 1, 2].map(|c| mc::Estimate {
+            [0, 1, 2].map(|c| shading::Estimate {
                 value: 0.4 + 0.03 * k as f64 + 0.1 * c as f64,
                 se: 0.0,
             })
         })
         .collect();
-    let t = gpu::DirectionalTable {
+    let t = shading::DirectionalTable {
         half_width: n,
         cell_cm: [0.1, 0.12, 0.15],
         rd,

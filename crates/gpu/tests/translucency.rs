@@ -5,10 +5,8 @@
 //! adapter fails.
 
 use glam::Vec3;
-use gpu::{
-    AlbedoMode, Light, MAX_MATERIALS, RenderParams, Scatter, Scene, Shading, TRANSLUCENCY_STEPS,
-    Translucency, render,
-};
+use gpu::{AlbedoMode, Light, MAX_MATERIALS, RenderParams, Scatter, Scene, render};
+use shading::{Shading, TRANSLUCENCY_STEPS, Translucency};
 
 mod common;
 use common::gpu;
@@ -30,7 +28,7 @@ fn decaying(length: f64, last: f64) -> Translucency {
             let t = (-d[k] / length).exp() as f32;
             [t, 0.5 * t, 0.25 * t]
         }),
-        exit: [[[1.0; 3]; gpu::INCIDENCE_STEPS]; gpu::TRANSLUCENCY_STEPS],
+        exit: [[[1.0; 3]; shading::INCIDENCE_STEPS]; TRANSLUCENCY_STEPS],
     }
 }
 
@@ -72,8 +70,7 @@ fn a_slab_lit_from_behind_receives_its_transmitted_light() {
         let frame = render(&gpu, &slab(thickness), Scatter::None, &params).unwrap();
         let got = centre(&frame);
         // The light crosses the slab along a ray of length thickness/cos, entering at 30°.
-        let entry =
-            (1.0 - mc::fresnel(1.0, 1.3, cos as f64).0) / (1.0 - mc::fresnel(1.0, 1.3, 1.0).0);
+        let entry = (1.0 - shading::fresnel(1.3, cos as f64)) / (1.0 - shading::fresnel(1.3, 1.0));
         let want = t.at(thickness / cos).map(|v| 2.0 * cos * entry as f32 * v);
         for c in 0..3 {
             assert!(
@@ -86,7 +83,7 @@ fn a_slab_lit_from_behind_receives_its_transmitted_light() {
     }
     // Thicker than the table: its last entry.
     let frame = render(&gpu, &slab(4.0), Scatter::None, &params).unwrap();
-    let entry = (1.0 - mc::fresnel(1.0, 1.3, cos as f64).0) / (1.0 - mc::fresnel(1.0, 1.3, 1.0).0);
+    let entry = (1.0 - shading::fresnel(1.3, cos as f64)) / (1.0 - shading::fresnel(1.3, 1.0));
     let last = t.table[TRANSLUCENCY_STEPS - 1][0] * 2.0 * cos * entry as f32;
     assert!((centre(&frame)[0] - last).abs() < 1e-6 + 0.01 * last);
     // Off: a surface facing away from the only light is black.
@@ -118,54 +115,6 @@ fn table_lookup_interpolates_in_log_thickness_and_clamps() {
     assert!(bad.validate().unwrap_err().to_string().contains("ratio"));
 }
 
-/// The table of a material by `mc` (`Translucency::from_mc`), with ρ = 1 so that it holds the
-/// slab's total transmittance: index-matched (no boundary), every packet crossing a slab of
-/// thickness d travels at least d, so Tt(d) ≤ e^{−σa·d}, and the unscattered part alone is
-/// e^{−σt·d} ≤ Tt(d) (each within 4 standard errors of a binomial-sized count). The thicknesses
-/// start at a quarter of the shortest transport mean free path.
-#[test]
-fn table_from_mc_lies_between_the_beer_lambert_bounds() {
-    let material = mc::Material {
-        name: "bounds".into(),
-        source: String::new(),
-        sigma_a: [1.0, 0.3, 3.0],
-        sigma_s: [0.5, 4.0, 2.0],
-        g: [0.0, 0.8, -0.3],
-        eta: 1.0,
-        thickness: None,
-    };
-    let config = mc::SimConfig::thesis().unwrap();
-    let photons = 20_000;
-    let spec = config.batch(&[&material], photons, 5, true).unwrap();
-    let t = Translucency::from_mc(&spec, [1.0; 3], &|_| {}).unwrap();
-    let media = [0, 1, 2].map(|c| fit::analytic::Medium::channel(&material, c));
-    let shortest = media
-        .iter()
-        .map(|m| m.transport_mfp())
-        .fold(f64::MAX, f64::min);
-    assert!((t.first_cm as f64 / (0.25 * shortest) - 1.0).abs() < 1e-6);
-    for k in 0..TRANSLUCENCY_STEPS {
-        let d = t.first_cm as f64 * (t.ratio as f64).powi(k as i32);
-        for c in 0..3 {
-            let tt = t.table[k][c] as f64;
-            let (lo, hi) = (
-                (-(material.sigma_a[c] + material.sigma_s[c]) * d).exp(),
-                (-material.sigma_a[c] * d).exp(),
-            );
-            // A packet's weight lies in [0, 1] with mean m ≤ hi: its variance is at most
-            // m(1 − m) ≤ hi(1 − hi) below ½, else ¼.
-            let var = if hi < 0.5 { hi * (1.0 - hi) } else { 0.25 };
-            let slack = 4.0 * (var / photons as f64).sqrt() + 1e-6;
-            assert!(
-                tt >= lo - slack && tt <= hi + slack,
-                "channel {c}, d {d} cm: Tt {tt} outside [{lo}, {hi}]"
-            );
-        }
-    }
-    let e = Translucency::from_mc(&spec, [1.0, 0.0, 1.0], &|_| {}).unwrap_err();
-    assert!(e.to_string().contains("ρ"), "{e}");
-}
-
 /// Exit-aware translucency: the transmitted light leaves with the slab's own angular
 /// distribution h_T(θ; d) (`mc`: the law of darkening for thick slabs, tested there), not the
 /// reflected light's h. The scene pass multiplies it by h_T/h at the pixel's view angle (the
@@ -181,7 +130,7 @@ fn transmitted_light_leaves_with_its_own_angular_distribution() {
     });
     let shading = Shading {
         translucency: Some(t),
-        exit: [[[1.25; 3]; gpu::INCIDENCE_STEPS]; gpu::INCIDENCE_STEPS],
+        exit: [[[1.25; 3]; shading::INCIDENCE_STEPS]; shading::INCIDENCE_STEPS],
         eta: 1.3,
         ..Shading::default()
     };
@@ -193,7 +142,7 @@ fn transmitted_light_leaves_with_its_own_angular_distribution() {
         ..RenderParams::default()
     };
     let cos = 30f32.to_radians().cos();
-    let entry = (1.0 - mc::fresnel(1.0, 1.3, cos as f64).0) / (1.0 - mc::fresnel(1.0, 1.3, 1.0).0);
+    let entry = (1.0 - shading::fresnel(1.3, cos as f64)) / (1.0 - shading::fresnel(1.3, 1.0));
     for thickness in [0.05f32, 0.2, 0.7] {
         let got = centre(&render(&gpu, &slab(thickness), Scatter::None, &params).unwrap());
         let d = thickness / cos;

@@ -610,6 +610,19 @@ impl TableShard {
         serde_json::to_string(&f).expect("a table shard serializes")
     }
 
+    /// Whether `text` is a table shard file (its `format` is [`SHARD_FORMAT`]), as opposed to a
+    /// profile shard of `sss simulate --shard`; says nothing of whether it is a valid one.
+    pub fn is_shard(text: &str) -> bool {
+        #[derive(serde::Deserialize)]
+        struct Tag {
+            format: Option<String>,
+        }
+        serde_json::from_str::<Tag>(text)
+            .ok()
+            .and_then(|t| t.format)
+            .is_some_and(|f| f == SHARD_FORMAT)
+    }
+
     /// Reads a table shard file and checks each table's sums against its specification.
     pub fn from_json(text: &str, source_name: &str) -> Result<TableShard> {
         let f: TableShardFile = serde_json::from_str(text).map_err(|e| {

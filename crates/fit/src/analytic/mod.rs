@@ -49,6 +49,11 @@ impl Medium {
         }
     }
 
+    /// The three channels R, G, B of a material (ambient index 1).
+    pub fn channels(m: &mc::Material) -> [Self; 3] {
+        [0, 1, 2].map(|c| Medium::channel(m, c))
+    }
+
     /// The medium of an `mc` layer under a medium of index `n_above` (η relative to it).
     pub fn of_layer(layer: &mc::Layer, n_above: f64) -> Self {
         Medium {

@@ -17,14 +17,14 @@ struct Light {
     cell_v: vec4<f32>,
 };
 
-// How one SSS material is shaded (gpu::Shading).
+// How one SSS material is shaded (shading::Shading).
 struct Material {
     // Incidence-aware shading: ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80° (rgb), and the ambient light's
     // cosine-weighted mean of it (all ones: off).
     incidence: array<vec4<f32>, 9>,
     incidence_ambient: vec4<f32>,
     // Light through thin parts: Tt(d)/ρ at d_k = first·ratio^k (rgb), and x: first [cm],
-    // y: ln ratio, z: 1 on / 0 off (gpu::Translucency), w: the boundary's η (gpu::Shading).
+    // y: ln ratio, z: 1 on / 0 off (shading::Translucency), w: the boundary's η (shading::Shading).
     translucency: array<vec4<f32>, 16>,
     translucency_params: vec4<f32>,
     // The transmitted light's radiance relative to a Lambertian surface's, h_T(θ; d_k) at
@@ -35,7 +35,7 @@ struct Material {
     // (rgb; all ones: off).
     exit: array<vec4<f32>, 81>,
     // Entry-shifted shading: the centroid δ(θ) [cm] of the light a half-space returns ahead of
-    // where it entered at θ = 0°, 10°, …, 80° (rgb; gpu::EntryShift); shift[0].w: 1 on, 0 off.
+    // where it entered at θ = 0°, 10°, …, 80° (rgb; shading::EntryShift); shift[0].w: 1 on, 0 off.
     shift: array<vec4<f32>, 9>,
 };
 
@@ -91,7 +91,7 @@ fn shadow(i: u32, world: vec3<f32>, l: vec3<f32>, n_dot_l: f32) -> f32 {
 }
 
 // An angle table (θ = 0°, 10°, …, 80°: `incidence`) at cos θ: linear in θ between entries, the
-// 80° value beyond (gpu::incidence_ratio is its CPU twin).
+// 80° value beyond (shading::incidence_ratio is its CPU twin).
 fn angle_table(table: array<vec4<f32>, 9>, cos_a: f32) -> vec3<f32> {
     var t = table;
     let a = angle_index(cos_a);
@@ -100,7 +100,7 @@ fn angle_table(table: array<vec4<f32>, 9>, cos_a: f32) -> vec3<f32> {
 }
 
 // Material m's h_T at thickness d [cm] and exit cosine cos_o: linear in ln d and in θ, held
-// outside the tables (gpu::Translucency::exit_at).
+// outside the tables (shading::Translucency::exit_at).
 fn translucency_exit(m: u32, d: f32, cos_o: f32) -> vec3<f32> {
     let t = log(max(d, 1e-30) / g.materials[m].translucency_params.x) / g.materials[m].translucency_params.y;
     var i = 0u;
@@ -212,7 +212,7 @@ fn mirror(i: u32, world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, eta: f32)
 }
 
 // Material m's exit table h(θ_o; θ_i) at exit cosine cos_o and entry cosine cos_i: linear in
-// both angles between entries, the 80° values beyond (gpu::exit_ratio is its CPU twin).
+// both angles between entries, the 80° values beyond (shading::exit_ratio is its CPU twin).
 fn exit_table(m: u32, cos_o: f32, cos_i: f32) -> vec3<f32> {
     let o = angle_index(cos_o);
     let e = angle_index(cos_i);
@@ -254,7 +254,7 @@ fn normal_turn(loc: Local, d: vec3<f32>) -> vec3<f32> {
 
 // Light i entering SSS material m where it leaves at `world` (unit normal n, `l` the unit
 // direction towards the light, `scale` its irradiance at normal incidence), entry-shifted
-// (gpu::EntryShift): light entering at θ leaves a half-space δ(θ) ahead of its entry along the
+// (shading::EntryShift): light entering at θ leaves a half-space δ(θ) ahead of its entry along the
 // propagation projected on the surface, t = −l less its part along n. So the light that leaves
 // here entered δ behind, at world − δ·t (per channel), where the normal has turned by the
 // surface's curvature (normal_turn) and the shadow is that point's: the light's incidence there,

@@ -53,7 +53,7 @@ fn incidence_table(cos_t: f32) -> vec3<f32> {
     return mix(tb.incidence[i].rgb, tb.incidence[min(i + 1u, 8u)].rgb, a.y);
 }
 
-// The exit table h(θ_o; θ_i), linear in both angles (gpu::exit_ratio is its CPU twin).
+// The exit table h(θ_o; θ_i), linear in both angles (shading::exit_ratio is its CPU twin).
 fn exit_table(cos_o: f32, cos_i: f32) -> vec3<f32> {
     let o = angle_index(cos_o);
     let e = angle_index(cos_i);

@@ -9,7 +9,7 @@
 //! (`Shading::entry_shift`, lighting.wgsl).
 
 use crate::angles::{INCIDENCE_STEPS, incidence_ratio};
-use crate::error::{GpuError, Result};
+use crate::error::{Result, ShadingError};
 
 /// The half width n of the surface grid (2n + 1 cells a side) the centroid is tallied on.
 pub const SHIFT_GRID_HALF_WIDTH: usize = 192;
@@ -22,7 +22,7 @@ pub const SHIFT_GRID_REACH_MFP: f64 = 20.0;
 /// The centroid δ(θ) [cm] of the light a half-space of the material returns, per channel, at
 /// θ = 0°, 10°, …, 80° (the incidence table's angles; beyond 80° the last value), with its
 /// standard error.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct EntryShift {
     /// δ(θ) [cm], [θ index][channel]; ≥ 0 in expectation (the light is carried forward).
     pub shift_cm: [[f32; 3]; INCIDENCE_STEPS],
@@ -44,7 +44,7 @@ impl EntryShift {
     /// at an angle has δ = 0). `progress` receives photon counts.
     pub fn from_mc(spec: &mc::BatchSpec, progress: &(dyn Fn(u64) + Sync)) -> Result<EntryShift> {
         if spec.channels.len() != 3 {
-            return Err(GpuError::invalid(
+            return Err(ShadingError::invalid(
                 "entry shift: channels",
                 spec.channels.len(),
                 "one material (three channels) per table",
@@ -56,7 +56,7 @@ impl EntryShift {
             let m = fit::analytic::Medium::of_layer(&ch.layer, spec.n_above);
             let mfp = 1.0 / m.sigma_t_reduced();
             if !(mfp.is_finite() && mfp > 0.0) {
-                return Err(GpuError::invalid(
+                return Err(ShadingError::invalid(
                     format!("entry shift: transport mean free path of channel {c} [cm]"),
                     mfp,
                     "must be finite and positive (σa + σs(1 − g) > 0)",
@@ -97,7 +97,7 @@ impl EntryShift {
     pub fn validate(&self) -> Result<()> {
         for (what, t) in [("shift", &self.shift_cm), ("shift SE", &self.shift_se_cm)] {
             if let Some(v) = t.iter().flatten().find(|v| !v.is_finite()) {
-                return Err(GpuError::invalid(
+                return Err(ShadingError::invalid(
                     format!("entry shift: {what} [cm]"),
                     v,
                     "must be finite",
@@ -105,7 +105,7 @@ impl EntryShift {
             }
         }
         if let Some(v) = self.shift_se_cm.iter().flatten().find(|v| **v < 0.0) {
-            return Err(GpuError::invalid(
+            return Err(ShadingError::invalid(
                 "entry shift: shift SE [cm]",
                 v,
                 "must be ≥ 0",

@@ -1,7 +1,7 @@
-//! The angle tables of incidence- and exit-aware shading (`gpu::AngleTables::from_mc`) against
+//! The angle tables of incidence- and exit-aware shading (`shading::AngleTables::from_mc`) against
 //! Chandrasekhar's exact results for an index-matched, isotropically scattering half-space.
 
-use gpu::{AngleTables, INCIDENCE_STEPS};
+use shading::{AngleTables, INCIDENCE_STEPS};
 
 #[path = "../../../tests/support/chandrasekhar.rs"]
 mod chandrasekhar;

@@ -1,9 +1,13 @@
 //! The angle tables' grid, θ = 0°, 10°, …, 80° (incidence, exit, transmitted-exit and
-//! entry-shift tables): the CPU twin of shaders/angles.wgsl.
+//! entry-shift tables): the CPU twin of `wgsl/angles.wgsl`.
 
 /// Entries of an angle table ([`crate::Shading::incidence`], each axis of
 /// [`crate::Shading::exit`], [`crate::EntryShift`]): θ = 0°, 10°, …, 80°.
 pub const INCIDENCE_STEPS: usize = 9;
+
+/// The WGSL of the angle grid, `angle_index(cos_t) -> vec2<f32>` (entry and weight of the next),
+/// prepended to every shader that reads an angle table.
+pub const ANGLES_WGSL: &str = include_str!("wgsl/angles.wgsl");
 
 /// An angle table at cos θ = `cos_i`: ρ(θ)/ρ(0) from an incidence table, h(θ) from an exit
 /// table, δ(θ) from an entry shift; linear in θ between entries, the 80° entry beyond (also for

@@ -1,0 +1,50 @@
+//! `shading`: the shading model a renderer reads around subsurface scattering, per material, as
+//! plain data with standard errors, built from `mc` (Monte Carlo in the material itself) and
+//! `fit` (its media), each table with the CPU twin of the lookup the shaders do and the WGSL
+//! that does it:
+//!
+//! - [`AngleTables`]: ρ(θ)/ρ(0), the total diffuse reflectance against the angle of incidence,
+//!   and h(θ_o; θ_i), the exit law for light that entered at each angle ([`angle_tables`]);
+//! - [`EntryShift`]: δ(θ), where a half-space returns obliquely entering light on average
+//!   ([`entry_shift`]);
+//! - [`Translucency`]: a slab's transmittance against thickness and its exit law
+//!   ([`translucency`]);
+//! - [`DirectionalTable`]: `mc`'s Rd(x, y; θ) for the directional surface gather
+//!   ([`directional`]);
+//! - [`Shading`]: the set one material is shaded with ([`model`]);
+//! - [`SimulatedProfile`]: the radial profile Rd(r) its kernels and the surface gather read
+//!   ([`profile`]).
+//!
+//! Angles are tabulated at θ = 0°, 10°, …, 80° ([`INCIDENCE_STEPS`], [`angles`]); lengths are cm,
+//! reflectances per unit incident power. Nothing here needs a GPU: `gpu` uploads these tables and
+//! its tests compare the shaders against the twins here.
+
+#![deny(missing_docs)]
+// Units are written in brackets as in the papers, [cm⁻¹]; rustdoc would take them for links.
+#![allow(rustdoc::broken_intra_doc_links)]
+
+pub mod angle_tables;
+pub mod angles;
+pub mod directional;
+pub mod entry_shift;
+mod error;
+pub mod fresnel;
+pub mod model;
+pub mod profile;
+pub mod translucency;
+
+pub use angle_tables::{AngleTables, ExitTable, exit_ratio, incidence_hemispherical};
+pub use angles::{ANGLES_WGSL, INCIDENCE_STEPS, incidence_ratio};
+pub use directional::{
+    Bssrdf, DIRECTIONAL_ANGLES, DIRECTIONAL_HALF_WIDTH, DirectionalTable, gather_batch_runs,
+    gather_tables,
+};
+pub use entry_shift::{EntryShift, SHIFT_GRID_HALF_WIDTH, SHIFT_GRID_REACH_MFP};
+pub use error::{Result, ShadingError};
+pub use fresnel::{FRESNEL_WGSL, fresnel};
+/// The input types of this crate's builders, from `mc`: a material's coefficients, the run
+/// settings, a batch of its channels, an estimate with its standard error.
+pub use mc::{BatchSpec, Estimate, Material, SimConfig};
+pub use model::Shading;
+pub use profile::SimulatedProfile;
+pub use translucency::{RHO_PHOTONS, TRANSLUCENCY_STEPS, Translucency};
