@@ -4,18 +4,28 @@ use crate::error::{ReportError, Result};
 
 /// An 8-bit RGBA image (row-major, top row first) as PNG bytes.
 pub fn png_rgba(width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>> {
+    let path = format!("{width}×{height} image");
+    png_8bit(png::ColorType::Rgba, (width, height), rgba, &path)
+}
+
+/// 8-bit pixels with `color`'s channels (row-major, top row first) as PNG bytes; errors name
+/// `path`.
+pub(crate) fn png_8bit(
+    color: png::ColorType,
+    (width, height): (u32, u32),
+    pixels: &[u8],
+    path: &str,
+) -> Result<Vec<u8>> {
     let mut out = Vec::new();
-    {
-        let mut enc = png::Encoder::new(&mut out, width, height);
-        enc.set_color(png::ColorType::Rgba);
-        enc.set_depth(png::BitDepth::Eight);
-        enc.write_header()
-            .and_then(|mut w| w.write_image_data(rgba))
-            .map_err(|e| ReportError::Plot {
-                path: format!("{width}×{height} image"),
-                message: e.to_string(),
-            })?;
-    }
+    let mut enc = png::Encoder::new(&mut out, width, height);
+    enc.set_color(color);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.write_header()
+        .and_then(|mut w| w.write_image_data(pixels))
+        .map_err(|e| ReportError::Plot {
+            path: path.to_string(),
+            message: e.to_string(),
+        })?;
     Ok(out)
 }
 

@@ -1,13 +1,15 @@
 //! The Pareto plot of [`fit::pareto`]: taps per pixel against image error, every model labelled
 //! and coloured by family, the front as a step line.
 
+use plotters::coord::ranged1d::Ranged;
 use plotters::prelude::*;
 
 use fit::Family;
 use fit::pareto::{Pareto, Point};
 
 use crate::error::{ReportError, Result};
-use crate::plot::{font, png_of};
+use crate::plot::chart::{Chart, Frame, Mark, Ticks, axes, legend};
+use crate::plot::{Area, InPlot, png_of};
 
 /// One colour per model family.
 fn family_color(family: Family) -> RGBColor {
@@ -26,21 +28,39 @@ fn family_color(family: Family) -> RGBColor {
 const LABEL_FONT: u32 = 13;
 const LABEL_PITCH: i32 = 14;
 
+/// Grey of the front and of the legend's glyphs for marker shapes.
+const GREY: RGBColor = RGBColor(90, 90, 90);
+
+/// The chart's frame [px].
+const FRAME: Frame = Frame {
+    caption: 18,
+    margin: 12,
+    x_area: 44,
+    y_area: 80,
+};
+
+/// Whether a point can sit on the log error axis: its error is positive and finite.
+fn plottable(q: &Point) -> bool {
+    q.mean_image_rms.is_finite() && q.mean_image_rms > 0.0
+}
+
+/// Where a point sits: (taps per pixel, mean image RMS [-]).
+fn at(q: &Point) -> (f64, f64) {
+    (q.cost.taps as f64, q.mean_image_rms)
+}
+
 /// Taps per pixel (x, log, ticks at every model's cost) against mean image RMS (y, log) of every
 /// model, each labelled and coloured by family (filled: on the front; squares: dense 2D kernels),
 /// with the Pareto front as a step line; `title` names the material. Points whose error is not
 /// positive and finite cannot sit on a log axis and are left out. As PNG bytes (1100 × 700).
 pub fn plot(p: &Pareto, title: &str) -> Result<Vec<u8>> {
-    let (width, height) = (1100u32, 700u32);
     let name = format!("{title} Pareto plot");
-    let fail = |e: &dyn std::fmt::Display| ReportError::Plot {
-        path: name.clone(),
-        message: e.to_string(),
-    };
-    let plottable = |q: &&Point| q.mean_image_rms.is_finite() && q.mean_image_rms > 0.0;
-    let shown: Vec<&Point> = p.points.iter().filter(plottable).collect();
+    let shown: Vec<&Point> = p.points.iter().filter(|q| plottable(q)).collect();
     if shown.is_empty() {
-        return Err(fail(&"no model has a positive, finite image RMS"));
+        return Err(ReportError::Plot {
+            path: name,
+            message: "no model has a positive, finite image RMS".into(),
+        });
     }
     let mut ticks: Vec<usize> = shown.iter().map(|q| q.cost.taps).collect();
     ticks.sort_unstable();
@@ -50,142 +70,144 @@ pub fn plot(p: &Pareto, title: &str) -> Result<Vec<u8>> {
     });
     // Room for the labels right of the rightmost points and above the highest one.
     let x_range = (ticks[0].max(1) as f64 / 1.5)..(ticks[ticks.len() - 1] as f64 * 1.8);
-    let y_range = (e_lo / 2.0)..(e_hi * 3.0);
-    let on_front = |q: &Point| p.front.iter().any(|f| f.model == q.model);
-
-    png_of((width, height), &name, |root, _| {
-        font();
-        root.fill(&WHITE).map_err(|e| fail(&e))?;
-        let mut ch = ChartBuilder::on(&root)
-            .caption(
-                format!(
-                    "{title}: GPU cost against image error (T = {} taps per 1D pass)",
-                    p.taps_per_pass
-                ),
-                ("sans-serif", 18),
-            )
-            .margin(12)
-            .x_label_area_size(44)
-            .y_label_area_size(80)
-            .build_cartesian_2d(
-                x_range
-                    .clone()
-                    .log_scale()
-                    .with_key_points(ticks.iter().map(|&t| t as f64).collect()),
-                y_range.log_scale(),
-            )
-            .map_err(|e| fail(&e))?;
-        ch.configure_mesh()
-            .x_desc("texture taps per pixel [taps/pixel] (2R·T separable, T² dense), log scale")
-            .y_desc("mean image RMS over signals and channels [-], log scale")
-            .x_label_formatter(&|v| format!("{v:.0}"))
-            .y_label_formatter(&|v| format!("{v:.0e}"))
-            .draw()
-            .map_err(|e| fail(&e))?;
-
-        // The front as a staircase: the error each number of taps buys, held until the next
-        // front member, continued to the right edge.
-        let mut stairs: Vec<(f64, f64)> = Vec::new();
-        for q in p.front.iter().filter(plottable) {
-            if let Some(&(_, e)) = stairs.last() {
-                stairs.push((q.cost.taps as f64, e));
-            }
-            stairs.push((q.cost.taps as f64, q.mean_image_rms));
-        }
-        if let Some(&(_, e)) = stairs.last() {
-            stairs.push((x_range.end, e));
-        }
-        let grey = RGBColor(90, 90, 90);
-        ch.draw_series(LineSeries::new(stairs, grey.stroke_width(2)))
-            .map_err(|e| fail(&e))?
-            .label("Pareto front")
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], grey.stroke_width(2))
-            });
-
-        let at = |q: &Point| (q.cost.taps as f64, q.mean_image_rms);
-        let style = |q: &Point| {
-            let color = family_color(q.model.family());
-            if on_front(q) {
-                color.filled()
-            } else {
-                color.stroke_width(2)
-            }
-        };
-        for family in Family::ALL {
-            let color = family_color(family);
-            let members = shown
-                .iter()
-                .filter(|q| q.model.family() == family && !q.cost.dense);
-            if members.clone().next().is_none() {
-                continue;
-            }
-            ch.draw_series(members.map(|q| Circle::new(at(q), 5, style(q))))
-                .map_err(|e| fail(&e))?
-                .label(family.name())
-                .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
-        }
-        if shown.iter().any(|q| q.cost.dense) {
-            let dense = shown.iter().filter(|q| q.cost.dense);
-            ch.draw_series(
-                dense.map(|q| {
-                    EmptyElement::at(at(q)) + Rectangle::new([(-5, -5), (5, 5)], style(q))
-                }),
-            )
-            .map_err(|e| fail(&e))?
-            .label("dense 2D kernel (square)")
-            .legend(move |(x, y)| {
-                Rectangle::new([(x + 5, y - 5), (x + 15, y + 5)], grey.stroke_width(2))
-            });
-        }
-        if shown.iter().any(|q| !on_front(q)) {
-            ch.draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                .map_err(|e| fail(&e))?
-                .label("not on the front (hollow)")
-                .legend(move |(x, y)| Circle::new((x + 10, y), 5, grey.stroke_width(2)));
-        }
-
-        // Labels above right of their points, clear of the front's horizontal steps. Where points
-        // of one cost crowd, labels are stacked upwards from the lowest point, each at least a
-        // line above the one below it, and tied to a point they left by a thin line.
-        let mut labels: Vec<(usize, (i32, i32), &Point)> = shown
-            .iter()
-            .map(|q| (q.cost.taps, ch.backend_coord(&at(q)), *q))
-            .collect();
-        // Per cost, lowest point (largest pixel row) first.
-        labels.sort_by_key(|&(taps, (_, y), _)| (taps, std::cmp::Reverse(y)));
-        let mut below: Option<(usize, i32)> = None;
-        for (taps, (x, y), q) in labels {
-            // Bottom edge of the label [px].
-            let bottom = match below {
-                Some((t, top)) if t == taps => (y - 1).min(top),
-                _ => y - 1,
-            };
-            below = Some((taps, bottom - LABEL_PITCH));
-            let color = family_color(q.model.family());
-            if bottom < y - LABEL_PITCH / 2 {
-                root.draw(&PathElement::new(
-                    vec![(x + 4, y - 4), (x + 9, bottom - LABEL_PITCH / 2)],
-                    color.mix(0.6),
-                ))
-                .map_err(|e| fail(&e))?;
-            }
-            root.draw(&Text::new(
-                q.label.clone(),
-                (x + 10, bottom - LABEL_PITCH),
-                ("sans-serif", LABEL_FONT).into_font().color(&color),
-            ))
-            .map_err(|e| fail(&e))?;
-        }
-        ch.configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .border_style(BLACK)
-            .background_style(WHITE.mix(0.8))
-            .draw()
-            .map_err(|e| fail(&e))?;
-        root.present().map_err(|e| fail(&e))?;
-        Ok(())
+    let caption = format!(
+        "{title}: GPU cost against image error (T = {} taps per 1D pass)",
+        p.taps_per_pass
+    );
+    png_of((1100, 700), &name, |root, path| {
+        let key_points = ticks.iter().map(|&t| t as f64).collect();
+        let x = x_range.clone().log_scale().with_key_points(key_points);
+        let y = (e_lo / 2.0..e_hi * 3.0).log_scale();
+        let mut ch = FRAME.chart(root, path, &caption, x, y)?;
+        let taps = "texture taps per pixel [taps/pixel] (2R·T separable, T² dense), log scale";
+        let error = "mean image RMS over signals and channels [-], log scale";
+        axes(
+            &mut ch,
+            path,
+            (taps, Ticks::Fixed(0)),
+            (error, Ticks::Exp(0)),
+        )?;
+        let stairs = front_stairs(p, x_range.end);
+        Mark::Line(GREY.stroke_width(2)).labelled(&mut ch, path, stairs, "Pareto front")?;
+        draw_points(&mut ch, path, p, &shown)?;
+        draw_labels(root, path, &ch, &shown)?;
+        legend(&mut ch, path, SeriesLabelPosition::UpperRight)
     })
+}
+
+/// The front as a staircase: the error each number of taps buys, held until the next front
+/// member, continued to `x_end`.
+fn front_stairs(p: &Pareto, x_end: f64) -> Vec<(f64, f64)> {
+    let mut stairs: Vec<(f64, f64)> = Vec::new();
+    for q in p.front.iter().filter(|q| plottable(q)) {
+        if let Some(&(_, e)) = stairs.last() {
+            stairs.push((q.cost.taps as f64, e));
+        }
+        stairs.push(at(q));
+    }
+    if let Some(&(_, e)) = stairs.last() {
+        stairs.push((x_end, e));
+    }
+    stairs
+}
+
+/// The `shown` points in their family's colour, filled where on the front: circles per family
+/// (one legend entry each), squares for dense 2D kernels, and a legend entry for hollow markers.
+fn draw_points<'a, 'b: 'a, X, Y>(
+    ch: &mut Chart<'a, 'b, X, Y>,
+    path: &str,
+    p: &Pareto,
+    shown: &[&Point],
+) -> Result<()>
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let on_front = |q: &Point| p.front.iter().any(|f| f.model == q.model);
+    let style = |q: &Point| {
+        let color = family_color(q.model.family());
+        if on_front(q) {
+            color.filled()
+        } else {
+            color.stroke_width(2)
+        }
+    };
+    for family in Family::ALL {
+        let color = family_color(family);
+        let members = shown
+            .iter()
+            .filter(|q| q.model.family() == family && !q.cost.dense);
+        if members.clone().next().is_none() {
+            continue;
+        }
+        ch.draw_series(members.map(|q| Circle::new(at(q), 5, style(q))))
+            .in_plot(path)?
+            .label(family.name())
+            .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
+    }
+    if shown.iter().any(|q| q.cost.dense) {
+        let dense = shown.iter().filter(|q| q.cost.dense);
+        ch.draw_series(
+            dense.map(|q| EmptyElement::at(at(q)) + Rectangle::new([(-5, -5), (5, 5)], style(q))),
+        )
+        .in_plot(path)?
+        .label("dense 2D kernel (square)")
+        .legend(move |(x, y)| {
+            Rectangle::new([(x + 5, y - 5), (x + 15, y + 5)], GREY.stroke_width(2))
+        });
+    }
+    if shown.iter().any(|q| !on_front(q)) {
+        ch.draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+            .in_plot(path)?
+            .label("not on the front (hollow)")
+            .legend(move |(x, y)| Circle::new((x + 10, y), 5, GREY.stroke_width(2)));
+    }
+    Ok(())
+}
+
+/// Every shown point's label above right of it, clear of the front's horizontal steps. Where
+/// points of one cost crowd, labels are stacked upwards from the lowest point, each at least a
+/// line above the one below it, and tied to a point they left by a thin line.
+fn draw_labels<X, Y>(
+    root: &Area<'_>,
+    path: &str,
+    ch: &Chart<'_, '_, X, Y>,
+    shown: &[&Point],
+) -> Result<()>
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let mut labels: Vec<(usize, (i32, i32), &Point)> = shown
+        .iter()
+        .map(|q| (q.cost.taps, ch.backend_coord(&at(q)), *q))
+        .collect();
+    // Per cost, lowest point (largest pixel row) first.
+    labels.sort_by_key(|&(taps, (_, y), _)| (taps, std::cmp::Reverse(y)));
+    let mut below: Option<(usize, i32)> = None;
+    for (taps, (x, y), q) in labels {
+        // Bottom edge of the label [px].
+        let bottom = match below {
+            Some((t, top)) if t == taps => (y - 1).min(top),
+            _ => y - 1,
+        };
+        below = Some((taps, bottom - LABEL_PITCH));
+        let color = family_color(q.model.family());
+        if bottom < y - LABEL_PITCH / 2 {
+            root.draw(&PathElement::new(
+                vec![(x + 4, y - 4), (x + 9, bottom - LABEL_PITCH / 2)],
+                color.mix(0.6),
+            ))
+            .in_plot(path)?;
+        }
+        root.draw(&Text::new(
+            q.label.clone(),
+            (x + 10, bottom - LABEL_PITCH),
+            ("sans-serif", LABEL_FONT).into_font().color(&color),
+        ))
+        .in_plot(path)?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -22,21 +22,10 @@ pub fn comparison_sheet(
     exposure: f32,
 ) -> Result<Vec<u8>> {
     let Crop { x0, y0, side } = cmp.crop;
-    let zoom = 240usize.div_ceil(side).max(1);
     let cell = |label: String, pixel: &dyn Fn(usize) -> [u8; 3]| {
-        let s = side * zoom;
-        let mut rgb = Vec::with_capacity(s * s * 3);
-        for y in 0..s {
-            for x in 0..s {
-                rgb.extend(pixel((y0 + y / zoom) * cmp.width + x0 + x / zoom));
-            }
-        }
-        SheetCell {
-            label,
-            width: s as u32,
-            height: s as u32,
-            rgb,
-        }
+        SheetCell::magnified(label, side, 240, &|x, y| {
+            pixel((y0 + y) * cmp.width + x0 + x)
+        })
     };
     let picture = |label: String, img: &[[f32; 4]]| {
         cell(label, &|i| {
