@@ -128,3 +128,58 @@ def engine_params(
 ) -> dict[str, Any]:
     """Engine parameters ("unreal", "unity", "blender", "openpbr") as `sss engine-params --json`:
     `params`, `burley_fit`, `best_separable`; the profile is simulated when not given."""
+
+Switch = Union[bool, str, None]
+"""True/False or "on"/"off"; None takes the method's default."""
+
+def render(
+    material: Union[Material, Sequence[Material], None] = None,
+    *,
+    scene: str = "sphere",
+    width: int = 1920,
+    height: int = 1080,
+    light: Union[str, Sequence[str], None] = None,
+    method: str = "separable",
+    kernel: Optional[Kernel] = None,
+    taps: int = 17,
+    error_target: Optional[float] = None,
+    incidence_aware: Switch = None,
+    exit_aware: Optional[str] = None,
+    entry_shift: Switch = None,
+    translucency: Switch = None,
+    albedo: str = "pre-post",
+    depth_test: str = "lerp",
+    tolerance: Optional[float] = None,
+    jitter: Optional[float] = None,
+    resolution: str = "full",
+    blur: str = "exact",
+    sss_width: float = 1.0,
+    exposure: float = 1.0,
+    camera: Union[Sequence[float], str, None] = None,
+    target: Union[Sequence[float], str, None] = None,
+    fov: Optional[float] = None,
+    object_albedo: Union[Sequence[float], Sequence[Sequence[float]], None] = None,
+    floor_albedo: Union[Sequence[float], str, None] = None,
+    specular: Optional[float] = None,
+    ambient: Optional[float] = None,
+    no_sss: bool = False,
+    photons: Optional[Number] = None,
+    seed: Optional[int] = None,
+    incidence_photons: Optional[Number] = None,
+    translucency_photons: Optional[Number] = None,
+    bssrdf: str = "directional",
+    samples: int = 16,
+    frames: int = 16,
+    frame_seed: Optional[int] = None,
+    radius: Optional[float] = None,
+    dipole_energy: str = "monte-carlo",
+    light_map: int = 1024,
+) -> npt.NDArray[np.float32]:
+    """A scene drawn with the material's subsurface scattering: linear radiance (height × width ×
+    3, float32, top row first), equal to the render.pfm `sss render` writes for the same
+    arguments. Defaults as `sss render`'s: Skin1 on the built-in sphere, pre-integration with the
+    incidence, exit (at the entry angle) and entry-shift tables and light through thin parts.
+    method: "separable", "directional-dipole", "area-gather" or "surface-gather"; light as `sss
+    render --light` writes it ("dir:X,Y,Z[:E]", "point:X,Y,Z[:I]", "area:X,Y,Z:AX,AY,AZ:SIDE[:L]");
+    exit_aware: "entry", "on" or "off". Needs a GPU adapter (Mesa's lavapipe will do); raises
+    SssError naming the argument on bad input."""

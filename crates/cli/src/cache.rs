@@ -66,12 +66,8 @@ impl ProfileSource {
             .unwrap_or_else(crate::common::default_out)
     }
 
-    /// The seed of every run: `--seed`, else the run settings' (`--config`, default the thesis's).
-    pub fn seed(&self) -> Result<u64> {
-        Ok(self.seed_in(&library::config(self.config.as_deref())?))
-    }
-
-    /// [`Self::seed`] with the run settings already read.
+    /// The seed of every run: `--seed`, else the run settings' (`--config`, default the
+    /// thesis's), already read.
     pub fn seed_in(&self, config: &mc::SimConfig) -> u64 {
         self.seed.unwrap_or(config.seed)
     }

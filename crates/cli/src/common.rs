@@ -2,8 +2,10 @@
 //! progress bars (on stderr, hidden when stderr is not a terminal, e.g. in CI or pipes).
 
 use std::path::PathBuf;
+use std::sync::Mutex;
 
 use anyhow::{Result, bail};
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// Parses a positive count written as an integer or in scientific notation (`1e6`).
@@ -45,4 +47,49 @@ pub fn photons(total: u64, label: &str) -> ProgressBar {
     );
     bar.set_message(label.to_string());
     bar
+}
+
+/// A flag's value parser for a library's named choice ([`render::Choice`]): its names, each with
+/// its help line in `--help`.
+pub fn choice<T: render::Choice + Clone>() -> impl TypedValueParser<Value = T> {
+    PossibleValuesParser::new(
+        T::CHOICES
+            .iter()
+            .map(|(name, _, help)| PossibleValue::new(*name).help(*help)),
+    )
+    .map(|name| T::parse(&name).expect("clap admits only the listed names"))
+}
+
+/// A flag's value parser for `on` / `off`.
+pub fn on_off() -> impl TypedValueParser<Value = bool> {
+    PossibleValuesParser::new(["on", "off"]).map(|v| v == "on")
+}
+
+/// Photon bars for a library's Monte Carlo runs ([`render::Progress`]): one bar per run, cleared
+/// when it ends.
+#[derive(Default)]
+pub struct Bars(Mutex<Option<ProgressBar>>);
+
+impl Bars {
+    fn bar(&self) -> std::sync::MutexGuard<'_, Option<ProgressBar>> {
+        self.0.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+impl render::Progress for Bars {
+    fn begin(&self, label: &str, total: u64) {
+        *self.bar() = Some(photons(total, label));
+    }
+
+    fn advance(&self, k: u64) {
+        if let Some(b) = &*self.bar() {
+            b.inc(k);
+        }
+    }
+
+    fn end(&self) {
+        if let Some(b) = self.bar().take() {
+            b.finish_and_clear();
+        }
+    }
 }

@@ -209,23 +209,6 @@ pub fn build_kernel(
     Ok((ShaderKernel::from_fitted(&fitted, material, spec)?, fitted))
 }
 
-/// A model without modifiers (what `render` and `kernel` choose).
-pub fn plain(model: KernelModel) -> ModelArgs {
-    ModelArgs {
-        model,
-        rank: None,
-        k: None,
-        b: None,
-        renormalize: false,
-        w: None,
-        tau_near: None,
-        tau_far: None,
-        strength: None,
-        falloff: None,
-        width: None,
-    }
-}
-
 pub fn run(a: FitArgs) -> Result<()> {
     let text = crate::files::read_text(&a.profile)
         .with_context(|| format!("cannot read profile {}", a.profile.display()))?;

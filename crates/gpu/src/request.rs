@@ -88,6 +88,36 @@ pub struct RenderRequest {
     pub ambient: Option<f32>,
 }
 
+impl Default for RenderRequest {
+    /// The built-in sphere at 1920×1080 with its own camera, lights and albedos, one material,
+    /// 17 taps, the separable method.
+    fn default() -> Self {
+        RenderRequest {
+            scene: "sphere".into(),
+            width: 1920,
+            height: 1080,
+            taps: 17,
+            error_target: None,
+            jitter: None,
+            sss_width: 1.0,
+            exposure: 1.0,
+            tolerance_cm: None,
+            method: Method::Separable,
+            materials: 1,
+            fast_blur: false,
+            lights: Vec::new(),
+            camera: None,
+            target: None,
+            fov_deg: None,
+            object_albedo: Vec::new(),
+            floor_albedo: None,
+            boxes: Vec::new(),
+            specular: None,
+            ambient: None,
+        }
+    }
+}
+
 impl RenderRequest {
     /// Checks what needs no scene: image size, taps, targets, scales and lights.
     pub fn validate(&self) -> Result<()> {

@@ -35,12 +35,16 @@ const LAYERS: &[(&str, May)] = &[
     ("fit", May::Only(&["mc"])),
     ("shading", May::Only(&["mc", "fit"])),
     ("gpu", May::Only(&["fit", "shading"])),
+    ("render", May::Only(&["mc", "fit", "shading", "gpu"])),
     ("report", May::Only(&["mc", "fit", "shading", "gpu"])),
     (
         "sss-cli",
-        May::Only(&["mc", "fit", "shading", "gpu", "report"]),
+        May::Only(&["mc", "fit", "shading", "gpu", "render", "report"]),
     ),
-    ("sss-python", May::Only(&["mc", "fit", "shading", "gpu"])),
+    (
+        "sss-python",
+        May::Only(&["mc", "fit", "shading", "gpu", "render"]),
+    ),
     ("sss-benches", May::Anything),
     ("house", May::Only(&[])),
 ];

@@ -21,7 +21,7 @@ use crate::{args, error};
 /// vertical 1D pass) its taps' offsets [cm], RGB weights [-] and a sign per channel.
 #[pyclass(module = "sss", frozen)]
 pub struct Kernel {
-    inner: ShaderKernel,
+    pub(crate) inner: ShaderKernel,
 }
 
 #[pymethods]

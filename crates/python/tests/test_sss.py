@@ -289,3 +289,65 @@ def test_the_example_runs(tmp_path):
     assert out.returncode == 0, out.stderr
     assert (tmp_path / "profiles_and_kernels.png").read_bytes()[:4] == b"\x89PNG"
     assert "float4" in (tmp_path / "skin1.hlsl").read_text()
+
+
+def read_pfm(path):
+    """A PFM file (bottom row first, little-endian) as height × width × 3, top row first."""
+    kind, size, scale, pixels = Path(path).read_bytes().split(b"\n", 3)
+    assert kind == b"PF" and float(scale) < 0
+    width, height = map(int, size.split())
+    return np.frombuffer(pixels, dtype="<f4").reshape(height, width, 3)[::-1]
+
+
+@pytest.mark.skipif(not SSS_BIN, reason="SSS_BIN not set")
+def test_render_equals_the_cli_pfm(tmp_path):
+    # One request, two front ends: the same arguments give the same image, bit for bit.
+    image = sss.render("skin1", scene="sphere", width=64, height=48, photons=QUICK)
+    assert image.shape == (48, 64, 3) and image.dtype == np.float32
+    subprocess.run([SSS_BIN, "render", "--material", "skin1", "--scene", "sphere", "--width", "64",
+                    "--height", "48", "--photons", str(QUICK), "--profiles", str(tmp_path / "p"),
+                    "--out", str(tmp_path / "r")], check=True, capture_output=True)
+    cli = read_pfm(tmp_path / "r" / "render.pfm")
+    assert np.array_equal(image, cli)
+    # The plain kernel stays one argument away, and is another image.
+    plain = sss.render("skin1", scene="sphere", width=64, height=48, photons=QUICK,
+                       incidence_aware=False, exit_aware="off", entry_shift=False)
+    assert not np.array_equal(plain, image)
+
+
+def test_render_without_scattering_conserves_the_lambertian_light():
+    # A flat floor-free view of the sphere lit head-on with no scattering is Lambert's law: the
+    # brightest pixel, facing the light, is albedo × E / π (radiance); here linear radiance is
+    # written ×π (as `sss render` writes irradiance-scaled radiance), so it is albedo × E.
+    e, albedo = 2.0, 0.5
+    image = sss.render("skin1", width=96, height=96, light=f"dir:0,0,1:{e}", camera=(0, 0, 20),
+                       target=(0, 0, 0), object_albedo=albedo, floor_albedo=(0, 0, 0), specular=0,
+                       ambient=0, no_sss=True)
+    peak = image.reshape(-1, 3).max(axis=0)
+    np.testing.assert_allclose(peak, albedo * e, rtol=0.02)
+
+
+@pytest.mark.parametrize("kwargs, field", [
+    ({"width": 0}, "width"),
+    ({"method": "photon-mapping"}, "method"),
+    ({"incidence_aware": "maybe"}, "incidence_aware"),
+    ({"method": "directional-dipole", "entry_shift": True}, "entry_shift"),
+    ({"method": "area-gather", "translucency": "on"}, "translucency"),
+    ({"light": "sun:1,2,3"}, "light"),
+    ({"scene": "pair"}, "material"),
+    ({"exit_aware": "sideways"}, "exit_aware"),
+    ({"photons": 0}, "photons"),
+])
+def test_render_refuses_bad_arguments_naming_them(kwargs, field):
+    with pytest.raises(sss.SssError, match=field):
+        sss.render("skin1", **{"width": 16, "height": 16, **kwargs})
+
+
+def test_the_render_example_runs(tmp_path):
+    out = subprocess.run([sys.executable, str(ROOT / "examples" / "python" / "render.py"),
+                          "--out", str(tmp_path), "--photons", "100000", "--width", "96",
+                          "--height", "54"],
+                         capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert (tmp_path / "render_comparison.png").read_bytes()[:4] == b"\x89PNG"
+    assert np.load(tmp_path / "render_default.npy").shape == (54, 96, 3)

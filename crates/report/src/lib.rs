@@ -18,6 +18,7 @@ pub mod image;
 pub mod incidence;
 pub mod pareto;
 pub mod plot;
+pub mod render_checks;
 pub mod rendered;
 pub mod reproduce;
 pub mod sheet;

@@ -1,0 +1,223 @@
+//! What `sss render --compare-models` and `--bench` report: every kernel model rendered against
+//! the CPU 2D ground truth (its table, images and sheet), and the benchmarks' tables. Text and
+//! bytes only; the caller prints and writes them.
+
+use fit::analytic::Medium;
+use fit::taps::TapSpec;
+use fit::{KernelModel, Profile};
+use gpu::bench::{DipoleRow, SeparableBench};
+use gpu::compare::{ImageError, Shown};
+use gpu::{Gpu, RenderParams, Scene};
+use serde_json::{Value, json};
+
+use crate::error::Result;
+
+/// The kernels compared by --compare-models: (label, model). SVD is rescaled to the kernel's
+/// energy (‖A‖₁ = ‖R_d‖₁) for images, as `eval` does.
+pub const MODELS: [(&str, KernelModel); 8] = [
+    ("preint", KernelModel::Preint),
+    (
+        "svd1",
+        KernelModel::Svd {
+            rank: 1,
+            renormalize: true,
+        },
+    ),
+    (
+        "svd3",
+        KernelModel::Svd {
+            rank: 3,
+            renormalize: true,
+        },
+    ),
+    ("deon3", KernelModel::Deon { n: 3 }),
+    ("guided", KernelModel::Guided { k: 1.0, b: 0.0 }),
+    ("manual", KernelModel::Manual(fit::ManualParams::Auto)),
+    (
+        "skin",
+        KernelModel::Skin(fit::SkinParams::Given(fit::skin::Skin::DEMO)),
+    ),
+    ("burley", KernelModel::Burley { radial: false }),
+];
+
+/// The comparison of every model in [`MODELS`] and the area gather with the paper's pattern.
+pub struct ModelComparison {
+    /// The scale the kernels were drawn at, a line.
+    pub scale: String,
+    /// The table of image RMS per model (relative to the SSS pixels' mean), lines.
+    pub table: Vec<String>,
+    /// Each model's rendered image as PNG, by label.
+    pub images: Vec<(String, Vec<u8>)>,
+    /// The sheet of cut-outs with difference images, PNG.
+    pub sheet: Vec<u8>,
+    /// One JSON row per model: `model`, `image_rms_rel`, `image_rms_rel_rgb`.
+    pub rows: Vec<Value>,
+    /// The image scale [cm per pixel].
+    pub cm_per_px: f64,
+}
+
+/// Every model of [`MODELS`] fitted to `p` with `taps` taps, and the area gather of `media`,
+/// rendered on `scene` (called `scene_name`) with `base`'s settings against the CPU 2D ground
+/// truth ([`gpu::compare_models`]).
+#[allow(clippy::too_many_arguments)]
+pub fn compare_models(
+    gpu: &Gpu,
+    scene: &Scene,
+    scene_name: &str,
+    base: &RenderParams,
+    p: &Profile,
+    (slug, media): (&str, &[Medium; 3]),
+    taps: usize,
+) -> Result<ModelComparison> {
+    let scale = gpu::compare::kernel_scale(scene, base.height, p, base.sss_width);
+    let scale_line = format!(
+        "comparing models at {:.4} cm/px (profile bins of {:.4} cm × {}) …",
+        scale.cm_per_px, p.dr, scale.bin
+    );
+    let models: Vec<KernelModel> = MODELS.iter().map(|(_, m)| *m).collect();
+    let spec = TapSpec {
+        taps,
+        ..Default::default()
+    };
+    let cmp = gpu::compare_models(gpu, scene, base, p, slug, &models, spec)?;
+    let mut table = vec![
+        format!(
+            "{slug} on {scene_name}: image RMS of the scattered diffuse against the 2D ground truth (SSS pixels, relative to their mean)"
+        ),
+        format!(
+            "  {:<11} {:>9} {:>8} {:>8} {:>8}",
+            "model", "RGB", "R", "G", "B"
+        ),
+    ];
+    let line = |label: &str, e: &ImageError| {
+        let pct = |x: f64| format!("{:.3}%", 100.0 * x);
+        format!(
+            "  {label:<11} {:>9} {:>8} {:>8} {:>8}",
+            pct(e.rms_rel_all),
+            pct(e.rms_rel[0]),
+            pct(e.rms_rel[1]),
+            pct(e.rms_rel[2])
+        )
+    };
+    let l = &cmp.lambert;
+    table.push(line("lambert", &l.error));
+    let row = |label: &str, e: &ImageError| json!({"model": label, "image_rms_rel": e.rms_rel_all, "image_rms_rel_rgb": e.rms_rel});
+    let mut rows = vec![row("lambert", &l.error)];
+    // The area gather with the paper's pattern, at the pixels' true depths.
+    let kernel = gpu::AreaKernel::for_material(slug, media, p)?;
+    let area = cmp.area_gather(gpu, scene, base, &gpu::AreaGatherSetup::new(kernel))?;
+    let labels = MODELS.iter().map(|(l, _)| *l).chain(["area-gather"]);
+    let shown: Vec<(&str, &Shown)> = labels.zip(cmp.kernels.iter().chain([&area])).collect();
+    let mut images = Vec::new();
+    for &(label, k) in &shown {
+        table.push(line(label, &k.error));
+        rows.push(row(label, &k.error));
+        let png = crate::image::png_rgba(base.width, base.height, &k.display)?;
+        images.push((label.to_string(), png));
+    }
+    let title = vec![
+        format!(
+            "{slug} on {scene_name}: each kernel model against the CPU 2D ground truth (scattered diffuse light)"
+        ),
+        format!(
+            "cut-out of {0}×{0} px around the strongest shadow edge; {1:.4} cm per pixel",
+            cmp.crop.side, cmp.scale.cm_per_px
+        ),
+    ];
+    let lambert = [("no SSS (Lambert)", l)];
+    let all: Vec<_> = lambert.into_iter().chain(shown).collect();
+    let sheet = crate::sheet::comparison_sheet(&cmp, title, &all, base.exposure)?;
+    Ok(ModelComparison {
+        scale: scale_line,
+        table,
+        images,
+        sheet,
+        rows,
+        cm_per_px: cmp.scale.cm_per_px,
+    })
+}
+
+/// A time [ms] with three decimals, or "-" where there is none.
+fn ms(v: Option<f64>) -> String {
+    v.map_or("-".to_string(), |v| format!("{v:.3}"))
+}
+
+/// The directional dipole's benchmark ([`gpu::bench::dipole`]) as a table, `adapter`, `slug` and
+/// the `frames` per render in its title.
+pub fn dipole_bench_table(
+    rows: &[DipoleRow],
+    adapter: &str,
+    slug: &str,
+    frames: u32,
+) -> Vec<String> {
+    let mut t = vec![
+        format!(
+            "directional dipole at 1920×1080 on {adapter} ({slug}, {frames} frames per render, median of 3 renders)"
+        ),
+        format!(
+            "  {:>6} {:>8} {:>18} {:>18}",
+            "lights", "samples", "dipole ms/frame", "render wall ms"
+        ),
+    ];
+    for r in rows {
+        t.push(format!(
+            "  {:>6} {:>8} {:>18} {:>18.1}",
+            r.lights,
+            r.samples,
+            ms(r.dipole_ms_per_frame),
+            r.render_wall_ms
+        ));
+    }
+    t
+}
+
+/// The separable passes' benchmark ([`gpu::bench::separable`]) as a table: every configuration
+/// and what each skip saves; `title` names the image, adapter, material and scene.
+pub fn separable_bench_table(b: &SeparableBench, title: &str) -> Vec<String> {
+    let mut t = vec![
+        title.to_string(),
+        format!(
+            "  {:<12} {:>5} {:>5} {:>10} {:>6} {:>12} {:>10} {:>14}",
+            "kernel", "taps", "rank", "resolution", "path", "SSS GPU ms", "frame ms", "÷ preint 17"
+        ),
+    ];
+    for c in &b.configs {
+        t.push(format!(
+            "  {:<12} {:>5} {:>5} {:>10} {:>6} {:>12} {:>10.1} {:>14.2}",
+            c.kernel,
+            c.taps,
+            c.rank.map_or("-".into(), |r| r.to_string()),
+            c.resolution,
+            c.path,
+            ms(c.gpu_ms),
+            c.frame_ms,
+            c.frame_ratio_to_preint17
+        ));
+    }
+    let s = &b.skips;
+    let (e, f, r) = (&s.empty_pixels, &s.subpixel_kernels, &s.rank_target);
+    t.push("skips (preint, 17 taps; SSS GPU ms on / off, frame ms on / off):".into());
+    t.push(format!(
+        "  pixels without SSS ({:.0} % of the image has SSS): {} / {}, {:.1} / {:.1}",
+        100.0 * e.sss_pixel_fraction,
+        ms(e.saving.gpu_ms_on),
+        ms(e.saving.gpu_ms_off),
+        e.saving.frame_ms_on,
+        e.saving.frame_ms_off
+    ));
+    t.push(format!(
+        "  sub-pixel kernels (the scene {:.1}× as far, footprint {:.1} → {:.2} px): {} / {}, {:.1} / {:.1}",
+        f.distance_factor,
+        f.near_footprint_px,
+        f.footprint_px,
+        ms(f.saving.gpu_ms_on),
+        ms(f.saving.gpu_ms_off),
+        f.saving.frame_ms_on,
+        f.saving.frame_ms_off
+    ));
+    t.push(format!(
+        "  ranks beyond an image-error target ({:.5}, 1.05 × the best of ranks 1–3): rank {} chosen, frame ms {:.1} / {:.1} (rank 3)",
+        r.target_image_rms, r.rank_chosen, r.saving.frame_ms_on, r.saving.frame_ms_off
+    ));
+    t
+}
