@@ -21,7 +21,7 @@ EEVEE through Mesa's software OpenGL).
   scene  The scenes of scripts/references/images.py (camera, light, geometry, black floor), built
          in Blender and rendered with each renderer, scored against the Mitsuba reference that
          `images.py --arrays` left in OUT/<scene folder>/arrays.npz, with the same code
-         (images.score, images.measure, images.calibrated): calibration first (Blender's opaque
+         (references.scoring's score, measure, calibrated): calibration first (Blender's opaque
          Lambertian surfaces, direct light only, against Mitsuba's; a renderer that fails is
          reported as uncalibrated and ranks nothing, and a failing Cycles calibration fails the
          run), noise-corrected RMSE ± SE (each Blender render is two half-budget seeds, its own
@@ -48,17 +48,20 @@ import os
 import sys
 import tempfile
 import time
-
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 
 # Blender 5.0 warns that `use_nodes` goes away in 6.0; until then it is how node materials start.
 warnings.filterwarnings("ignore", message=".*use_nodes.*", category=DeprecationWarning)
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "references"))
+# Run by path (`python3 scripts/engines/blender.py`, as tests/blender.rs and run.py do): Python
+# puts this folder on sys.path; the scripts' root, which holds the `references` package, goes first.
+sys.path.insert(0, os.path.dirname(HERE))
 
-from common import material, material_toml, run, sss_binary  # noqa: E402
+from references import scenes, scoring, sheets  # noqa: E402
+from references.ours import material, material_toml, run, sss_binary  # noqa: E402
 
 # The renderers compared, as images.json's model labels.
 CYCLES_RW, CYCLES_BURLEY, EEVEE = "blender-cycles-random-walk", "blender-cycles-burley", "blender-eevee"
@@ -320,10 +323,9 @@ def build(width, height, scene, surface, files):
 def halves(s, engine, spp, seed):
     """Two renders at half the samples each with independent seeds: (mean, their difference on
     2×2 blocks, seconds)."""
-    from images import blocks
     t = time.time()
     a, b = s.render(engine, spp // 2, seed), s.render(engine, spp // 2, seed + 1)
-    return 0.5 * (a + b), blocks(a) - blocks(b), time.time() - t
+    return 0.5 * (a + b), scoring.blocks(a) - scoring.blocks(b), time.time() - t
 
 
 # Blender's engines as the sheet names them.
@@ -334,14 +336,29 @@ RENDERERS = {CYCLES_RW: ("CYCLES", "RANDOM_WALK", "random_walk"),
              EEVEE: ("BLENDER_EEVEE", "BURLEY", "burley")}
 
 
-def scene_command(a):
-    import images as I
-    sss = sss_binary(a.sss)
-    sc = I.SCENES[a.scene]
+@dataclass
+class Reference:
+    """The Mitsuba reference `images.py --arrays` left for one scene (arrays.npz), on the 2×2
+    blocks images.py scores on: linear radiance, [h × w × 3] images and [h/2 × w/2 × 3] blocks."""
+    arr: object            # arrays.npz as loaded (our models' images among them)
+    ref: np.ndarray        # the reference image
+    r2: np.ndarray         # the reference on 2×2 blocks
+    d2: np.ndarray         # the difference of its two halves on 2×2 blocks (its noise)
+    mask: np.ndarray       # the blocks compared [h/2 × w/2], bool
+    mean: float            # the reference's mean over the compared blocks
+    sil: np.ndarray        # blocks with a silhouette or crease pixel [h/2 × w/2], bool
+    cal_ref: np.ndarray    # Mitsuba's calibration: opaque Lambertian surfaces, direct light only
+    c2: np.ndarray         # the calibration on 2×2 blocks
+    dc2: np.ndarray        # the difference of its two halves on 2×2 blocks
+
+
+def load_reference(a):
+    """The scene (its SCENES entry), output folder, images.json's path, arrays.npz and
+    images.json of `scene`'s arguments; exits where images.py --arrays has not left them."""
+    sc = scenes.SCENES[a.scene]
     if sc["light"][0] == "area":
         sys.exit(f"--scene {a.scene}: its area light is not built in Blender; use sphere, fin or bust")
-    name = ("images" if a.scene == "sphere" else f"images-{a.scene}") + ("" if a.material == "skin1" else f"-{a.material}")
-    out = os.path.join(a.out, name)
+    out = os.path.join(a.out, scenes.folder(a.scene, a.material))
     arrays, summary = os.path.join(out, "arrays.npz"), os.path.join(out, "images.json")
     if not (os.path.exists(arrays) and os.path.exists(summary)):
         sys.exit(f"{arrays} or {summary} is missing: run scripts/references/images.py --scene {a.scene} "
@@ -349,13 +366,29 @@ def scene_command(a):
     arr, info = np.load(arrays), json.load(open(summary))
     if "calibration_a" not in arr:
         sys.exit(f"{arrays} predates the calibration arrays: rerun images.py --arrays")
-    labels = [x for x in a.renderers.split(",") if x]
-    unknown = set(labels) - set(RENDERERS)
-    if unknown:
-        sys.exit(f"--renderers: {', '.join(sorted(unknown))} unknown (choose from {', '.join(RENDERERS)})")
-    bpy = blender()
+    return sc, out, summary, arr, info
+
+
+def reference_blocks(arr):
+    """The Reference of arrays.npz `arr`, on images.py's blocks and mask."""
+    blocks = scoring.blocks
+    ref = arr["reference"]
+    r2, d2, mask = blocks(ref), blocks(arr["reference_a"]) - blocks(arr["reference_b"]), arr["mask_blocks"]
+    mean = r2[mask].mean()
+    sil = blocks(arr["silhouettes"][:, :, None].astype(np.float64))[:, :, 0] > 0
+    cal_ref = 0.5 * (arr["calibration_a"] + arr["calibration_b"])
+    c2, dc2 = blocks(cal_ref), blocks(arr["calibration_a"]) - blocks(arr["calibration_b"])
+    return Reference(arr, ref, r2, d2, mask, mean, sil, cal_ref, c2, dc2)
+
+
+def render_scene(sss, a, sc, arr, spp, labels):
+    """Every Blender render of one scene: each engine's calibration (opaque Lambertian surfaces of
+    images.py's albedo ρ, direct light only) and each renderer of `labels` (two half-budget
+    seeds of `spp` samples, EEVEE at most EEVEE_SAMPLES). Returns (renders {label: (image, its
+    noise on 2×2 blocks, seconds, spp)}, calibrations {engine: (image, its noise on 2×2
+    blocks)}, seconds {what: s}, the medium's white-sky albedo and Rd(0°), engine-params'
+    fields)."""
     h, w = arr["reference"].shape[:2]
-    spp = a.spp or info["spp"]
     rho = [float(x) for x in arr["rho"]]
     eta = sc.get("eta", 1.0)
     m = material(sss, a.material)
@@ -371,7 +404,7 @@ def scene_command(a):
         files = {}
         if any(shape[0] == "obj" for shape in sc["media"]):
             files["bust"] = os.path.join(tmp, "bust.obj")
-            I.bust_obj(files["bust"])
+            scenes.bust_obj(files["bust"])
         for label in labels:
             engine, method, which = RENDERERS[label]
             # Calibration: the same scene with opaque Lambertian surfaces of reflectance ρ, direct
@@ -380,51 +413,63 @@ def scene_command(a):
                 s = build(w, h, sc, lambda s: s.diffuse(rho), files)
                 t = time.time()
                 a_, b_ = (s.render(engine, max(spp // 8, 8), seed, direct_only=True) for seed in (11, 12))
-                calibrations[engine] = (0.5 * (a_ + b_), I.blocks(a_) - I.blocks(b_))
+                calibrations[engine] = (0.5 * (a_ + b_), scoring.blocks(a_) - scoring.blocks(b_))
                 seconds[f"{engine} calibration"] = time.time() - t
             s = build(w, h, sc, lambda s: s.principled(params[which], method, eta), files)
             n = min(spp, EEVEE_SAMPLES) if engine == "BLENDER_EEVEE" else spp
             renders[label] = (*halves(s, engine, n, 1), n)
             seconds[label] = renders[label][2]
             print(f"  {label}: {n} spp in {seconds[label]:.0f} s", flush=True)
-    # Scoring, with images.py's code on its blocks and mask.
-    ref = arr["reference"]
-    r2, d2, mask = I.blocks(ref), I.blocks(arr["reference_a"]) - I.blocks(arr["reference_b"]), arr["mask_blocks"]
-    mean = r2[mask].mean()
-    sil = I.blocks(arr["silhouettes"][:, :, None].astype(np.float64))[:, :, 0] > 0
-    cal_ref = 0.5 * (arr["calibration_a"] + arr["calibration_b"])
-    c2, dc2 = I.blocks(cal_ref), I.blocks(arr["calibration_a"]) - I.blocks(arr["calibration_b"])
+    return renders, calibrations, seconds, white_sky, params
+
+
+def score_calibrations(r, calibrations):
+    """Each engine's calibration against Mitsuba's direct light on Reference `r`, with its
+    negative control (albedo × 0.8), printed: {engine: measure()'s numbers, with "pass" and
+    "negative_control_rejected"}."""
     cal_rows = {}
     for engine, (img, noise2) in calibrations.items():
-        l2 = I.blocks(img)
-        cal_mask = ((c2.sum(2) > 0) | (l2.sum(2) > 0)) & ~sil
-        cal_mean = c2[cal_mask].mean()
-        _, cal = I.measure(l2, c2, dc2, cal_mask, cal_mean, noise2)
-        _, control = I.measure(0.8 * l2, c2, dc2, cal_mask, cal_mean, 0.8 * noise2)
-        cal["pass"], cal["negative_control_rejected"] = I.calibrated(cal), not I.calibrated(control)
+        l2 = scoring.blocks(img)
+        cal_mask = ((r.c2.sum(2) > 0) | (l2.sum(2) > 0)) & ~r.sil
+        cal_mean = r.c2[cal_mask].mean()
+        _, cal = scoring.measure(l2, r.c2, r.dc2, cal_mask, cal_mean, noise2)
+        _, control = scoring.measure(0.8 * l2, r.c2, r.dc2, cal_mask, cal_mean, 0.8 * noise2)
+        cal["pass"], cal["negative_control_rejected"] = scoring.calibrated(cal), not scoring.calibrated(control)
         cal_rows[engine] = cal
         e = cal["energy_ratio"]
         print(f"  calibration, {engine} (Lambertian ρ, direct light) against Mitsuba's: noise-corrected RMSE "
               f"{100 * cal['rmse_noise_corrected']:.2f} ± {100 * cal['rmse_noise_corrected_se']:.2f} %, energy "
               f"{e[0]:.4f}/{e[1]:.4f}/{e[2]:.4f}: {'passes' if cal['pass'] else 'FAILS: ranks nothing'}; "
               f"albedo × 0.8 {'rejected' if cal['negative_control_rejected'] else 'NOT REJECTED'}")
-    # Our real-time methods in the same file (Monte Carlo gathers and plain Lambertian shading
-    # left out): the best of them by noise-corrected error.
-    ours = {k[len("model_"):]: I.score(I.blocks(arr[k]), r2, d2, mask, mean) for k in arr.files
-            if k.startswith("model_") and k != "model_lambert" and "surface-gather" not in k}
+    return cal_rows
+
+
+def our_scores(r):
+    """Our real-time methods in arrays.npz (Monte Carlo gathers and plain Lambertian shading left
+    out), each score()d on Reference `r`: ({label: (per-block estimates, row)}, the best label by
+    noise-corrected error, or None)."""
+    ours = {k[len("model_"):]: scoring.score(scoring.blocks(r.arr[k]), r.r2, r.d2, r.mask, r.mean)
+            for k in r.arr.files if k.startswith("model_") and k != "model_lambert" and "surface-gather" not in k}
     best = min(ours, key=lambda k: ours[k][1]["rmse_noise_corrected"]) if ours else None
+    return ours, best
+
+
+def score_renders(r, renders, cal_rows, seconds, ours, best, version):
+    """Each Blender render's row on Reference `r`, its sheet panels, and its ranking against our
+    best real-time method: (rows of calibrated renderers, rows of uncalibrated ones, per-block
+    estimates {label: ...} of calibrated ones, panels, rankings). `version`: Blender's."""
     rows, uncalibrated, per, panels, ranked = [], [], {}, [], {}
     for label, (img, noise2, _, n) in renders.items():
         engine = RENDERERS[label][0]
         calibrated = cal_rows[engine]["pass"] and cal_rows[engine]["negative_control_rejected"]
-        p_, row = I.score(I.blocks(img), r2, d2, mask, mean, noise2)
-        row.update({"renderer": f"Blender {bpy.app.version_string} {engine}, Subsurface Method {RENDERERS[label][1]}",
+        p_, row = scoring.score(scoring.blocks(img), r.r2, r.d2, r.mask, r.mean, noise2)
+        row.update({"renderer": f"Blender {version} {engine}, Subsurface Method {RENDERERS[label][1]}",
                     "spp": n, "seconds": seconds[label]})
-        shown = I.tonemap(img, 1.0 / mean / 4)
+        shown = sheets.tonemap(img, 1.0 / r.mean / 4)
         note = "" if calibrated else " (uncalibrated)"
         panels += [(f"{label}{note}: {100 * row['rmse_noise_corrected']:.1f} ± "
                     f"{100 * row['rmse_noise_corrected_se']:.1f} %", shown, "rgb"),
-                   (f"{label} − Mitsuba", (img - ref).mean(2) / mean, "diff")]
+                   (f"{label} − Mitsuba", (img - r.ref).mean(2) / r.mean, "diff")]
         # A renderer whose calibration fails is reported, never ranked nor listed with ours.
         if not calibrated:
             uncalibrated.append({"model": label, **row})
@@ -432,49 +477,56 @@ def scene_command(a):
         per[label] = p_
         rows.append({"model": label, **row})
         if best:
-            ranked[f"{label} closer than {best}"] = I.paired(per[label], ours[best][0])
+            ranked[f"{label} closer than {best}"] = scoring.paired(per[label], ours[best][0])
+    return rows, uncalibrated, per, panels, ranked
+
+
+def random_walk_attribution(r, renders, per, ours, white_sky):
+    """How much of Cycles' random walk's error its blindness to the light's direction explains:
+    its row with its image times Rd(θ)/A, or None (without the random walk calibrated, or
+    without a plain and incidence-aware pair of our models)."""
     # Cycles' walk starts at the camera's side and reaches the light through a diffuse BSDF: the
     # light's direction does not enter (the slab check), so at every incidence it reflects the
     # white-sky albedo A where the medium reflects Rd(θ). Our renders with and without
     # incidence-aware shading differ per pixel by exactly Rd(θ)/Rd(0°): Cycles' image times
     # Rd(θ)/A shows how much of its error that explains.
-    attribution = None
     pair = next(((k, k.replace("preint", "preint-incidence", 1)) for k in ours
                  if k.startswith("preint") and "incidence" not in k
                  and k.replace("preint", "preint-incidence", 1) in ours), None)
-    if CYCLES_RW in per and pair:
-        plain, aware = arr[f"model_{pair[0]}"], arr[f"model_{pair[1]}"]
-        factor = np.where(plain > 0, aware / np.where(plain > 0, plain, 1.0), 1.0) * (
-            np.array(white_sky["rd0"]) / np.array(white_sky["albedo"]))
-        img, noise2, _, _ = renders[CYCLES_RW]
-        _, row = I.score(I.blocks(img * factor), r2, d2, mask, mean, noise2 * I.blocks(factor))
-        attribution = {"factor_from": [pair[1], pair[0]], **white_sky, **row}
-    if CYCLES_RW in per and CYCLES_BURLEY in per:
-        ranked[f"{CYCLES_RW} closer than {CYCLES_BURLEY}"] = I.paired(per[CYCLES_RW], per[CYCLES_BURLEY])
-    if EEVEE in per and CYCLES_BURLEY in per:
-        ranked[f"{EEVEE} closer than {CYCLES_BURLEY}"] = I.paired(per[EEVEE], per[CYCLES_BURLEY])
-    head = [("Mitsuba (path-traced reference)", I.tonemap(ref, 1.0 / mean / 4), "rgb")]
+    if not (CYCLES_RW in per and pair):
+        return None
+    plain, aware = r.arr[f"model_{pair[0]}"], r.arr[f"model_{pair[1]}"]
+    factor = np.where(plain > 0, aware / np.where(plain > 0, plain, 1.0), 1.0) * (
+        np.array(white_sky["rd0"]) / np.array(white_sky["albedo"]))
+    img, noise2, _, _ = renders[CYCLES_RW]
+    _, row = scoring.score(scoring.blocks(img * factor), r.r2, r.d2, r.mask, r.mean, noise2 * scoring.blocks(factor))
+    return {"factor_from": [pair[1], pair[0]], **white_sky, **row}
+
+
+def write_blender_sheet(path, a, r, ours, best, calibrations, panels, w, h, version):
+    """blender-sheet.png: the reference, our best real-time method, each engine's calibration
+    against Mitsuba's direct light, then Blender's `panels`."""
+    head = [("Mitsuba (path-traced reference)", sheets.tonemap(r.ref, 1.0 / r.mean / 4), "rgb")]
     if best:
-        img = arr[f"model_{best}"]
+        img = r.arr[f"model_{best}"]
         row = ours[best][1]
         head += [(f"ours, best real-time: {100 * row['rmse_noise_corrected']:.1f} ± "
-                  f"{100 * row['rmse_noise_corrected_se']:.1f} %\n({best})", I.tonemap(img, 1.0 / mean / 4), "rgb"),
-                 ("ours − Mitsuba", (img - ref).mean(2) / mean, "diff")]
+                  f"{100 * row['rmse_noise_corrected_se']:.1f} %\n({best})", sheets.tonemap(img, 1.0 / r.mean / 4),
+                  "rgb"),
+                 ("ours − Mitsuba", (img - r.ref).mean(2) / r.mean, "diff")]
+    cal_ref = r.cal_ref
     for engine, (img, _) in calibrations.items():
-        head.append((f"{ENGINE_NAMES[engine]}, Lambertian (calibration) − Mitsuba", (img - cal_ref).mean(2) / cal_ref[cal_ref.sum(2) > 0].mean(),
-                     "diff"))
-    I.sheet(os.path.join(out, "blender-sheet.png"),
-            f"{a.scene} / {a.material}, {w}×{h}: Blender {bpy.app.version_string} with `sss engine-params` against "
-            f"Mitsuba\nnoise-corrected RMSE ± SE (% of the reference's mean)", head + panels, 0.2,
-            "each render − Mitsuba (Blender's, ours, or a calibration − Mitsuba's direct light)")
-    info["models"] = [r for r in info["models"] if not r["model"].startswith("blender-")] + rows
-    info["rankings"] = {k: v for k, v in info.get("rankings", {}).items() if not k.startswith("blender-")}
-    info["rankings"].update(ranked)
-    info["blender"] = {"version": bpy.app.version_string, "spp": spp, "best_ours": best,
-                       "calibration": cal_rows, "uncalibrated": uncalibrated,
-                       "random_walk_incidence_corrected": attribution, "seconds": seconds, "params": params}
-    with open(summary, "w") as f:
-        json.dump(info, f, indent=2)
+        head.append((f"{ENGINE_NAMES[engine]}, Lambertian (calibration) − Mitsuba",
+                     (img - cal_ref).mean(2) / cal_ref[cal_ref.sum(2) > 0].mean(), "diff"))
+    sheets.sheet(path,
+                 f"{a.scene} / {a.material}, {w}×{h}: Blender {version} with `sss engine-params` against "
+                 f"Mitsuba\nnoise-corrected RMSE ± SE (% of the reference's mean)", head + panels, 0.2,
+                 "each render − Mitsuba (Blender's, ours, or a calibration − Mitsuba's direct light)")
+
+
+def print_scores(ours, best, rows, uncalibrated, attribution, ranked):
+    """Our best real-time method's row, Blender's rows (the uncalibrated and the random walk's
+    attribution marked as such), and the rankings."""
     print(f"  {'model':<40} {'error (noise-corrected)':>16} {'spatial':>8} {'SSIM':>7}  energy R/G/B")
     extra = [{**r, "model": r["model"] + " (uncalibrated)"} for r in uncalibrated]
     if attribution:
@@ -485,6 +537,42 @@ def scene_command(a):
               f" {100 * r['rmse_spatial']:>6.2f} % {r['ssim']:>7.4f}  {e[0]:.3f}/{e[1]:.3f}/{e[2]:.3f}")
     for k, v in ranked.items():
         print(f"  {k}: {'yes' if v else 'undecided (within 3 SE)' if v is None else 'no'}")
+
+
+def scene_command(a):
+    """`blender.py scene`: Blender's renderers on one of images.py's scenes, scored against its
+    Mitsuba reference; their rows join images.json. 0 where Cycles is calibrated."""
+    sss = sss_binary(a.sss)
+    sc, out, summary, arr, info = load_reference(a)
+    labels = [x for x in a.renderers.split(",") if x]
+    unknown = set(labels) - set(RENDERERS)
+    if unknown:
+        sys.exit(f"--renderers: {', '.join(sorted(unknown))} unknown (choose from {', '.join(RENDERERS)})")
+    bpy = blender()
+    h, w = arr["reference"].shape[:2]
+    spp = a.spp or info["spp"]
+    renders, calibrations, seconds, white_sky, params = render_scene(sss, a, sc, arr, spp, labels)
+    # Scoring, with images.py's code on its blocks and mask.
+    r = reference_blocks(arr)
+    cal_rows = score_calibrations(r, calibrations)
+    ours, best = our_scores(r)
+    version = bpy.app.version_string
+    rows, uncalibrated, per, panels, ranked = score_renders(r, renders, cal_rows, seconds, ours, best, version)
+    attribution = random_walk_attribution(r, renders, per, ours, white_sky)
+    if CYCLES_RW in per and CYCLES_BURLEY in per:
+        ranked[f"{CYCLES_RW} closer than {CYCLES_BURLEY}"] = scoring.paired(per[CYCLES_RW], per[CYCLES_BURLEY])
+    if EEVEE in per and CYCLES_BURLEY in per:
+        ranked[f"{EEVEE} closer than {CYCLES_BURLEY}"] = scoring.paired(per[EEVEE], per[CYCLES_BURLEY])
+    write_blender_sheet(os.path.join(out, "blender-sheet.png"), a, r, ours, best, calibrations, panels, w, h, version)
+    info["models"] = [row for row in info["models"] if not row["model"].startswith("blender-")] + rows
+    info["rankings"] = {k: v for k, v in info.get("rankings", {}).items() if not k.startswith("blender-")}
+    info["rankings"].update(ranked)
+    info["blender"] = {"version": version, "spp": spp, "best_ours": best,
+                       "calibration": cal_rows, "uncalibrated": uncalibrated,
+                       "random_walk_incidence_corrected": attribution, "seconds": seconds, "params": params}
+    with open(summary, "w") as f:
+        json.dump(info, f, indent=2)
+    print_scores(ours, best, rows, uncalibrated, attribution, ranked)
     # Cycles' calibration is the instrument's: where it fails, nothing here is trusted. EEVEE's is
     # a finding about EEVEE (its shadow maps), reported above.
     cycles = cal_rows.get("CYCLES")

@@ -19,9 +19,15 @@ import os
 import sys
 import tempfile
 
-import numpy as np
+if not __package__:
+    # Run by path (`python3 scripts/references/profiles.py`): Python puts this folder on sys.path, not
+    # the one that holds the `references` package.
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-from common import material, mitsuba, read_profile, run, sss_binary
+import numpy as np  # noqa: E402
+
+from references.mitsuba3 import mitsuba  # noqa: E402
+from references.ours import material, read_profile, run, sss_binary  # noqa: E402
 
 
 def annulus_obj(r0, r1, z, seg=256):
@@ -93,6 +99,10 @@ def mc_annulus(dr, rows, c, r0, r1):
 
 
 def compare(sss, name, channels, bins, spp, seeds, photons, tmp):
+    """Material `name`'s Rd(r) from `sss simulate` (`photons` per channel) against Mitsuba's, on
+    `bins` annuli per channel of `channels` (e.g. "RGB"), log-spaced over [0.1, 5] mean free
+    paths, each Mitsuba reading `spp` samples over `seeds` seeds; files go to `tmp`. Returns one
+    row per annulus (radii in mean free paths, ∫ Rd dA and its SE, the z-score), printed too."""
     m = material(sss, name)
     run([sss, "simulate", name, "--photons", str(photons), "--profile-only", "--out", tmp,
          "--seed", "7"])
@@ -122,6 +132,7 @@ def compare(sss, name, channels, bins, spp, seeds, photons, tmp):
 
 
 def main():
+    """Compares the cases asked for, writes OUT/profiles.json; 0 where they agree."""
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true", help="CI size: Skin1 only, fewer samples")
     ap.add_argument("--sss", help="path to the sss binary [default: target/release/sss]")

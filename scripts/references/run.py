@@ -20,7 +20,13 @@ import os
 import subprocess
 import sys
 
-from common import budget_lines
+if not __package__:
+    # Run by path (`python3 scripts/references/run.py`): Python puts this folder on sys.path, not
+    # the one that holds the `references` package.
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+from references.budget import budget_lines  # noqa: E402
+from references.scenes import folder  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -86,8 +92,7 @@ def main():
                 failed.append(f"blender.py scene {' '.join(args)}")
         if key:
             sc, mat = key
-            folder = ("images" if sc == "sphere" else f"images-{sc}") + ("" if mat == "skin1" else f"-{mat}")
-            path = os.path.join(a.out, folder, "images.json")
+            path = os.path.join(a.out, folder(sc, mat), "images.json")
             if os.path.exists(path):
                 results.append((key, json.load(open(path))))
     print("\n== images: scene / material: calibration against Mitsuba's direct light, then each model's "
