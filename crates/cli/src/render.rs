@@ -47,7 +47,7 @@ fn settings_json(plan: &Plan) -> Value {
     json!({
         "kernel": kernels.first().map(|(k, _)| k.model.to_string()),
         "kernels": kernels.iter().map(|(k, _)| json!({"model": k.model.to_string(), "passes": k.pass.len(), "taps": k.taps})).collect::<Vec<_>>(),
-        "area_gather": match &plan.gather { Some(Gather::Area(s)) => json!({"inner": s.pattern.inner, "layers": s.pattern.layers, "taps": s.pattern.taps().len(), "reach_px": s.pattern.reach_px(), "brighten": s.pattern.brighten, "r_max_cm": s.kernel.r_max_cm(), "table": gpu::area_gather::AREA_TABLE_SIZE}), _ => Value::Null },
+        "area_gather": match &plan.gather { Some(Gather::Area(s)) => json!({"inner": s.pattern.inner, "layers": s.pattern.layers, "taps": s.pattern.taps().len(), "reach_px": s.pattern.reach_px(), "brighten": s.pattern.brighten, "r_max_cm": s.kernel.r_max_cm(), "table": gpu::gathers::area_gather::AREA_TABLE_SIZE}), _ => Value::Null },
         "surface_gather": match &plan.gather { Some(Gather::Surface(s)) => json!({"bssrdf": render::Choice::name(s.bssrdf), "samples": s.sampling.samples, "frames": s.sampling.frames, "radius_cm": s.sampling.radius_cm, "light_map": s.sampling.map_size, "seed": s.sampling.seed}), _ => Value::Null },
         "dipole": match &plan.gather { Some(Gather::Dipole(d)) => json!({"samples": d.sampling.samples, "frames": d.sampling.frames, "radius_cm": d.sampling.radius_cm, "light_map": d.sampling.map_size, "scale": d.scale}), _ => Value::Null },
         "translucency": plan.tables.iter().map(|t| t.translucency.as_ref().map(|(t, _)| json!({"first_cm": t.first_cm, "ratio": t.ratio, "tt_over_rho": t.table}))).collect::<Vec<_>>(),
@@ -234,7 +234,7 @@ fn bench(gpu: &Gpu, plan: &Plan, p: &fit::Profile, a: &RenderArgs) -> Result<()>
                     "this adapter has no timestamp queries: reporting whole-render wall time instead"
                 );
             }
-            let rows = gpu::bench::dipole(gpu, &plan.scene, setup)?;
+            let rows = gpu::eval::bench::dipole(gpu, &plan.scene, setup)?;
             let table = report::render_checks::dipole_bench_table(
                 &rows,
                 &gpu.adapter_name,
@@ -260,7 +260,7 @@ fn bench(gpu: &Gpu, plan: &Plan, p: &fit::Profile, a: &RenderArgs) -> Result<()>
                 Some(Gather::Area(s)) => Some(s.as_ref()),
                 _ => None,
             };
-            let b = gpu::bench::separable(gpu, &plan.scene, (p, slug), &plan.params, area)?;
+            let b = gpu::eval::bench::separable(gpu, &plan.scene, (p, slug), &plan.params, area)?;
             let title = format!(
                 "SSS passes at {}×{} on {} ({slug} on {}, renderer built once, median of 5 frames)",
                 a.width, a.height, gpu.adapter_name, a.scene

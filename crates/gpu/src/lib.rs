@@ -32,46 +32,33 @@
 // Units are written in brackets as in the papers, [cm⁻¹]; rustdoc would take them for links.
 #![allow(rustdoc::broken_intra_doc_links)]
 
-pub mod area_gather;
-pub mod bench;
-mod blur;
-mod combine;
-pub mod compare;
-mod context;
-pub mod dipole;
-pub mod disc_gather;
 mod error;
-mod gbuffer;
-mod half;
+pub mod eval;
+mod frame;
+pub mod gathers;
 mod light;
 mod mesh;
 mod params;
-mod pool;
-mod recording;
+mod passes;
 mod render;
 pub mod request;
 mod scene;
-mod shadow;
-mod splat;
-pub mod surface_gather;
-mod target;
-mod timing;
 
-pub use area_gather::{AreaGatherSetup, AreaKernel, GatherPattern};
-pub use blur::{BlurParams, DepthMode, GpuKernel, blur_image};
-pub use compare::{Comparison, compare_kernels, compare_models};
-pub use context::Gpu;
-pub use dipole::DipoleSetup;
-pub use disc_gather::{DISC_LIGHTS, Sampling};
 pub use error::{GpuError, Result};
+pub use eval::compare::{Comparison, compare_kernels, compare_models};
+pub use frame::context::Gpu;
+pub use frame::timing::PassTime;
+pub use gathers::area_gather::{AreaGatherSetup, AreaKernel, GatherPattern};
+pub use gathers::dipole::DipoleSetup;
+pub use gathers::disc_gather::{DISC_LIGHTS, Sampling};
+pub use gathers::surface_gather::SurfaceGatherSetup;
 pub use light::{AREA_CELLS, Emitter, Light, MAX_EMITTERS, emitters};
 pub use mesh::{Mesh, Vertex};
 pub use params::{MAX_MATERIALS, RenderParams};
+pub use passes::blur::{BlurParams, DepthMode, GpuKernel, blur_image};
 pub use render::{Frame, FrameTime, Renderer, SUBPIXEL_PX, Scatter, kernel_footprint_px, render};
 pub use request::{Method, RenderRequest};
 pub use scene::{AlbedoMode, Camera, Scene};
-pub use surface_gather::SurfaceGatherSetup;
-pub use timing::PassTime;
 
 #[cfg(test)]
 mod tests {
@@ -82,25 +69,25 @@ mod tests {
     const SHADERS: [Shader; 14] = [
         (
             "scene.wgsl",
-            crate::gbuffer::SCENE_WGSL,
-            Some(("Globals", crate::gbuffer::GLOBALS_SIZE)),
+            crate::passes::gbuffer::SCENE_WGSL,
+            Some(("Globals", crate::passes::gbuffer::GLOBALS_SIZE)),
         ),
         ("shadow.wgsl", include_str!("shaders/shadow.wgsl"), None),
         ("unpack.wgsl", include_str!("shaders/unpack.wgsl"), None),
         (
             "blur.wgsl + blur_exact.wgsl",
-            crate::blur::BLUR_WGSL,
-            Some(("Params", crate::blur::BLUR_UNIFORM_SIZE)),
+            crate::passes::blur::BLUR_WGSL,
+            Some(("Params", crate::passes::blur::BLUR_UNIFORM_SIZE)),
         ),
         (
             "blur.wgsl + blur_fast.wgsl",
-            crate::blur::BLUR_FAST_WGSL,
-            Some(("Params", crate::blur::BLUR_UNIFORM_SIZE)),
+            crate::passes::blur::BLUR_FAST_WGSL,
+            Some(("Params", crate::passes::blur::BLUR_UNIFORM_SIZE)),
         ),
         (
             "half.wgsl",
             include_str!("shaders/half.wgsl"),
-            Some(("Params", crate::half::HALF_UNIFORM_SIZE)),
+            Some(("Params", crate::passes::half::HALF_UNIFORM_SIZE)),
         ),
         (
             "combine.wgsl",
@@ -110,17 +97,17 @@ mod tests {
         (
             "surface.wgsl",
             include_str!("shaders/surface.wgsl"),
-            Some(("View", crate::area_gather::VIEW_UNIFORM_SIZE)),
+            Some(("View", crate::gathers::area_gather::VIEW_UNIFORM_SIZE)),
         ),
         (
             "area_kernel.wgsl + area_gather.wgsl",
-            crate::area_gather::AREA_GATHER_WGSL,
-            Some(("Params", crate::area_gather::GATHER_UNIFORM_SIZE)),
+            crate::gathers::area_gather::AREA_GATHER_WGSL,
+            Some(("Params", crate::gathers::area_gather::GATHER_UNIFORM_SIZE)),
         ),
         (
             "fresnel + lighting + area_kernel + splat.wgsl",
-            crate::splat::SPLAT_WGSL,
-            Some(("Splat", crate::splat::SPLAT_UNIFORM_SIZE)),
+            crate::passes::splat::SPLAT_WGSL,
+            Some(("Splat", crate::passes::splat::SPLAT_UNIFORM_SIZE)),
         ),
         (
             "dipole_maps.wgsl",
@@ -129,18 +116,21 @@ mod tests {
         ),
         (
             "fresnel + dipole + disc_gather.wgsl",
-            crate::dipole::DIPOLE_WGSL,
-            Some(("Dipole", crate::dipole::DIPOLE_UNIFORM_SIZE)),
+            crate::gathers::dipole::DIPOLE_WGSL,
+            Some(("Dipole", crate::gathers::dipole::DIPOLE_UNIFORM_SIZE)),
         ),
         (
             "fresnel + dipole + disc_gather.wgsl (Gather)",
-            crate::dipole::DIPOLE_WGSL,
-            Some(("Gather", crate::disc_gather::GATHER_UNIFORM_SIZE)),
+            crate::gathers::dipole::DIPOLE_WGSL,
+            Some(("Gather", crate::gathers::disc_gather::GATHER_UNIFORM_SIZE)),
         ),
         (
             "fresnel + mc_bssrdf + disc_gather.wgsl",
-            crate::surface_gather::MC_BSSRDF_WGSL,
-            Some(("Tables", crate::surface_gather::TABLES_UNIFORM_SIZE)),
+            crate::gathers::surface_gather::MC_BSSRDF_WGSL,
+            Some((
+                "Tables",
+                crate::gathers::surface_gather::TABLES_UNIFORM_SIZE,
+            )),
         ),
     ];
 

@@ -50,7 +50,7 @@ pub(crate) struct MeshBuffers {
 
 impl MeshBuffers {
     /// Uploads `mesh` (or takes the buffers of an identical one from the renderer's pool).
-    pub(crate) fn upload(alloc: crate::pool::Alloc, mesh: &Mesh) -> MeshBuffers {
+    pub(crate) fn upload(alloc: crate::frame::pool::Alloc, mesh: &Mesh) -> MeshBuffers {
         MeshBuffers {
             vertices: alloc.constant(
                 "vertices",

@@ -1,6 +1,6 @@
 //! Render settings: what a frame is drawn with, besides the scene and the scattering.
 
-use crate::blur::DepthMode;
+use crate::passes::blur::DepthMode;
 use crate::scene::AlbedoMode;
 use shading::Shading;
 

@@ -1,26 +1,26 @@
 //! A frame: the [`Renderer`] (every pipeline, built once) runs the shadow pass (`shadow.rs`), the
-//! scene pass into the G-buffer (`gbuffer.rs`), the SSS passes (`blur.rs` or [`crate::dipole`])
+//! scene pass into the G-buffer (`gbuffer.rs`), the SSS passes (`blur.rs` or [`crate::gathers::dipole`])
 //! and the recombination (`combine.rs`), and reads the images back.
 
-use crate::area_gather::{AreaGather, AreaGatherSetup};
-use crate::blur::{Blur, BlurIo, BlurParams, GpuKernel};
-use crate::combine::Combine;
-use crate::context::Gpu;
-use crate::dipole::DipoleSetup;
-use crate::disc_gather::DiscPipelines;
 use crate::error::{GpuError, Result};
-use crate::gbuffer::{GBufferPass, camera_view_proj};
-use crate::half::{HalfRes, half_size};
+use crate::frame::context::Gpu;
+use crate::frame::pool::{Alloc, FramePool};
+use crate::frame::recording::Recording;
+use crate::frame::target::Target;
+use crate::frame::timing::{PassTime, Timer};
+use crate::gathers::area_gather::{AreaGather, AreaGatherSetup};
+use crate::gathers::dipole::DipoleSetup;
+use crate::gathers::disc_gather::DiscPipelines;
+use crate::gathers::surface_gather::SurfaceGatherSetup;
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
-use crate::pool::{Alloc, FramePool};
-use crate::recording::Recording;
+use crate::passes::blur::{Blur, BlurIo, BlurParams, GpuKernel};
+use crate::passes::combine::Combine;
+use crate::passes::gbuffer::{GBufferPass, camera_view_proj};
+use crate::passes::half::{HalfRes, half_size};
+use crate::passes::shadow::ShadowPass;
+use crate::passes::splat::Splats;
 use crate::scene::Scene;
-use crate::shadow::ShadowPass;
-use crate::splat::Splats;
-use crate::surface_gather::SurfaceGatherSetup;
-use crate::target::Target;
-use crate::timing::{PassTime, Timer};
 
 /// How the diffuse light of SSS surfaces is scattered.
 #[derive(Clone, Copy, Debug)]
@@ -34,21 +34,21 @@ pub enum Scatter<'a> {
     /// bleed into each other nor lose energy at their border. Samples of surfaces without SSS
     /// (the floor) are taken as before, subject to the depth test.
     Separable(&'a [GpuKernel]),
-    /// The directional dipole evaluated per pixel over lit surface points ([`crate::dipole`]);
+    /// The directional dipole evaluated per pixel over lit surface points ([`crate::gathers::dipole`]);
     /// the albedo split and incidence table of [`RenderParams`] do not apply (the colour and the
     /// dependence on incidence come from the model).
     DirectionalDipole(&'a DipoleSetup),
     /// Maisch & Ropinski's gather of an area pre-integrated kernel over their layered sampling
-    /// pattern ([`crate::area_gather`]), for large scattering distances; one SSS material.
+    /// pattern ([`crate::gathers::area_gather`]), for large scattering distances; one SSS material.
     AreaGather(&'a AreaGatherSetup),
     /// The material's own Monte Carlo BSSRDF (radial or directional) integrated per pixel over
-    /// lit surface points ([`crate::surface_gather`]), like the directional dipole.
+    /// lit surface points ([`crate::gathers::surface_gather`]), like the directional dipole.
     SurfaceGather(&'a SurfaceGatherSetup),
 }
 
 impl Scatter<'_> {
     /// Whether the method gathers over the lit surface through the lights' maps (the directional
-    /// dipole and the surface gather, [`crate::disc_gather`]).
+    /// dipole and the surface gather, [`crate::gathers::disc_gather`]).
     fn gathers_lit_surface(&self) -> bool {
         matches!(
             self,
@@ -80,7 +80,10 @@ pub fn kernel_footprint_px(
         .filter(|v| v.strength > 0.0 && v.material == material)
         .fold((f32::MAX, 0.0f32), |(d, s), v| {
             let z = -(view * glam::Vec3::from(v.pos).extend(1.0)).z;
-            (d.min(z.max(crate::gbuffer::NEAR)), s.max(v.strength))
+            (
+                d.min(z.max(crate::passes::gbuffer::NEAR)),
+                s.max(v.strength),
+            )
         });
     let depth = params.fixed_depth.unwrap_or(depth);
     k.reach_cm(params.jitter)
@@ -140,9 +143,9 @@ pub struct Renderer {
 
 /// A recorded frame's buffers, and its hold on the renderer's pool until they are read.
 struct Recorded<'a> {
-    gbuffer: crate::gbuffer::GBuffer,
+    gbuffer: crate::passes::gbuffer::GBuffer,
     scattered: wgpu::Buffer,
-    combined: crate::combine::Combined,
+    combined: crate::passes::combine::Combined,
     surface: Option<wgpu::Buffer>,
     timer: Option<Timer>,
     _frame: std::sync::MutexGuard<'a, ()>,
@@ -272,10 +275,10 @@ impl Renderer {
         match scatter {
             Scatter::Separable(given) => self.separable(&mut rec, &target, given, params)?,
             Scatter::DirectionalDipole(setup) => {
-                crate::dipole::encode(&mut rec, &target, setup, &self.disc)?
+                crate::gathers::dipole::encode(&mut rec, &target, setup, &self.disc)?
             }
             Scatter::SurfaceGather(setup) => {
-                crate::surface_gather::encode(&mut rec, &target, setup, &self.disc)?
+                crate::gathers::surface_gather::encode(&mut rec, &target, setup, &self.disc)?
             }
             Scatter::AreaGather(setup) => {
                 let g = self

@@ -6,8 +6,8 @@
 
 use glam::Vec3;
 
-use crate::disc_gather::{DISC_LIGHTS, area_slots};
 use crate::error::{GpuError, Result};
+use crate::gathers::disc_gather::{DISC_LIGHTS, area_slots};
 use crate::light::{AREA_CELLS, Light, MAX_EMITTERS, emitters};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
@@ -21,13 +21,13 @@ pub const MAX_TAPS: usize = 1025;
 /// How light travels under the surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
-    /// Separable screen-space kernels ([`crate::blur`]).
+    /// Separable screen-space kernels ([`crate::passes::blur`]).
     Separable,
-    /// The directional dipole over the lit surface ([`crate::dipole`]).
+    /// The directional dipole over the lit surface ([`crate::gathers::dipole`]).
     DirectionalDipole,
-    /// Maisch & Ropinski's area gather ([`crate::area_gather`]).
+    /// Maisch & Ropinski's area gather ([`crate::gathers::area_gather`]).
     AreaGather,
-    /// The Monte Carlo BSSRDF over the lit surface ([`crate::surface_gather`]).
+    /// The Monte Carlo BSSRDF over the lit surface ([`crate::gathers::surface_gather`]).
     SurfaceGather,
 }
 

@@ -120,7 +120,7 @@ fn the_gpu_lookup_equals_the_table() {
 
 /// Σ over pixels of the footprint area is the area of the surface seen: a 10 × 10 cm square seen
 /// at 60° and at 75° from its normal. The pixel at the image's centre covers (d/f)²/cos θ, d the
-/// distance and f the focal length in pixels; at 88° (cos θ < gpu::area_gather::GRAZING) the
+/// distance and f the focal length in pixels; at 88° (cos θ < gpu::gathers::area_gather::GRAZING) the
 /// frontal footprint over the bound instead.
 #[test]
 fn footprint_areas_add_up_to_the_surface_seen() {
@@ -160,9 +160,9 @@ fn footprint_areas_add_up_to_the_surface_seen() {
         );
     }
     let cos = 88f32.to_radians().cos();
-    assert!(cos < gpu::area_gather::GRAZING);
+    assert!(cos < gpu::gathers::area_gather::GRAZING);
     let (_, centre, frontal) = frame(88.0);
-    let want = frontal / gpu::area_gather::GRAZING as f64;
+    let want = frontal / gpu::gathers::area_gather::GRAZING as f64;
     // 28.6× the frontal depth slope at 88°: 4 % per pixel across the quad.
     assert!((centre / want - 1.0).abs() < 0.1, "88°: {centre} vs {want}");
 }

@@ -5,8 +5,8 @@
 use fit::analytic::Medium;
 use fit::taps::TapSpec;
 use fit::{KernelModel, Profile};
-use gpu::bench::{DipoleRow, SeparableBench};
-use gpu::compare::{ImageError, Shown};
+use gpu::eval::bench::{DipoleRow, SeparableBench};
+use gpu::eval::compare::{ImageError, Shown};
 use gpu::{Gpu, RenderParams, Scene};
 use serde_json::{Value, json};
 
@@ -69,7 +69,7 @@ pub fn compare_models(
     (slug, media): (&str, &[Medium; 3]),
     taps: usize,
 ) -> Result<ModelComparison> {
-    let scale = gpu::compare::kernel_scale(scene, base.height, p, base.sss_width);
+    let scale = gpu::eval::compare::kernel_scale(scene, base.height, p, base.sss_width);
     let scale_line = format!(
         "comparing models at {:.4} cm/px (profile bins of {:.4} cm × {}) …",
         scale.cm_per_px, p.dr, scale.bin
@@ -142,7 +142,7 @@ fn ms(v: Option<f64>) -> String {
     v.map_or("-".to_string(), |v| format!("{v:.3}"))
 }
 
-/// The directional dipole's benchmark ([`gpu::bench::dipole`]) as a table, `adapter`, `slug` and
+/// The directional dipole's benchmark ([`gpu::eval::bench::dipole`]) as a table, `adapter`, `slug` and
 /// the `frames` per render in its title.
 pub fn dipole_bench_table(
     rows: &[DipoleRow],
@@ -171,7 +171,7 @@ pub fn dipole_bench_table(
     t
 }
 
-/// The separable passes' benchmark ([`gpu::bench::separable`]) as a table: every configuration
+/// The separable passes' benchmark ([`gpu::eval::bench::separable`]) as a table: every configuration
 /// and what each skip saves; `title` names the image, adapter, material and scene.
 pub fn separable_bench_table(b: &SeparableBench, title: &str) -> Vec<String> {
     let mut t = vec![

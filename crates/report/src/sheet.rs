@@ -2,7 +2,7 @@
 //! image beside its difference from the truth, with a colour bar.
 
 use gpu::Comparison;
-use gpu::compare::{Crop, Shown, tone_map};
+use gpu::eval::compare::{Crop, Shown, tone_map};
 
 use crate::error::Result;
 use crate::plot::{ColourBar, Sheet, SheetCell};

@@ -3,9 +3,9 @@
 //! depth- and material-aware bilinear upsampling (half.wgsl); the final image is still composed
 //! at full resolution, so albedo and specular keep their detail.
 
-use crate::context::Gpu;
-use crate::pool::Alloc;
-use crate::recording::Recording;
+use crate::frame::context::Gpu;
+use crate::frame::pool::Alloc;
+use crate::frame::recording::Recording;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -36,8 +36,9 @@ pub(crate) fn half_size((w, h): (u32, u32)) -> (u32, u32) {
 impl HalfRes {
     pub(crate) fn new(gpu: &Gpu) -> HalfRes {
         let dev = &gpu.device;
-        let module = dev.create_shader_module(wgpu::include_wgsl!("shaders/half.wgsl"));
-        let pipeline = |entry: &str| crate::context::entry_pipeline(dev, &module, entry, entry);
+        let module = dev.create_shader_module(wgpu::include_wgsl!("../shaders/half.wgsl"));
+        let pipeline =
+            |entry: &str| crate::frame::context::entry_pipeline(dev, &module, entry, entry);
         HalfRes {
             down: pipeline("down"),
             up: pipeline("up"),

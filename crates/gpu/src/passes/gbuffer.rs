@@ -7,11 +7,11 @@
 
 use glam::Mat4;
 
-use crate::context::{Gpu, cleared_depth, compute_pipeline};
+use crate::frame::context::{Gpu, cleared_depth, compute_pipeline};
+use crate::frame::recording::Recording;
 use crate::light::MAX_EMITTERS;
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
-use crate::recording::Recording;
 use crate::scene::{AlbedoMode, Scene};
 use shading::{
     ANGLES_WGSL, EntryShift, FRESNEL_WGSL, INCIDENCE_STEPS, Shading, TRANSLUCENCY_STEPS,
@@ -106,8 +106,8 @@ impl MaterialU {
 pub(crate) const SCENE_WGSL: &str = const_format::concatcp!(
     FRESNEL_WGSL,
     ANGLES_WGSL,
-    include_str!("shaders/lighting.wgsl"),
-    include_str!("shaders/scene.wgsl")
+    include_str!("../shaders/lighting.wgsl"),
+    include_str!("../shaders/scene.wgsl")
 );
 
 /// The size of scene.wgsl's `Globals`: 2 mat4 + 3 vec4 + 64 emitters × 192 + per material 10 vec4
@@ -188,7 +188,7 @@ impl GBufferPass {
         });
         GBufferPass {
             scene: crate::mesh::pipeline(dev, &module, "scene", &FORMATS),
-            unpack: compute_pipeline(dev, wgpu::include_wgsl!("shaders/unpack.wgsl"), "unpack"),
+            unpack: compute_pipeline(dev, wgpu::include_wgsl!("../shaders/unpack.wgsl"), "unpack"),
             sampler: dev.create_sampler(&wgpu::SamplerDescriptor {
                 compare: Some(wgpu::CompareFunction::LessEqual),
                 mag_filter: wgpu::FilterMode::Linear,
@@ -205,7 +205,7 @@ impl GBufferPass {
     }
 
     /// Records the scene pass and the unpacking; `plain`: no albedo split and no SSS shading
-    /// tables (the disc gathers, [`crate::disc_gather`], bring their own colour and angular
+    /// tables (the disc gathers, [`crate::gathers::disc_gather`], bring their own colour and angular
     /// dependence).
     pub(crate) fn encode(
         &self,

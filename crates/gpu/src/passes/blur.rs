@@ -3,9 +3,9 @@
 //! d'Eon sums of Gaussians and rank-1 kernels all run the same way. A material's passes write only
 //! its own pixels and take no light from another material's (see [`crate::Scatter::Separable`]).
 
-use crate::context::Gpu;
 use crate::error::{GpuError, Result};
-use crate::recording::Recording;
+use crate::frame::context::Gpu;
+use crate::frame::recording::Recording;
 
 /// A kernel as the shader takes it: per pass, the RGB sign and the taps (RGB weight, offset [cm]).
 #[derive(Clone, Debug, PartialEq)]
@@ -252,14 +252,14 @@ const _: () = assert!(std::mem::size_of::<Uniform>() == BLUR_UNIFORM_SIZE);
 
 /// The exact path's shader: the shared pass with storage-buffer sampling.
 pub(crate) const BLUR_WGSL: &str = concat!(
-    include_str!("shaders/blur.wgsl"),
-    include_str!("shaders/blur_exact.wgsl")
+    include_str!("../shaders/blur.wgsl"),
+    include_str!("../shaders/blur_exact.wgsl")
 );
 
 /// The fast path's shader: the shared pass with one filtered texture fetch per tap.
 pub(crate) const BLUR_FAST_WGSL: &str = concat!(
-    include_str!("shaders/blur.wgsl"),
-    include_str!("shaders/blur_fast.wgsl")
+    include_str!("../shaders/blur.wgsl"),
+    include_str!("../shaders/blur_fast.wgsl")
 );
 
 /// The fast path's texture format: light and view depth at half precision, filterable.
@@ -293,7 +293,7 @@ impl Blur {
                 label: Some(label),
                 source: wgpu::ShaderSource::Wgsl(source.into()),
             });
-            crate::context::entry_pipeline(dev, &module, entry, label)
+            crate::frame::context::entry_pipeline(dev, &module, entry, label)
         };
         Blur {
             pipeline: pipeline(BLUR_WGSL, "main", "blur"),
@@ -490,7 +490,7 @@ impl Blur {
         (uniform, src, geometry): (&wgpu::Buffer, &wgpu::Buffer, &wgpu::Buffer),
         packed: &wgpu::TextureView,
         (width, height): (u32, u32),
-        timer: &mut Option<&mut crate::timing::Timer>,
+        timer: &mut Option<&mut crate::frame::timing::Timer>,
     ) {
         let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,

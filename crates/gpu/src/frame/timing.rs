@@ -1,7 +1,7 @@
 //! GPU timestamps per pass, where the adapter has timestamp queries.
 
-use crate::context::Gpu;
 use crate::error::Result;
+use crate::frame::context::Gpu;
 
 /// GPU time of one pass [ms] (timestamp queries).
 #[derive(Clone, Debug, PartialEq)]

@@ -11,7 +11,7 @@ use std::sync::{Mutex, MutexGuard};
 
 use wgpu::util::DeviceExt;
 
-use crate::context::{Gpu, pixels, texture};
+use crate::frame::context::{Gpu, pixels, texture};
 
 /// The resources kept between frames, and the lock that gives one frame at a time the use of
 /// them (a frame holds it from recording until its images are read back).
@@ -118,7 +118,7 @@ impl<'a> Alloc<'a> {
         }
     }
 
-    /// A zeroed storage buffer of `n` RGBA f32 pixels ([`crate::context::pixels`]).
+    /// A zeroed storage buffer of `n` RGBA f32 pixels ([`crate::frame::context::pixels`]).
     pub fn pixels(self, n: usize, label: &'static str) -> wgpu::Buffer {
         match self.pool {
             None => pixels(self.gpu, n, label),
@@ -128,7 +128,7 @@ impl<'a> Alloc<'a> {
         }
     }
 
-    /// A 2D texture (array) ([`crate::context::texture`]); its content is undefined, so the pass
+    /// A 2D texture (array) ([`crate::frame::context::texture`]); its content is undefined, so the pass
     /// must clear it or write all of it.
     pub fn texture(
         self,

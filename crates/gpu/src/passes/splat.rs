@@ -40,13 +40,13 @@
 
 use glam::Vec3;
 
-use crate::area_gather::{AreaGatherSetup, Gathered};
-use crate::context::{Gpu, bind};
-use crate::gbuffer::NEAR;
-use crate::recording::Recording;
+use crate::frame::context::{Gpu, bind};
+use crate::frame::recording::Recording;
+use crate::frame::target::Target;
+use crate::frame::timing::Timer;
+use crate::gathers::area_gather::{AreaGatherSetup, Gathered};
+use crate::passes::gbuffer::NEAR;
 use crate::scene::Scene;
-use crate::target::Target;
-use crate::timing::Timer;
 
 /// How far a triangle's centre may lie in view depth from the surface seen at its pixel and
 /// count as that surface: this fraction of the depth [cm per cm] ...
@@ -62,9 +62,9 @@ const SPLAT_LEVEL: usize = 2;
 pub(crate) const SPLAT_WGSL: &str = const_format::concatcp!(
     shading::FRESNEL_WGSL,
     shading::ANGLES_WGSL,
-    include_str!("shaders/lighting.wgsl"),
-    include_str!("shaders/area_kernel.wgsl"),
-    include_str!("shaders/splat.wgsl")
+    include_str!("../shaders/lighting.wgsl"),
+    include_str!("../shaders/area_kernel.wgsl"),
+    include_str!("../shaders/splat.wgsl")
 );
 
 #[repr(C)]
@@ -192,7 +192,8 @@ impl Splats {
             label: Some("splat"),
             source: wgpu::ShaderSource::Wgsl(SPLAT_WGSL.into()),
         });
-        let compute = |entry: &str| crate::context::entry_pipeline(dev, &module, entry, entry);
+        let compute =
+            |entry: &str| crate::frame::context::entry_pipeline(dev, &module, entry, entry);
         let format = if gpu.float32_blend {
             wgpu::TextureFormat::Rgba32Float
         } else {
@@ -269,9 +270,9 @@ impl Splats {
         let lv = gathered.levels[level];
         let proj = scene
             .camera
-            .projection(w as f32 / h as f32, NEAR, crate::gbuffer::FAR);
+            .projection(w as f32 / h as f32, NEAR, crate::passes::gbuffer::FAR);
         let u = SplatU {
-            view_proj: crate::gbuffer::camera_view_proj(scene, (w, h)).to_cols_array_2d(),
+            view_proj: crate::passes::gbuffer::camera_view_proj(scene, (w, h)).to_cols_array_2d(),
             camera_pos: scene
                 .camera
                 .position
@@ -287,10 +288,10 @@ impl Splats {
             size: [w, h, lv[1], lv[2]],
             level: [lv[0], level as u32, tris.len() as u32, 0],
             far: [
-                crate::gbuffer::FAR * 0.999,
+                crate::passes::gbuffer::FAR * 0.999,
                 SEEN_TOLERANCE,
                 SEEN_SLOPE_PX,
-                crate::area_gather::GRAZING,
+                crate::gathers::area_gather::GRAZING,
             ],
         };
         let ubuf = alloc.uniform("splat params", bytemuck::bytes_of(&u));

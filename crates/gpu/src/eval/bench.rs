@@ -11,13 +11,13 @@ use fit::select::{Judge, rank_model};
 use glam::Vec3;
 use serde::Serialize;
 
-use crate::area_gather::{AreaGatherSetup, GatherPattern};
-use crate::blur::GpuKernel;
-use crate::context::Gpu;
-use crate::dipole::DipoleSetup;
 use crate::error::Result;
+use crate::frame::context::Gpu;
+use crate::gathers::area_gather::{AreaGatherSetup, GatherPattern};
+use crate::gathers::dipole::DipoleSetup;
 use crate::light::Light;
 use crate::params::RenderParams;
+use crate::passes::blur::GpuKernel;
 use crate::render::{Renderer, SUBPIXEL_PX, Scatter, kernel_footprint_px};
 use crate::scene::Scene;
 

@@ -1,10 +1,10 @@
 //! Recombination: the scattered diffuse light (the unscattered on pixels without SSS) × the
 //! post-scatter albedo + specular, then exposure, tone curve and sRGB (combine.wgsl).
 
-use crate::context::{Gpu, compute_pipeline};
-use crate::gbuffer::GBuffer;
+use crate::frame::context::{Gpu, compute_pipeline};
+use crate::frame::recording::Recording;
 use crate::params::RenderParams;
-use crate::recording::Recording;
+use crate::passes::gbuffer::GBuffer;
 
 /// The final image: linear radiance (RGBA f32) and tone-mapped sRGB (RGBA8) per pixel.
 pub(crate) struct Combined {
@@ -22,7 +22,7 @@ impl Combine {
         Combine {
             pipeline: compute_pipeline(
                 &gpu.device,
-                wgpu::include_wgsl!("shaders/combine.wgsl"),
+                wgpu::include_wgsl!("../shaders/combine.wgsl"),
                 "combine",
             ),
         }

@@ -1,4 +1,4 @@
-//! The Monte Carlo BSSRDF gathered over the lit surface: the disc gather ([`crate::disc_gather`])
+//! The Monte Carlo BSSRDF gathered over the lit surface: the disc gather ([`crate::gathers::disc_gather`])
 //! with the material's own transport from `mc` in place of a diffusion model
 //! (`shaders/mc_bssrdf.wgsl`). It is the reference a real-time method is measured against on the
 //! same geometry and visibility:
@@ -22,10 +22,10 @@
 //! sampling: where the surface curves, the 3-D distance |x_o − x_i| differs from the disc radius,
 //! and the uniform share keeps the density positive wherever the response may be.
 
-use crate::disc_gather::{DiscPipelines, Model, Sampling, gather_wgsl};
 use crate::error::{GpuError, Result};
-use crate::recording::Recording;
-use crate::target::Target;
+use crate::frame::recording::Recording;
+use crate::frame::target::Target;
+use crate::gathers::disc_gather::{DiscPipelines, Model, Sampling, gather_wgsl};
 use shading::{
     AngleTables, Bssrdf, DIRECTIONAL_ANGLES, DirectionalTable, INCIDENCE_STEPS, incidence_ratio,
 };
@@ -215,7 +215,7 @@ struct TablesUniform {
 }
 
 /// The Monte Carlo model and the disc gather.
-pub(crate) const MC_BSSRDF_WGSL: &str = gather_wgsl!("shaders/mc_bssrdf.wgsl");
+pub(crate) const MC_BSSRDF_WGSL: &str = gather_wgsl!("../shaders/mc_bssrdf.wgsl");
 
 /// WGSL's size of `Tables`: 5 vec4, 9 vec4 of incidence, 9 × 9 vec4 of exit and 10 vec4 of the
 /// directional tables' total reflectances, 16 bytes each (checked against naga's layout in a test).
@@ -304,5 +304,5 @@ pub(crate) fn encode(
         wgsl: MC_BSSRDF_WGSL,
         buffers: vec![&ubuf, &pbuf, &cbuf, &dbuf],
     };
-    crate::disc_gather::encode(rec, target, &setup.sampling, &model, pipelines)
+    crate::gathers::disc_gather::encode(rec, target, &setup.sampling, &model, pipelines)
 }

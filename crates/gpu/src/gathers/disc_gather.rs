@@ -1,5 +1,5 @@
 //! The disc gather: the per-pixel integral of a BSSRDF over the lit surface that the
-//! directional dipole ([`crate::dipole`]) and the Monte Carlo BSSRDF ([`crate::surface_gather`])
+//! directional dipole ([`crate::gathers::dipole`]) and the Monte Carlo BSSRDF ([`crate::gathers::surface_gather`])
 //! share (`shaders/disc_gather.wgsl`, with the model's functions prepended).
 //!
 //! For each SSS pixel x_o and each light, points p are drawn on a disc of radius r* around x_o
@@ -23,13 +23,13 @@ use std::sync::{Mutex, OnceLock};
 
 use glam::Mat4;
 
-use crate::context::{cleared_depth, compute_pipeline};
 use crate::error::{GpuError, Result};
+use crate::frame::context::{cleared_depth, compute_pipeline};
+use crate::frame::pool::Alloc;
+use crate::frame::recording::Recording;
+use crate::frame::target::Target;
 use crate::light::{Emitter, Light};
 use crate::mesh::MeshBuffers;
-use crate::pool::Alloc;
-use crate::recording::Recording;
-use crate::target::Target;
 
 /// The emitters the disc gather holds per frame: directional and point lights count one each,
 /// and the slots left are shared by the area lights, each drawn as that many points per frame
@@ -119,7 +119,7 @@ macro_rules! gather_wgsl {
             shading::FRESNEL_WGSL,
             shading::ANGLES_WGSL,
             include_str!($model),
-            include_str!("shaders/disc_gather.wgsl")
+            include_str!("../shaders/disc_gather.wgsl")
         )
     };
 }
@@ -153,7 +153,8 @@ pub(crate) struct DiscPipelines {
 impl DiscPipelines {
     fn maps(&self, dev: &wgpu::Device) -> &wgpu::RenderPipeline {
         self.maps.get_or_init(|| {
-            let module = dev.create_shader_module(wgpu::include_wgsl!("shaders/dipole_maps.wgsl"));
+            let module =
+                dev.create_shader_module(wgpu::include_wgsl!("../shaders/dipole_maps.wgsl"));
             crate::mesh::pipeline(dev, &module, "gather maps", &MAP_FORMATS)
         })
     }

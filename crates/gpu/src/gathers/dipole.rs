@@ -1,6 +1,6 @@
 //! The directional-dipole renderer: the real-time method of the directional-dipole draft (§4.2–4.3)
 //! with the full BSSRDF of Frisvad et al. 2014 (`fit::analytic::DirectionalDipole`), integrated
-//! per pixel by the disc gather over lit surface points ([`crate::disc_gather`]) and
+//! per pixel by the disc gather over lit surface points ([`crate::gathers::disc_gather`]) and
 //! accumulated over frames.
 //!
 //! Radii are importance-sampled from the mixture over the three channels of the truncated
@@ -16,10 +16,10 @@
 
 use fit::analytic::{DipoleConstants, DirectionalDipole, Medium};
 
-use crate::disc_gather::{DiscPipelines, Model, Sampling, gather_wgsl};
 use crate::error::{GpuError, Result};
-use crate::recording::Recording;
-use crate::target::Target;
+use crate::frame::recording::Recording;
+use crate::frame::target::Target;
+use crate::gathers::disc_gather::{DiscPipelines, Model, Sampling, gather_wgsl};
 
 /// Settings of the directional-dipole method for one material.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -147,7 +147,7 @@ pub(crate) struct DipoleUniform {
 }
 
 /// The dipole's model and the disc gather.
-pub(crate) const DIPOLE_WGSL: &str = gather_wgsl!("shaders/dipole.wgsl");
+pub(crate) const DIPOLE_WGSL: &str = gather_wgsl!("../shaders/dipole.wgsl");
 
 /// WGSL's size of `Dipole`: 7 vec4 × 16 bytes (checked against naga's layout in a test).
 pub(crate) const DIPOLE_UNIFORM_SIZE: usize = 7 * 16;
@@ -192,7 +192,7 @@ pub(crate) fn encode(
         wgsl: DIPOLE_WGSL,
         buffers: vec![&ubuf],
     };
-    crate::disc_gather::encode(rec, target, &setup.sampling, &model, pipelines)
+    crate::gathers::disc_gather::encode(rec, target, &setup.sampling, &model, pipelines)
 }
 
 #[cfg(test)]

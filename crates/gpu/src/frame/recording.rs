@@ -2,9 +2,9 @@
 //! its buffers come from, the frame's one command encoder, its timestamp queries), handed to each
 //! pass in turn, so that a pass's own arguments are only what it reads and writes.
 
-use crate::context::Gpu;
-use crate::pool::Alloc;
-use crate::timing::Timer;
+use crate::frame::context::Gpu;
+use crate::frame::pool::Alloc;
+use crate::frame::timing::Timer;
 
 /// The device, where the frame's buffers and textures come from, the frame's command encoder
 /// and its timer (None where the adapter has no timestamp queries, or where nobody asked for

@@ -31,17 +31,17 @@
 //! - R′ is 0 beyond the table's r_max (where the source term α′σt′e^{−σt′r} has fallen to
 //!   10⁻⁷ cm⁻¹), and cells whose disc exceeds the table's largest are read at its last row.
 
-use crate::context::{Gpu, bind, cleared_depth};
 use crate::error::{GpuError, Result};
-use crate::pool::Alloc;
-use crate::recording::Recording;
-use crate::target::Target;
-use crate::timing::Timer;
+use crate::frame::context::{Gpu, bind, cleared_depth};
+use crate::frame::pool::Alloc;
+use crate::frame::recording::Recording;
+use crate::frame::target::Target;
+use crate::frame::timing::Timer;
 
 /// The gather's shader with the shared kernel lookup prepended.
 pub(crate) const AREA_GATHER_WGSL: &str = concat!(
-    include_str!("shaders/area_kernel.wgsl"),
-    include_str!("shaders/area_gather.wgsl")
+    include_str!("../shaders/area_kernel.wgsl"),
+    include_str!("../shaders/area_gather.wgsl")
 );
 
 /// The bound on cos θ (θ between the surface's normal and the view direction) below which a
@@ -424,12 +424,13 @@ pub(crate) struct Gathered {
 impl AreaGather {
     pub(crate) fn new(gpu: &Gpu) -> AreaGather {
         let dev = &gpu.device;
-        let surface = dev.create_shader_module(wgpu::include_wgsl!("shaders/surface.wgsl"));
+        let surface = dev.create_shader_module(wgpu::include_wgsl!("../shaders/surface.wgsl"));
         let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("area gather"),
             source: wgpu::ShaderSource::Wgsl(AREA_GATHER_WGSL.into()),
         });
-        let pipeline = |entry: &str| crate::context::entry_pipeline(dev, &module, entry, entry);
+        let pipeline =
+            |entry: &str| crate::frame::context::entry_pipeline(dev, &module, entry, entry);
         AreaGather {
             surface: crate::mesh::pipeline(dev, &surface, "surface", &[SURFACE_FORMAT]),
             level0: pipeline("level0"),

@@ -3,9 +3,9 @@
 //! lights and the cells of area lights; [`crate::Scene`]'s `light_view_proj`). The scene pass reads them for shadows and for
 //! the thickness light crosses in thin parts.
 
-use crate::context::{Gpu, cleared_depth};
+use crate::frame::context::{Gpu, cleared_depth};
+use crate::frame::recording::Recording;
 use crate::mesh::MeshBuffers;
-use crate::recording::Recording;
 use crate::scene::Scene;
 
 /// Side of each shadow map [texels]: 2048, or 1024 beyond 16 emitters (an area light's cells),
@@ -22,7 +22,7 @@ pub(crate) struct ShadowPass {
 impl ShadowPass {
     pub(crate) fn new(gpu: &Gpu) -> ShadowPass {
         let dev = &gpu.device;
-        let module = dev.create_shader_module(wgpu::include_wgsl!("shaders/shadow.wgsl"));
+        let module = dev.create_shader_module(wgpu::include_wgsl!("../shaders/shadow.wgsl"));
         ShadowPass {
             pipeline: crate::mesh::pipeline(dev, &module, "shadow", &[]),
         }

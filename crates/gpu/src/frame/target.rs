@@ -1,11 +1,11 @@
 //! Where a frame's scattering passes draw: the frame's scene, camera, size and mesh, the
 //! G-buffer they read and the scattered light they write (the passes' side of
-//! [`crate::recording`]).
+//! [`crate::frame::recording`]).
 
 use glam::Mat4;
 
-use crate::gbuffer::GBuffer;
 use crate::mesh::MeshBuffers;
+use crate::passes::gbuffer::GBuffer;
 use crate::scene::Scene;
 
 /// What the scattering passes of a frame read and write: the scene, the camera's projection,

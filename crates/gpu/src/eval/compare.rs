@@ -15,10 +15,10 @@ use fit::metrics::bin_kernel;
 use fit::taps::{ShaderKernel, TapSpec};
 use fit::{KernelModel, Profile};
 
-use crate::blur::{DepthMode, GpuKernel};
-use crate::context::Gpu;
 use crate::error::{GpuError, Result};
+use crate::frame::context::Gpu;
 use crate::params::RenderParams;
+use crate::passes::blur::{DepthMode, GpuKernel};
 use crate::render::{Renderer, Scatter};
 use crate::scene::Scene;
 
@@ -288,7 +288,7 @@ fn shown(
 }
 
 impl Comparison {
-    /// The area gather ([`crate::area_gather`]) rendered on `scene` with `base`'s settings and
+    /// The area gather ([`crate::gathers::area_gather`]) rendered on `scene` with `base`'s settings and
     /// scored against this comparison's truth as the kernels are. It works at each pixel's true
     /// depth (the fixed kernel scale and the disabled depth test do not apply to it), so where
     /// the scene's depth varies it departs from the fixed-scale truth by design; on a surface at
