@@ -10,9 +10,9 @@
 //! `sss profile`'s analytic output) is reused only when none of those three was given. Every
 //! reuse and every new simulation is announced on stderr.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use clap::Args;
 use fit::Profile;
 use mc::provenance::{self, Explicit, Provenance, Reuse, provenance_path};
@@ -141,7 +141,7 @@ pub fn table_profile(
     n: &Named,
     config: &mc::SimConfig,
 ) -> Result<fit::table_profile::TableProfile> {
-    let tables = crate::table::load(path)?;
+    let tables = load_tables(path)?;
     let grid = config.grid_for(&n.material)?;
     let thickness = n.material.thickness.unwrap_or(config.thickness_cm);
     let t = tables.profile(&n.material, &grid, config.n_above, thickness)?;
@@ -162,4 +162,30 @@ pub fn read_provenance(sidecar: &std::path::Path) -> Result<Provenance> {
         &text,
         &sidecar.display().to_string(),
     )?)
+}
+
+/// Reads `--table`: one table file, or every `*.table.json` in a folder.
+fn load_tables(path: &Path) -> Result<fit::table_profile::Tables> {
+    let files: Vec<PathBuf> = if path.is_dir() {
+        let mut v: Vec<PathBuf> = std::fs::read_dir(path)
+            .with_context(|| format!("cannot read table folder {}", path.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.to_string_lossy().ends_with(".table.json"))
+            .collect();
+        v.sort();
+        if v.is_empty() {
+            bail!(
+                "no table in {} (expected files *.table.json from `sss table`)",
+                path.display()
+            );
+        }
+        v
+    } else {
+        vec![path.to_path_buf()]
+    };
+    let tables = crate::files::read_named(&files, "table")?
+        .into_iter()
+        .map(|(name, text)| Ok((name.clone(), mc::table::Table::from_json(&text, &name)?)))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(fit::table_profile::Tables::new(tables)?)
 }

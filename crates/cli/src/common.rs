@@ -20,6 +20,23 @@ pub fn parse_count(s: &str) -> Result<u64, String> {
     Ok(v as u64)
 }
 
+/// One value or three comma-separated values (R,G,B).
+pub fn parse_rgb(s: &str) -> Result<[f64; 3], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| {
+            x.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("{x:?} is not a number"))
+        })
+        .collect::<Result<_, _>>()?;
+    match v[..] {
+        [a] => Ok([a; 3]),
+        [a, b, c] => Ok([a, b, c]),
+        _ => Err(format!("{s:?}: give one value or three (R,G,B)")),
+    }
+}
+
 /// Default output folder.
 pub fn default_out() -> PathBuf {
     PathBuf::from("out")

@@ -52,7 +52,7 @@ fn artist_material(kv: &[String]) -> Result<Named> {
             .split_once('=')
             .with_context(|| format!("invalid --from-artist {item:?}: expected KEY=VALUE"))?;
         let rgb = |v: &str| {
-            crate::fit::parse_rgb(v)
+            crate::common::parse_rgb(v)
                 .map_err(|e| anyhow::anyhow!("invalid --from-artist {key}: {e}"))
         };
         let number = |v: &str| {

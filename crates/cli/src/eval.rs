@@ -1,13 +1,11 @@
 //! `sss eval`: every kernel model against the ground truth of each material, in kernel space and
 //! image space, as a table or JSON, with optional comparison plots.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
-use fit::KernelModel;
-use fit::Profile;
-use fit::evaluate::{RANK1, Row, evaluate};
+use fit::evaluate::{Row, evaluate};
 use fit::pareto::{Pareto, Point};
 use fit::signals::Signal;
 use serde_json::json;
@@ -51,7 +49,7 @@ pub fn run(a: EvalArgs) -> Result<()> {
         // Costs at the shaders' taps per pass.
         let pareto = Pareto::of(&ev, fit::taps::TapSpec::default().taps)?;
         if let Some(dir) = &a.plots {
-            plots(&p, &ev, &n.slug, dir, &mut out)?;
+            out.add_in(dir, report::plot::evaluation(&p, &ev, &n.slug)?);
             out.add(
                 dir.join(format!("{}.pareto.png", n.slug)),
                 report::pareto::plot(&pareto, &n.slug)?,
@@ -75,48 +73,6 @@ pub fn run(a: EvalArgs) -> Result<()> {
         println!(
             "{}",
             serde_json::to_string_pretty(&json!({ "materials": materials }))?
-        );
-    }
-    Ok(())
-}
-
-/// Adds a material's comparison plots (profile, slices, singular values, convolution sheets) in
-/// `dir` to `out`.
-pub fn plots(
-    p: &Profile,
-    ev: &fit::evaluate::Evaluation,
-    slug: &str,
-    dir: &Path,
-    out: &mut Outputs,
-) -> Result<()> {
-    let multipass = [
-        KernelModel::Svd {
-            rank: 3,
-            renormalize: false,
-        },
-        KernelModel::Deon { n: 3 },
-        KernelModel::Burley { radial: true },
-    ];
-    out.add(
-        dir.join(format!("{slug}.profile.png")),
-        report::plot::profile(p, slug)?,
-    );
-    out.add(
-        dir.join(format!("{slug}.slices_rank1.png")),
-        report::plot::slices(ev, &RANK1, slug)?,
-    );
-    out.add(
-        dir.join(format!("{slug}.slices_multipass.png")),
-        report::plot::slices(ev, &multipass, slug)?,
-    );
-    out.add(
-        dir.join(format!("{slug}.singular_values.png")),
-        report::plot::singular_values(ev, slug)?,
-    );
-    for s in [Signal::Edge, Signal::CircleSquares] {
-        out.add(
-            dir.join(format!("{slug}.conv_{}.png", s.name())),
-            report::plot::convolutions(ev, &RANK1, s, 10.0, slug)?,
         );
     }
     Ok(())

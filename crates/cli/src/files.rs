@@ -30,6 +30,13 @@ impl Outputs {
         }
     }
 
+    /// Adds each (file name, contents) of `named` in folder `dir`.
+    pub fn add_in(&mut self, dir: &Path, named: Vec<(String, Vec<u8>)>) {
+        for (name, bytes) in named {
+            self.add(dir.join(name), bytes);
+        }
+    }
+
     /// The contents of a file added earlier in this command.
     pub fn get(&self, path: &Path) -> Option<&[u8]> {
         self.files

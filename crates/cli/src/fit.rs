@@ -38,48 +38,31 @@ pub struct ModelArgs {
 
     /// Manual model: weight w of the near Gaussian, in [0, 1] (one value or R,G,B); unset knobs
     /// come from Table A.1 or the image-space fit
-    #[arg(long, value_parser = parse_rgb, value_name = "W[,W,W]")]
+    #[arg(long, value_parser = crate::common::parse_rgb, value_name = "W[,W,W]")]
     pub w: Option<[f64; 3]>,
 
     /// Manual model: variance τ_n of the near Gaussian [mm²] (one value or R,G,B)
-    #[arg(long, value_parser = parse_rgb, value_name = "MM2[,MM2,MM2]")]
+    #[arg(long, value_parser = crate::common::parse_rgb, value_name = "MM2[,MM2,MM2]")]
     pub tau_near: Option<[f64; 3]>,
 
     /// Manual model: variance τ_f of the far Gaussian [mm²] (one value or R,G,B)
-    #[arg(long, value_parser = parse_rgb, value_name = "MM2[,MM2,MM2]")]
+    #[arg(long, value_parser = crate::common::parse_rgb, value_name = "MM2[,MM2,MM2]")]
     pub tau_far: Option<[f64; 3]>,
 
     /// Skin model: SSSS strength t in [0, 1], the share of light scattered (one value or R,G,B)
     /// [default: the demo's 0.48,0.41,0.28]
-    #[arg(long, value_parser = parse_rgb, value_name = "T[,T,T]")]
+    #[arg(long, value_parser = crate::common::parse_rgb, value_name = "T[,T,T]")]
     pub strength: Option<[f64; 3]>,
 
     /// Skin model: SSSS falloff f, each channel's radius stretch 0.001 + f (one value or R,G,B)
     /// [default: the demo's 1,0.37,0.3]
-    #[arg(long, value_parser = parse_rgb, value_name = "F[,F,F]")]
+    #[arg(long, value_parser = crate::common::parse_rgb, value_name = "F[,F,F]")]
     pub falloff: Option<[f64; 3]>,
 
     /// Skin model: width w, multiplies the kernel's size (1 = the demo's profile in mm, taps to
     /// ±2 mm at 17 taps) [default: 1]
     #[arg(long)]
     pub width: Option<f64>,
-}
-
-/// One value or three comma-separated values (R,G,B).
-pub fn parse_rgb(s: &str) -> Result<[f64; 3], String> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|x| {
-            x.trim()
-                .parse::<f64>()
-                .map_err(|_| format!("{x:?} is not a number"))
-        })
-        .collect::<Result<_, _>>()?;
-    match v[..] {
-        [a] => Ok([a; 3]),
-        [a, b, c] => Ok([a, b, c]),
-        _ => Err(format!("{s:?}: give one value or three (R,G,B)")),
-    }
 }
 
 impl ModelArgs {

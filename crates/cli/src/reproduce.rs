@@ -15,7 +15,7 @@ use report::reproduce::{MAIN, MitsubaImages, Published, RenderedTables, Report};
 
 use crate::common::{self, parse_count};
 use crate::files::Outputs;
-use crate::{eval, library};
+use crate::library;
 
 #[derive(Args)]
 pub struct ReproduceArgs {
@@ -201,7 +201,7 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
         let (_, p) = profile_of(name);
         eprintln!("fitting and evaluating every model for {name} …");
         let ev = pool.install(|| evaluate(p, name, image))?;
-        eval::plots(p, &ev, name, &a.out, &mut files)?;
+        files.add_in(&a.out, report::plot::evaluation(p, &ev, name)?);
         evals.push(ev);
     }
     for (n, p) in all.iter().zip(&profiles) {

@@ -6,7 +6,6 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use fit::table_profile::Tables;
 use mc::table::{self, Table, TableShard, TableSpec};
 use serde_json::json;
 
@@ -201,30 +200,4 @@ fn write(
         );
     }
     Ok(())
-}
-
-/// Reads `--table`: one table file, or every `*.table.json` in a folder.
-pub fn load(path: &Path) -> Result<Tables> {
-    let files: Vec<PathBuf> = if path.is_dir() {
-        let mut v: Vec<PathBuf> = std::fs::read_dir(path)
-            .with_context(|| format!("cannot read table folder {}", path.display()))?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.to_string_lossy().ends_with(".table.json"))
-            .collect();
-        v.sort();
-        if v.is_empty() {
-            bail!(
-                "no table in {} (expected files *.table.json from `sss table`)",
-                path.display()
-            );
-        }
-        v
-    } else {
-        vec![path.to_path_buf()]
-    };
-    let tables = crate::files::read_named(&files, "table")?
-        .into_iter()
-        .map(|(name, text)| Ok((name.clone(), Table::from_json(&text, &name)?)))
-        .collect::<Result<Vec<_>>>()?;
-    Ok(Tables::new(tables)?)
 }

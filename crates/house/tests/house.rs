@@ -772,6 +772,53 @@ fn no_crate_has_a_module_cycle() {
 }
 
 /// The module map assumes each file sits where its module path says: no `#[path]` on a `mod`.
+/// The command line's shared modules: what every command may use. Every other top-level module
+/// of `crates/cli/src` is a command (it parses, calls the libraries and prints) and never uses
+/// another command; `main.rs` dispatches to them.
+const CLI_SHARED: &[&str] = &["common", "files", "library", "cache", "shard"];
+
+/// The command-line modules that use another command, as printed (`simulate uses table`).
+fn command_imports(g: &Graph) -> Vec<String> {
+    let mut found = Vec::new();
+    for (m, to) in g {
+        let Some(own) = m.first() else { continue };
+        for (t, path) in to {
+            match t.first() {
+                Some(top) if top != own && !CLI_SHARED.contains(&top.as_str()) => {
+                    found.push(format!("{} uses {} ({path})", show(m), show(t)))
+                }
+                _ => {}
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn no_command_imports_another() {
+    let cli = members()
+        .into_iter()
+        .find(|m| m.package == "sss-cli")
+        .expect("the sss-cli member");
+    let found = command_imports(&module_graph(&member_names(&cli)));
+    assert!(
+        found.is_empty(),
+        "commands using commands:\n{}",
+        found.join("\n")
+    );
+    // The check can fail: a render that reached into fit's command is found.
+    let g = graph_of(&[
+        ("main.rs", "mod fit; mod render; mod common;"),
+        ("fit.rs", "pub fn build() {}"),
+        ("common.rs", "pub fn bar() {}"),
+        (
+            "render.rs",
+            "use crate::common::bar; use crate::fit::build;",
+        ),
+    ]);
+    assert_eq!(command_imports(&g), ["render uses fit (crate::fit::build)"]);
+}
+
 #[test]
 fn no_module_is_moved_by_a_path_attribute() {
     let mut moved = Vec::new();

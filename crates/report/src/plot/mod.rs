@@ -136,3 +136,46 @@ pub(crate) fn png_of(
     }
     png_8bit(png::ColorType::Rgb, size, &rgb, path)
 }
+
+/// A material's evaluation plots, each as (file name, PNG): the profile, the rank-1 and
+/// multi-pass kernel slices, the singular values and the convolution sheets of the edge and
+/// circles-and-squares signals (what `sss eval --plots` and `sss reproduce` write per material).
+pub fn evaluation(
+    p: &fit::Profile,
+    ev: &fit::evaluate::Evaluation,
+    slug: &str,
+) -> crate::Result<Vec<(String, Vec<u8>)>> {
+    use fit::KernelModel;
+    use fit::evaluate::RANK1;
+    use fit::signals::Signal;
+    let multipass = [
+        KernelModel::Svd {
+            rank: 3,
+            renormalize: false,
+        },
+        KernelModel::Deon { n: 3 },
+        KernelModel::Burley { radial: true },
+    ];
+    let mut out = vec![
+        (format!("{slug}.profile.png"), profile(p, slug)?),
+        (
+            format!("{slug}.slices_rank1.png"),
+            slices(ev, &RANK1, slug)?,
+        ),
+        (
+            format!("{slug}.slices_multipass.png"),
+            slices(ev, &multipass, slug)?,
+        ),
+        (
+            format!("{slug}.singular_values.png"),
+            singular_values(ev, slug)?,
+        ),
+    ];
+    for s in [Signal::Edge, Signal::CircleSquares] {
+        out.push((
+            format!("{slug}.conv_{}.png", s.name()),
+            convolutions(ev, &RANK1, s, 10.0, slug)?,
+        ));
+    }
+    Ok(out)
+}
