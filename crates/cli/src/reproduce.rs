@@ -89,39 +89,18 @@ fn read_profile(
     }
 }
 
-pub fn run(a: ReproduceArgs) -> Result<()> {
-    let start = Instant::now();
-    let published = Published::thesis();
-    let pool = crate::common::thread_pool(a.threads)?;
-    let mut config = library::config(None)?;
-    let extent_mfp = config.grid.r_max_mfp;
-    let image = if a.quick {
-        config.grid.dr_per_min_mfp = 6.0;
-        config.grid.r_max_mfp = 10.0;
-        ImageSize {
-            size: 128,
-            max_half: 48,
-        }
-    } else {
-        ImageSize::default()
-    };
-    let photons = a
-        .photons
-        .unwrap_or(if a.quick { 20_000 } else { config.photons });
-    let references = a
-        .references
-        .iter()
-        .map(|p| read_references(p))
-        .collect::<Result<Vec<_>>>()?
-        .concat();
-    let mut files = Outputs::default();
-
-    // 1. Profiles of the whole library, one batch.
-    let all = library::all()?;
-    let t = Instant::now();
+/// Every built-in material's profile CSV with its provenance: read from `--profiles` (each must
+/// match what was asked) or simulated in one batch of `photons` per channel.
+fn library_profiles(
+    a: &ReproduceArgs,
+    config: &mc::SimConfig,
+    photons: u64,
+    pool: &rayon::ThreadPool,
+    all: &[library::Named],
+) -> Result<(Vec<String>, Vec<Option<Provenance>>)> {
     let materials: Vec<&mc::Material> = all.iter().map(|n| &n.material).collect();
     let spec = config.batch(&materials, photons, config.seed, true)?;
-    let (csvs, provenance): (Vec<String>, Vec<Option<Provenance>>) = match &a.profiles {
+    Ok(match &a.profiles {
         Some(dir) => {
             let explicit = Explicit {
                 photons: a.photons.is_some(),
@@ -159,7 +138,69 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
                 })
                 .unzip()
         }
+    })
+}
+
+/// Tables 6.4 and 6.5 rendered on our scenes with the library's profiles, or skipped (saying
+/// why) without an adapter.
+fn rendered(
+    all: &[library::Named],
+    profiles: &[Profile],
+    quick: bool,
+    published: &Published,
+) -> Result<RenderedTables> {
+    Ok(match gpu::Gpu::new() {
+        Err(e) => {
+            eprintln!("rendered Tables 6.4 and 6.5 skipped: {e}");
+            RenderedTables::Skipped {
+                reason: e.to_string(),
+            }
+        }
+        Ok(gpu) => {
+            eprintln!("rendering Tables 6.4 and 6.5 on our scenes …");
+            let with: Vec<(&str, &Profile)> = all
+                .iter()
+                .zip(profiles)
+                .map(|(n, p)| (n.slug.as_str(), p))
+                .collect();
+            let r = report::rendered::rendered_tables(&gpu, &with, quick, published)?;
+            eprintln!("rendered Tables 6.4 and 6.5 in {:.1} s", r.seconds);
+            RenderedTables::Rendered(Box::new(r))
+        }
+    })
+}
+
+pub fn run(a: ReproduceArgs) -> Result<()> {
+    let start = Instant::now();
+    let published = Published::thesis();
+    let pool = crate::common::thread_pool(a.threads)?;
+    let mut config = library::config(None)?;
+    let extent_mfp = config.grid.r_max_mfp;
+    let image = if a.quick {
+        config.grid.dr_per_min_mfp = 6.0;
+        config.grid.r_max_mfp = 10.0;
+        ImageSize {
+            size: 128,
+            max_half: 48,
+        }
+    } else {
+        ImageSize::default()
     };
+    let photons = a
+        .photons
+        .unwrap_or(if a.quick { 20_000 } else { config.photons });
+    let references = a
+        .references
+        .iter()
+        .map(|p| read_references(p))
+        .collect::<Result<Vec<_>>>()?
+        .concat();
+    let mut files = Outputs::default();
+
+    // 1. Profiles of the whole library, one batch.
+    let all = library::all()?;
+    let t = Instant::now();
+    let (csvs, provenance) = library_profiles(&a, &config, photons, &pool, &all)?;
     let simulate_seconds = t.elapsed().as_secs_f64();
     // The photons behind the report: those asked, or those every profile read says it has.
     let counts: Vec<Option<u64>> = provenance
@@ -217,25 +258,7 @@ pub fn run(a: ReproduceArgs) -> Result<()> {
     let tables = report::reproduce::tables(&slugs, &evals, &published);
 
     // 3. Tables 6.4 and 6.5 rendered on our scenes (skipped, saying why, without an adapter).
-    let rendered_tables = match gpu::Gpu::new() {
-        Err(e) => {
-            eprintln!("rendered Tables 6.4 and 6.5 skipped: {e}");
-            RenderedTables::Skipped {
-                reason: e.to_string(),
-            }
-        }
-        Ok(gpu) => {
-            eprintln!("rendering Tables 6.4 and 6.5 on our scenes …");
-            let with: Vec<(&str, &Profile)> = all
-                .iter()
-                .zip(&profiles)
-                .map(|(n, p)| (n.slug.as_str(), p))
-                .collect();
-            let r = report::rendered::rendered_tables(&gpu, &with, a.quick, &published)?;
-            eprintln!("rendered Tables 6.4 and 6.5 in {:.1} s", r.seconds);
-            RenderedTables::Rendered(Box::new(r))
-        }
-    };
+    let rendered_tables = rendered(&all, &profiles, a.quick, &published)?;
 
     // 4. Fig. 5.15 and 5.17 on Skin1: their plots, numbers and claims.
     eprintln!("guided k = 1.55, b = 50 against pre-integration, and the manual w sweep (skin1) …");

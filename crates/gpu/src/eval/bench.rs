@@ -155,6 +155,36 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// What the ranks beyond an image-error target cost: the target 1.05 × the best image RMS of
+/// ranks 1–3 at 17 taps, the smallest rank meeting it, and its frame against rank 3's, from the
+/// timed `configs`.
+fn rank_target(judge: &Judge, material: &str, configs: &[Config]) -> Result<RankSkip> {
+    let errors = (1..=3)
+        .map(|r| Ok(judge.fit_and_score(rank_model(r), material, 17)?.error()))
+        .collect::<Result<Vec<f64>>>()?;
+    let target = 1.05 * errors.iter().copied().fold(f64::MAX, f64::min);
+    let chosen = errors
+        .iter()
+        .position(|&e| e <= target)
+        .expect("the best rank meets 1.05 × its own error")
+        + 1;
+    let timed = |rank: usize| {
+        configs
+            .iter()
+            .find(|c| {
+                c.taps == 17 && c.rank == Some(rank) && c.resolution == "full" && c.path == "exact"
+            })
+            .map(|c| (c.gpu_ms, c.frame_ms))
+            .expect("17 taps at full resolution on the exact path were timed for ranks 1–3")
+    };
+    Ok(RankSkip {
+        saving: Saving::new(timed(chosen), timed(3)),
+        target_image_rms: target,
+        image_rms_by_rank: errors,
+        rank_chosen: chosen,
+    })
+}
+
 /// Times the separable passes on `scene` with kernels fitted to `p` (`material` names it), at
 /// the size, kernel width and settings of `base` (the bench varies the resolution and the blur
 /// path); with `area`, also the area gather's layered pattern and the brute-force 2D gather over
@@ -290,25 +320,6 @@ pub fn separable(
         },
     )?;
 
-    // Ranks beyond an image-error target.
-    let errors = (1..=3)
-        .map(|r| Ok(judge.fit_and_score(rank_model(r), material, 17)?.error()))
-        .collect::<Result<Vec<f64>>>()?;
-    let target = 1.05 * errors.iter().copied().fold(f64::MAX, f64::min);
-    let chosen = errors
-        .iter()
-        .position(|&e| e <= target)
-        .expect("the best rank meets 1.05 × its own error")
-        + 1;
-    let timed = |rank: usize| {
-        configs
-            .iter()
-            .find(|c| {
-                c.taps == 17 && c.rank == Some(rank) && c.resolution == "full" && c.path == "exact"
-            })
-            .map(|c| (c.gpu_ms, c.frame_ms))
-            .expect("17 taps at full resolution on the exact path were timed for ranks 1–3")
-    };
     Ok(SeparableBench {
         skips: Skips {
             empty_pixels: EmptySkip {
@@ -321,12 +332,7 @@ pub fn separable(
                 near_footprint_px: near_px,
                 footprint_px: far_px,
             },
-            rank_target: RankSkip {
-                saving: Saving::new(timed(chosen), timed(3)),
-                target_image_rms: target,
-                image_rms_by_rank: errors,
-                rank_chosen: chosen,
-            },
+            rank_target: rank_target(&judge, material, &configs)?,
         },
         configs,
     })
