@@ -55,10 +55,11 @@ pub use gathers::surface_gather::SurfaceGatherSetup;
 pub use light::{AREA_CELLS, Emitter, Light, MAX_EMITTERS, emitters};
 pub use mesh::{Mesh, Vertex};
 pub use params::{MAX_MATERIALS, RenderParams};
-pub use passes::blur::{BlurParams, DepthMode, GpuKernel, blur_image};
+pub use passes::blur::{BlurParams, DepthMode, blur_image};
 pub use render::{Frame, FrameTime, Renderer, SUBPIXEL_PX, Scatter, kernel_footprint_px, render};
 pub use request::{Method, RenderRequest};
 pub use scene::{AlbedoMode, Camera, Scene};
+pub use shading::KernelTaps;
 
 #[cfg(test)]
 mod tests {

@@ -31,7 +31,7 @@ pub struct RenderParams {
     pub skip_empty: bool,
     /// A material whose kernel reaches less than [`crate::SUBPIXEL_PX`] from any of its pixels (far
     /// away, or a tiny kernel) is not blurred: its kernel is replaced by one tap holding the
-    /// kernel's total response ([`crate::GpuKernel::point`]). Off only to measure what that saves.
+    /// kernel's total response ([`crate::KernelTaps::point`]). Off only to measure what that saves.
     pub skip_subpixel: bool,
     /// The blur's fast path (see [`crate::BlurParams::fast`]): one filtered texture fetch per
     /// tap at half precision; one SSS material per frame.

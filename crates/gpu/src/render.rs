@@ -14,13 +14,14 @@ use crate::gathers::disc_gather::DiscPipelines;
 use crate::gathers::surface_gather::SurfaceGatherSetup;
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
-use crate::passes::blur::{Blur, BlurIo, BlurParams, GpuKernel};
+use crate::passes::blur::{Blur, BlurIo, BlurParams};
 use crate::passes::combine::Combine;
 use crate::passes::gbuffer::{GBufferPass, camera_view_proj};
 use crate::passes::half::{HalfRes, half_size};
 use crate::passes::shadow::ShadowPass;
 use crate::passes::splat::Splats;
 use crate::scene::Scene;
+use shading::KernelTaps;
 
 /// How the diffuse light of SSS surfaces is scattered.
 #[derive(Clone, Copy, Debug)]
@@ -33,7 +34,7 @@ pub enum Scatter<'a> {
     /// (per channel, as the depth test's reject mode does), so materials side by side neither
     /// bleed into each other nor lose energy at their border. Samples of surfaces without SSS
     /// (the floor) are taken as before, subject to the depth test.
-    Separable(&'a [GpuKernel]),
+    Separable(&'a [KernelTaps]),
     /// The directional dipole evaluated per pixel over lit surface points ([`crate::gathers::dipole`]);
     /// the albedo split and incidence table of [`RenderParams`] do not apply (the colour and the
     /// dependence on incidence come from the model).
@@ -69,7 +70,7 @@ pub const SUBPIXEL_PX: f32 = 0.5;
 pub fn kernel_footprint_px(
     scene: &Scene,
     material: u32,
-    k: &GpuKernel,
+    k: &KernelTaps,
     params: &RenderParams,
 ) -> f32 {
     let view = scene.camera.view();
@@ -313,14 +314,14 @@ impl Renderer {
         &self,
         rec: &mut Recording,
         target: &Target,
-        given: &[GpuKernel],
+        given: &[KernelTaps],
         params: &RenderParams,
     ) -> Result<()> {
         let (scene, (w, h)) = (target.scene, target.size);
         let alloc = rec.alloc;
         // Half resolution: the blur's pixels are 2×2 of the image's.
         let px = if params.half_res { 0.5 } else { 1.0 };
-        let kernels: Vec<GpuKernel> = given
+        let kernels: Vec<KernelTaps> = given
             .iter()
             .enumerate()
             .map(|(m, k)| {

@@ -4,7 +4,7 @@
 use fit::convolve::{Image, convolve_2d, convolve_separable};
 use fit::taps::ShaderKernel;
 use fit::{Profile, ground_truth, preint, svd};
-use gpu::{BlurParams, DepthMode, GpuKernel, blur_image};
+use gpu::{BlurParams, DepthMode, KernelTaps, blur_image};
 
 mod common;
 use common::gpu;
@@ -18,10 +18,10 @@ fn profile() -> Profile {
 }
 
 /// The pre-integrated kernel of [`profile`] with `taps` taps holding `coverage` of its mass.
-fn preint_kernel(taps: usize, coverage: f64) -> GpuKernel {
+fn preint_kernel(taps: usize, coverage: f64) -> KernelTaps {
     let p = profile();
     let seps: Vec<_> = (0..3).map(|c| preint(&ground_truth(&p, c, None))).collect();
-    GpuKernel::from_shader_kernel(&ShaderKernel::from_separable(
+    KernelTaps::from_shader_kernel(&ShaderKernel::from_separable(
         fit::KernelModel::Preint,
         "test",
         [&seps[0], &seps[1], &seps[2]],
@@ -125,7 +125,7 @@ fn blur_passes_equal_the_cpu_separable_convolution() {
             &rgba([&img, &img, &img]),
             &geometry,
             (w as u32, h as u32),
-            &[GpuKernel::from_shader_kernel(&kernel).unwrap()],
+            &[KernelTaps::from_shader_kernel(&kernel).unwrap()],
             &pr,
         )
         .unwrap();
@@ -168,7 +168,7 @@ fn preintegrated_edge_matches_the_2d_ground_truth_on_the_gpu() {
         &rgba([&edge, &edge, &edge]),
         &geometry,
         (w as u32, h as u32),
-        &[GpuKernel::from_shader_kernel(&kernel).unwrap()],
+        &[KernelTaps::from_shader_kernel(&kernel).unwrap()],
         &params(30.0, p.dr, DepthMode::None),
     )
     .unwrap();
@@ -295,7 +295,7 @@ fn the_gaussian_depth_factor_weights_samples_across_a_depth_step() {
         .iter()
         .map(|w| w / 16.0)
         .collect();
-    let kernel = GpuKernel {
+    let kernel = KernelTaps {
         passes: vec![(
             [1.0; 3],
             (0..5)
@@ -371,7 +371,7 @@ fn jittering_thirteen_taps_removes_their_banding() {
     let (w, h) = (400usize, 64usize);
     let img = edge(w, h);
     let geometry = vec![[10.0f32, 1.0, 0.0, 1.0]; w * h];
-    let row_mean = |kernel: &GpuKernel, jitter: f32| -> Vec<f64> {
+    let row_mean = |kernel: &KernelTaps, jitter: f32| -> Vec<f64> {
         // Pixel size h at 10 cm: the kernel spans ~100 px.
         let mut pr = params(10.0, p.dr, DepthMode::None);
         pr.jitter = jitter;
@@ -422,7 +422,7 @@ fn signed_svd_terms_stay_bounded_at_a_material_border() {
     let p = profile();
     let ks: Vec<_> = fit::ground_truths(&p);
     let seps: Vec<_> = ks.iter().map(|k| svd(k, 3).0).collect();
-    let kernel = GpuKernel::from_shader_kernel(&ShaderKernel::from_separable(
+    let kernel = KernelTaps::from_shader_kernel(&ShaderKernel::from_separable(
         fit::KernelModel::Svd {
             rank: 3,
             renormalize: true,

@@ -5,7 +5,7 @@
 //! image beyond what the skip states. Under CI=true a missing adapter fails.
 
 use gpu::{
-    AlbedoMode, BlurParams, DepthMode, GpuKernel, MAX_MATERIALS, RenderParams, Renderer,
+    AlbedoMode, BlurParams, DepthMode, KernelTaps, MAX_MATERIALS, RenderParams, Renderer,
     SUBPIXEL_PX, Scatter, Scene, blur_image, kernel_footprint_px, render,
 };
 use shading::Shading;
@@ -14,12 +14,12 @@ mod common;
 use common::gpu;
 
 /// A normalized Gaussian of σ = 1 cm in `taps` taps over ±3σ (the same for R, G and B).
-fn gaussian(taps: usize) -> GpuKernel {
+fn gaussian(taps: usize) -> KernelTaps {
     gaussian_sigma(taps, 1.0)
 }
 
 /// A normalized Gaussian of standard deviation `sigma` [cm] in `taps` taps over ±3σ.
-fn gaussian_sigma(taps: usize, sigma: f32) -> GpuKernel {
+fn gaussian_sigma(taps: usize, sigma: f32) -> KernelTaps {
     let offsets: Vec<f32> = (0..taps)
         .map(|k| sigma * (-3.0 + 6.0 * k as f32 / (taps - 1) as f32))
         .collect();
@@ -28,7 +28,7 @@ fn gaussian_sigma(taps: usize, sigma: f32) -> GpuKernel {
         .map(|x| (-0.5 * (x / sigma).powi(2)).exp())
         .collect();
     let sum: f32 = w.iter().sum();
-    GpuKernel {
+    KernelTaps {
         passes: vec![(
             [1.0; 3],
             offsets
@@ -42,8 +42,8 @@ fn gaussian_sigma(taps: usize, sigma: f32) -> GpuKernel {
 }
 
 /// One tap of weight 1 at offset 0: light stays where it is.
-fn identity() -> GpuKernel {
-    GpuKernel {
+fn identity() -> KernelTaps {
+    KernelTaps {
         passes: vec![([1.0; 3], vec![[1.0, 1.0, 1.0, 0.0]])],
         range_cm: 0.0,
     }

@@ -5,7 +5,7 @@
 
 use fit::taps::{ShaderKernel, TapSpec};
 use fit::{KernelModel, Profile};
-use gpu::{GpuKernel, Method, RenderParams, Scatter};
+use gpu::{KernelTaps, Method, RenderParams, Scatter};
 
 use crate::error::{RenderError, Result};
 use crate::options::{Choice, DipoleEnergy};
@@ -81,7 +81,7 @@ pub struct Plan {
     /// without SSS), and how each was chosen.
     pub kernels: Vec<(ShaderKernel, KernelChoice)>,
     /// The kernels as uploaded.
-    pub gpu_kernels: Vec<GpuKernel>,
+    pub gpu_kernels: Vec<KernelTaps>,
     /// The set-up of a method that replaces the kernels.
     pub gather: Option<Gather>,
     /// The shading options as applied.
@@ -120,7 +120,7 @@ impl Plan {
         let kernels = kernels(request, profiles)?;
         let gpu_kernels = kernels
             .iter()
-            .map(|(k, _)| GpuKernel::from_shader_kernel(k))
+            .map(|(k, _)| KernelTaps::from_shader_kernel(k))
             .collect::<std::result::Result<Vec<_>, _>>()?;
         Ok(Plan {
             scene,

@@ -11,6 +11,7 @@
 //!   ([`translucency`]);
 //! - [`DirectionalTable`]: `mc`'s Rd(x, y; θ) for the directional surface gather
 //!   ([`directional`]);
+//! - [`KernelTaps`]: a separable kernel's taps as uploaded ([`kernel`]);
 //! - [`Shading`]: the set one material is shaded with ([`model`]);
 //! - [`SimulatedProfile`]: the radial profile Rd(r) its kernels and the surface gather read
 //!   ([`profile`]).
@@ -29,6 +30,7 @@ pub mod directional;
 pub mod entry_shift;
 mod error;
 pub mod fresnel;
+pub mod kernel;
 pub mod model;
 pub mod profile;
 pub mod translucency;
@@ -42,6 +44,7 @@ pub use directional::{
 pub use entry_shift::{EntryShift, SHIFT_GRID_HALF_WIDTH, SHIFT_GRID_REACH_MFP};
 pub use error::{Result, ShadingError};
 pub use fresnel::{FRESNEL_WGSL, fresnel};
+pub use kernel::{KernelTaps, MAX_PASSES, MAX_TAPS};
 /// The input types of this crate's builders, from `mc`: a material's coefficients, the run
 /// settings, a batch of its channels, an estimate with its standard error.
 pub use mc::{BatchSpec, Estimate, Material, SimConfig};

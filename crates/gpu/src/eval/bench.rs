@@ -17,9 +17,9 @@ use crate::gathers::area_gather::{AreaGatherSetup, GatherPattern};
 use crate::gathers::dipole::DipoleSetup;
 use crate::light::Light;
 use crate::params::RenderParams;
-use crate::passes::blur::GpuKernel;
 use crate::render::{Renderer, SUBPIXEL_PX, Scatter, kernel_footprint_px};
 use crate::scene::Scene;
+use shading::KernelTaps;
 
 /// Frames per median of the separable benchmark.
 const FRAMES: usize = 5;
@@ -216,7 +216,7 @@ pub fn separable(
             }
             Ok((gpu.timestamps.then(|| median(sss)), median(wall)))
         };
-    let measure = |scene: &Scene, k: &GpuKernel, params: &RenderParams| {
+    let measure = |scene: &Scene, k: &KernelTaps, params: &RenderParams| {
         measure_with(scene, Scatter::Separable(std::slice::from_ref(k)), params)
     };
     let judge = Judge::new(p);
@@ -225,7 +225,7 @@ pub fn separable(
     for rank in 1..=3usize {
         let model = rank_model(rank);
         for taps in [11, 17, 25, 33] {
-            let k = GpuKernel::from_shader_kernel(&judge.kernel(model, material, taps)?)?;
+            let k = KernelTaps::from_shader_kernel(&judge.kernel(model, material, taps)?)?;
             for (half, fast) in [(false, false), (true, false), (false, true), (true, true)] {
                 let (gpu_ms, frame_ms) = measure(
                     scene,

@@ -18,9 +18,10 @@ use fit::{KernelModel, Profile};
 use crate::error::{GpuError, Result};
 use crate::frame::context::Gpu;
 use crate::params::RenderParams;
-use crate::passes::blur::{DepthMode, GpuKernel};
+use crate::passes::blur::DepthMode;
 use crate::render::{Renderer, Scatter};
 use crate::scene::Scene;
+use shading::KernelTaps;
 
 /// The kernel scale of a comparison.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -196,7 +197,7 @@ fn compare_with(
             let frame = renderer.render(
                 gpu,
                 scene,
-                Scatter::Separable(&[GpuKernel::from_shader_kernel(k)?]),
+                Scatter::Separable(&[KernelTaps::from_shader_kernel(k)?]),
                 &params,
             )?;
             Ok(shown(&frame, &sss, &error))
