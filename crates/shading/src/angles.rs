@@ -6,7 +6,8 @@
 pub const INCIDENCE_STEPS: usize = 9;
 
 /// The WGSL of the angle grid, `angle_index(cos_t) -> vec2<f32>` (entry and weight of the next),
-/// prepended to every shader that reads an angle table.
+/// and of a table's lookup, `angle_table(table, cos_a) -> vec3<f32>`, prepended to every shader
+/// that reads an angle table.
 pub const ANGLES_WGSL: &str = include_str!("wgsl/angles.wgsl");
 
 /// An angle table at cos θ = `cos_i`: ρ(θ)/ρ(0) from an incidence table, h(θ) from an exit

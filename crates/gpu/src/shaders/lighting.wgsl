@@ -90,15 +90,6 @@ fn shadow(i: u32, world: vec3<f32>, l: vec3<f32>, n_dot_l: f32) -> f32 {
     return lit / 9.0;
 }
 
-// An angle table (θ = 0°, 10°, …, 80°: `incidence`) at cos θ: linear in θ between entries, the
-// 80° value beyond (shading::incidence_ratio is its CPU twin).
-fn angle_table(table: array<vec4<f32>, 9>, cos_a: f32) -> vec3<f32> {
-    var t = table;
-    let a = angle_index(cos_a);
-    let i = u32(a.x);
-    return mix(t[i].rgb, t[min(i + 1u, 8u)].rgb, a.y);
-}
-
 // Material m's h_T at thickness d [cm] and exit cosine cos_o: linear in ln d and in θ, held
 // outside the tables (shading::Translucency::exit_at).
 fn translucency_exit(m: u32, d: f32, cos_o: f32) -> vec3<f32> {
