@@ -129,11 +129,17 @@ def test_two_threads_simulate_in_parallel():
 
 
 def test_ctrl_c_interrupts_a_long_run():
+    # A process started in the background by a non-interactive shell inherits SIGINT ignored, and
+    # Python then installs no handler: the signal would be lost and the run never end.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
     start = time.perf_counter()
     timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        sss.simulate("skin1", photons=10**10, seed=1)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            sss.simulate("skin1", photons=10**10, seed=1)
+    finally:
+        signal.signal(signal.SIGINT, previous)
     waited = time.perf_counter() - start - 0.5
     print(f"KeyboardInterrupt {waited:.2f} s after Ctrl-C")
     assert waited < 1.5, waited
