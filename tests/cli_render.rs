@@ -650,3 +650,55 @@ fn render_translucency_lights_the_fins_from_behind_with_the_materials_table() {
         );
     }
 }
+
+/// The shading tables are kept beside the profiles with the runs they were made of: a render
+/// asking for the same runs reuses them (the same image, bit for bit), one asking for other
+/// photons builds them again; the default render builds every table of the separable method.
+#[test]
+fn render_keeps_its_tables_and_reuses_them_only_for_the_same_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |out: &str, incidence_photons: &str| {
+        sss(
+            &[
+                "render",
+                "--width",
+                "48",
+                "--height",
+                "32",
+                "--photons",
+                "30000",
+                "--incidence-photons",
+                incidence_photons,
+                "--translucency-photons",
+                "2000",
+                "--profiles",
+                "p",
+                "--out",
+                out,
+            ],
+            dir.path(),
+        )
+    };
+    let first = render("r1", "5000");
+    if no_adapter(&first) {
+        return;
+    }
+    let stderr = |o: &std::process::Output| String::from_utf8_lossy(&o.stderr).to_string();
+    assert!(first.status.success(), "{}", stderr(&first));
+    for table in ["incidence table", "exit table", "entry shift", "translucency table"] {
+        assert!(stderr(&first).contains(table), "{table}: {}", stderr(&first));
+    }
+    let kept: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("p/skin1.tables.json")).unwrap(),
+    )
+    .unwrap();
+    assert!(kept["key"].as_str().unwrap().contains("\"photons\":5000"));
+    let again = render("r2", "5000");
+    assert!(again.status.success(), "{}", stderr(&again));
+    assert!(stderr(&again).contains("reusing its tables"), "{}", stderr(&again));
+    let pfm = |d: &str| std::fs::read(dir.path().join(d).join("render.pfm")).unwrap();
+    assert_eq!(pfm("r1"), pfm("r2"));
+    let other = render("r3", "6000");
+    assert!(other.status.success(), "{}", stderr(&other));
+    assert!(!stderr(&other).contains("reusing its tables"), "{}", stderr(&other));
+}

@@ -38,6 +38,42 @@ impl render::Profiles for Cached<'_> {
                 reason: format!("{e:#}"),
             })
     }
+
+    /// Tables kept in the profile folder as NAME.tables.json beside the profiles, with the key
+    /// they were made for: reused when it matches (announced), else built and added to the
+    /// command's outputs. Nothing is kept with `--table` or when no table was asked for.
+    fn tables(
+        &mut self,
+        m: &render::NamedMaterial,
+        key: &str,
+        build: &mut dyn FnMut() -> render::Result<render::MaterialTables>,
+    ) -> render::Result<render::MaterialTables> {
+        let path = self.source.folder().join(format!("{}.tables.json", m.slug));
+        if self.source.table.is_none()
+            && let Some(kept) = kept_tables(&path, key)
+        {
+            eprintln!("{}: reusing its tables from {}", m.slug, path.display());
+            return Ok(kept);
+        }
+        let t = build()?;
+        let any =
+            t.simulated != (false, false) || t.entry_shift.is_some() || t.translucency.is_some();
+        if self.source.table.is_none() && any {
+            let file = json!({ "key": key, "tables": t });
+            self.files.add(&path, file.to_string());
+        }
+        Ok(t)
+    }
+}
+
+/// The tables kept in `path` if they were made for `key` (anything unreadable counts as none).
+fn kept_tables(path: &std::path::Path, key: &str) -> Option<render::MaterialTables> {
+    let text = crate::files::read_text(path).ok()?;
+    let v: Value = serde_json::from_str(&text).ok()?;
+    if v.get("key")?.as_str()? != key {
+        return None;
+    }
+    serde_json::from_value(v.get("tables")?.clone()).ok()
 }
 
 /// The JSON summary's settings of the method: the kernels, each gather's (null when not used)

@@ -13,11 +13,23 @@ use crate::progress::Progress;
 use crate::request::{NamedMaterial, Request};
 use crate::tables::MaterialTables;
 
-/// Where a plan gets a material's Monte Carlo profile: simulated, or read from a cache (the
-/// caller's; see [`Simulated`] for the plain one).
+/// Where a plan gets a material's Monte Carlo profile and tables: simulated, or read from a
+/// cache (the caller's; see [`Simulated`] for the plain one).
 pub trait Profiles {
     /// The profile of `m`.
     fn profile(&mut self, m: &NamedMaterial) -> Result<Profile>;
+
+    /// The tables of `m` whose make-up is `key` ([`MaterialTables::key`]): kept ones made of
+    /// the same, else `build()`'s. By default always built.
+    fn tables(
+        &mut self,
+        m: &NamedMaterial,
+        key: &str,
+        build: &mut dyn FnMut() -> Result<MaterialTables>,
+    ) -> Result<MaterialTables> {
+        let _ = (m, key);
+        build()
+    }
 }
 
 /// Profiles simulated at the request's run settings (`config.photons` per channel) and seed,
@@ -108,7 +120,10 @@ impl Plan {
         let mut params = params(request);
         let mut tables = Vec::new();
         for (s, m) in params.shading.iter_mut().zip(&request.materials) {
-            let t = MaterialTables::build(m, &shading, &request.tables, progress)?;
+            let key = MaterialTables::key(m, &shading, &request.tables)?;
+            let t = profiles.tables(m, &key, &mut || {
+                MaterialTables::build(m, &shading, &request.tables, progress)
+            })?;
             *s = t.shading(shading.exit, m.material.eta);
             tables.push(t);
         }

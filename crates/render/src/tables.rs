@@ -10,7 +10,7 @@ use crate::request::{NamedMaterial, ResolvedShading, TableSettings};
 
 /// One material's tables, as built (for the renderer and for a caller that prints or exports
 /// them).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MaterialTables {
     /// The material's short name.
     pub slug: String,
@@ -25,6 +25,33 @@ pub struct MaterialTables {
 }
 
 impl MaterialTables {
+    /// What the tables of `m` under `shading` and `settings` are made of, as text: the tables
+    /// asked for and each run's provenance (every channel's layer and grid, the ambient indices,
+    /// photons and seed). Tables kept for an equal key are the same numbers.
+    pub fn key(
+        m: &NamedMaterial,
+        shading: &ResolvedShading,
+        settings: &TableSettings,
+    ) -> Result<String> {
+        let run = |photons| -> Result<serde_json::Value> {
+            let spec = settings
+                .config
+                .batch(&[&m.material], photons, settings.seed, true)?;
+            let json = mc::provenance::Provenance::of(&spec, 0, &m.slug, None).to_json();
+            Ok(serde_json::from_str(&json).expect("a provenance is JSON"))
+        };
+        let key = serde_json::json!({
+            "format": "sss-tables-1",
+            "incidence": shading.incidence,
+            "exit": shading.exit != ExitLaw::Lambertian,
+            "entry_shift": shading.entry_shift,
+            "translucency": shading.translucency,
+            "angle_runs": run(settings.incidence_photons)?,
+            "slab_runs": run(settings.translucency_photons)?,
+        });
+        Ok(key.to_string())
+    }
+
     /// The tables `shading` asks for of material `m`, each reported to `progress` as it runs.
     pub fn build(
         m: &NamedMaterial,

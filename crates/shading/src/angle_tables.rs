@@ -15,7 +15,7 @@ pub type ExitTable = [[[f32; 3]; INCIDENCE_STEPS]; INCIDENCE_STEPS];
 
 /// A material's angle tables by `mc`: profile-only batch runs of its channels with
 /// [`INCIDENCE_STEPS`] exit-angle bins of 10°.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct AngleTables {
     /// ρ(θ)/ρ(0) per channel at θ = 0°, 10°, …, 80° ([`Shading::incidence`]).
     pub incidence: [[f32; 3]; INCIDENCE_STEPS],

@@ -22,7 +22,7 @@ pub const SHIFT_GRID_REACH_MFP: f64 = 20.0;
 /// The centroid δ(θ) [cm] of the light a half-space of the material returns, per channel, at
 /// θ = 0°, 10°, …, 80° (the incidence table's angles; beyond 80° the last value), with its
 /// standard error.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct EntryShift {
     /// δ(θ) [cm], [θ index][channel]; ≥ 0 in expectation (the light is carried forward).
     pub shift_cm: [[f32; 3]; INCIDENCE_STEPS],

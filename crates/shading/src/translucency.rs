@@ -30,7 +30,7 @@ pub const TRANSLUCENCY_STEPS: usize = 16;
 /// The entering face's normal is not known from a depth map: it is taken as −n (a parallel
 /// face). Thicknesses are geometric, d_k = first·ratio^k, interpolated linearly in ln d, held
 /// below the first and beyond the last.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Translucency {
     /// The first tabulated thickness [cm].
     pub first_cm: f32,
