@@ -685,8 +685,17 @@ fn render_keeps_its_tables_and_reuses_them_only_for_the_same_runs() {
     }
     let stderr = |o: &std::process::Output| String::from_utf8_lossy(&o.stderr).to_string();
     assert!(first.status.success(), "{}", stderr(&first));
-    for table in ["incidence table", "exit table", "entry shift", "translucency table"] {
-        assert!(stderr(&first).contains(table), "{table}: {}", stderr(&first));
+    for table in [
+        "incidence table",
+        "exit table",
+        "entry shift",
+        "translucency table",
+    ] {
+        assert!(
+            stderr(&first).contains(table),
+            "{table}: {}",
+            stderr(&first)
+        );
     }
     let kept: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(dir.path().join("p/skin1.tables.json")).unwrap(),
@@ -695,10 +704,18 @@ fn render_keeps_its_tables_and_reuses_them_only_for_the_same_runs() {
     assert!(kept["key"].as_str().unwrap().contains("\"photons\":5000"));
     let again = render("r2", "5000");
     assert!(again.status.success(), "{}", stderr(&again));
-    assert!(stderr(&again).contains("reusing its tables"), "{}", stderr(&again));
+    assert!(
+        stderr(&again).contains("reusing its tables"),
+        "{}",
+        stderr(&again)
+    );
     let pfm = |d: &str| std::fs::read(dir.path().join(d).join("render.pfm")).unwrap();
     assert_eq!(pfm("r1"), pfm("r2"));
     let other = render("r3", "6000");
     assert!(other.status.success(), "{}", stderr(&other));
-    assert!(!stderr(&other).contains("reusing its tables"), "{}", stderr(&other));
+    assert!(
+        !stderr(&other).contains("reusing its tables"),
+        "{}",
+        stderr(&other)
+    );
 }
