@@ -241,7 +241,8 @@ fn nothing_is_written_outside_out_and_profiles() {
         ["skin1.profile.csv", "skin1.profile.json"]
     );
     assert_eq!(names(&d.join("x")), ["skin1.compare_profiles.png"]);
-    // render without --profiles keeps the profile it simulates in its --out folder, not in out/.
+    // render without --profiles keeps the profile it simulates, and the shading tables built
+    // from it, in its --out folder, not in out/.
     let o = sss(
         &[
             "render",
@@ -270,7 +271,8 @@ fn nothing_is_written_outside_out_and_profiles() {
             "render.pfm",
             "render.png",
             "skin1.profile.csv",
-            "skin1.profile.json"
+            "skin1.profile.json",
+            "skin1.tables.json"
         ]
     );
 }
