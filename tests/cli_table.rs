@@ -1,5 +1,5 @@
 //! `sss table`: tables written whole, sharded builds merged bit-identical to the one-machine
-//! build for N = 1, 3, 4 (and `--shard auto` from a job array's environment), profiles and
+//! build for N = 1, 3, 4 (white, the default, and one walk per albedo, `--white off`) (and `--shard auto` from a job array's environment), profiles and
 //! kernels from tables, and bad input refused with exit code 2, naming the field, writing nothing.
 
 mod common;
@@ -89,6 +89,26 @@ fn sharded_builds_merge_bit_identical_to_the_one_machine_build() {
             "N = {n}: the merged table differs from the unsharded one"
         );
     }
+    // The per-albedo build (one walk per albedo, `--white off`) shards and merges the same way,
+    // and its shards do not mix with the white build's.
+    ok(&table(&["--out", "each", "--white", "off"], d));
+    let each = std::fs::read(d.join("each").join(FILE)).unwrap();
+    assert!(each != whole, "--white off built the white table");
+    for i in 1..=3 {
+        let shard = format!("{i}/3");
+        ok(&table(
+            &["--out", "e3", "--shard", &shard, "--white", "off"],
+            d,
+        ));
+    }
+    let e3 = [1, 2, 3].map(|i| format!("e3/table-shard-{i}-of-3.json"));
+    ok(&merge("me3", &e3.each_ref().map(String::as_str), d));
+    assert!(std::fs::read(d.join("me3").join(FILE)).unwrap() == each);
+    refused(
+        &merge("bad", &[&e3[0], &e3[1], "s3/table-shard-3-of-3.json"], d),
+        "different tables",
+    );
+
     // A job array's environment: Slurm task ids 10..13 are slices 1..4.
     for id in 10..14 {
         let o = Command::new(env!("CARGO_BIN_EXE_sss"))

@@ -39,6 +39,10 @@ pub struct TableArgs {
     #[arg(long, value_parser = parse_count, default_value = "1e6")]
     photons: u64,
 
+    /// `on`: every albedo from one walk, the largest albedo's, each exit reweighted by (α/α_max)ⁿ after n interactions ("white" Monte Carlo); `off`: one walk per albedo (the check: the same tables within noise, many times slower)
+    #[arg(long, value_name = "on|off", value_parser = common::on_off(), action = clap::ArgAction::Set, default_value = "on")]
+    white: bool,
+
     /// Seed of all random streams; same seed ⇒ same tables for any --threads or --shard
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -85,6 +89,7 @@ fn specs(a: &TableArgs) -> Result<Vec<TableSpec>> {
                 albedos: albedos.clone(),
                 photons: a.photons,
                 seed: a.seed,
+                white: a.white,
             };
             s.validate()
                 .with_context(|| format!("table g = {g}, η = {eta}"))?;
@@ -164,18 +169,23 @@ fn write(
         let last = t.albedo.len() - 1;
         rows.push(json!({
             "g": t.g, "eta": t.eta, "file": path, "albedos": t.albedo.len(),
-            "photons_per_albedo": t.photons, "seed": t.seed,
+            "photons_per_albedo": t.photons, "seed": t.seed, "white": t.white,
             "max_albedo": t.albedo[last], "rd_at_max_albedo": t.rd[last],
             "rd_at_max_albedo_se": t.rd_node(last).se, "reach_mfp": t.reach(),
         }));
         if !json {
             eprintln!(
-                "table g = {}, η = {}: {} albedos up to {} × {} photons; Rd at the largest {:.5} ± {:.5}; radii to {:.0} mean free paths → {}",
+                "table g = {}, η = {}: {} albedos up to {} × {} photons ({}); Rd at the largest {:.5} ± {:.5}; radii to {:.0} mean free paths → {}",
                 t.g,
                 t.eta,
                 t.albedo.len(),
                 t.albedo[last],
                 t.photons,
+                if t.white {
+                    "one walk for all"
+                } else {
+                    "one walk each"
+                },
                 t.rd[last],
                 t.rd_node(last).se,
                 t.reach(),

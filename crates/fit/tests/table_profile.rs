@@ -45,6 +45,7 @@ fn interpolated_profiles_agree_with_direct_simulations_within_their_noise() {
         albedos: default_albedos(100, 0.99999),
         photons: photons_from_env("SSS_TABLE_PHOTONS", 1_000_000),
         seed: 7,
+        white: true,
     };
     let table = mc::table::build(std::slice::from_ref(&spec), &|_| {}).unwrap();
     let tables = Tables::new(vec![("test".into(), table[0].clone())]).unwrap();
@@ -204,6 +205,7 @@ fn between_tables_of_neighbouring_g_the_similar_coefficients_are_blended() {
         albedos: default_albedos(16, 0.99),
         photons: 200_000,
         seed: 3,
+        white: true,
     };
     let built = mc::table::build(&[spec(0.0), spec(0.5)], &|_| {}).unwrap();
     let tables = Tables::new(

@@ -262,6 +262,11 @@ impl GroupJob {
         }
     }
 
+    /// The medium its walk traces (in walk units).
+    pub fn medium(&self) -> &Medium {
+        &self.medium
+    }
+
     /// Seed of this group's random streams (chunk streams are derived from it and the chunk index).
     pub fn seed(&self) -> u64 {
         self.seed

@@ -61,6 +61,7 @@ mod simulate;
 pub mod slab;
 pub mod table;
 mod tally;
+mod white;
 
 pub use batch::{BatchSpec, ChannelSpec, ERROR_RADIUS_MFP, QUASI_INFINITE_MFP};
 pub use config::{GridRule, SimConfig, THESIS_TOML};

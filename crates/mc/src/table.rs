@@ -27,6 +27,11 @@
 //! average is (P(b) − P(a))/(π(b² − a²)), with the table's standard error and the α-interpolation
 //! error added in quadrature.
 //!
+//! **One walk for every albedo** ([`TableSpec::white`], the default of `sss table`): the largest
+//! albedo's walk, each exit counted for every albedo α with its weight times (α/α_max)ⁿ after n
+//! interactions (`white.rs`); the per-albedo build (one walk per albedo) stays as its
+//! check. Both give the same accumulators per albedo, so shards, merging and files are shared.
+//!
 //! Tables are built from [`TableSpec::batch`] like any batch (sharded, merged, bit-identical for
 //! any thread or shard count) and written as JSON ([`Table::to_json`], format [`FORMAT`]).
 
@@ -106,6 +111,11 @@ pub struct TableSpec {
     pub photons: u64,
     /// Seed of every random stream.
     pub seed: u64,
+    /// Every albedo from one walk, the largest albedo's, reweighted by (α/α_max)ⁿ after n
+    /// interactions (`white.rs`: "white" Monte Carlo); else one walk per albedo. Absent
+    /// from files written before it: one walk per albedo.
+    #[serde(default)]
+    pub white: bool,
 }
 
 impl TableSpec {
@@ -195,6 +205,7 @@ impl TableSpec {
             eta: self.eta,
             photons: self.photons,
             seed: self.seed,
+            white: self.white,
             rsp: crate::fresnel::specular(1.0, self.eta, None),
             albedo: self.albedos.clone(),
             radius: radius_edges(),
@@ -260,6 +271,10 @@ pub struct Table {
     pub photons: u64,
     /// Seed of the run.
     pub seed: u64,
+    /// Whether every albedo came from one walk ([`TableSpec::white`]); absent from tables
+    /// written before: one walk per albedo.
+    #[serde(default)]
+    pub white: bool,
     /// Specular reflectance at normal incidence [-], not included in any reflectance here.
     pub rsp: f64,
     /// Single-scattering albedos σs/σt, increasing [-].
@@ -318,6 +333,7 @@ impl Table {
             albedos: self.albedo.clone(),
             photons: self.photons,
             seed: self.seed,
+            white: self.white,
         };
         spec.validate().map_err(|e| match e {
             McError::InvalidValue {
@@ -559,7 +575,11 @@ impl TableShard {
             spec.validate()?;
             let batch = spec.batch();
             let chunks = crate::shard::shard_chunks(spec.photons, index - 1, count);
-            let groups = crate::accumulate_batch(&batch, chunks.clone(), progress)?;
+            let groups = if spec.white {
+                crate::white::accumulate(&batch, &spec.albedos, chunks.clone(), progress)
+            } else {
+                crate::accumulate_batch(&batch, chunks.clone(), progress)?
+            };
             let labels = label_channels(spec);
             let shard = Shard {
                 spec: batch,
@@ -576,13 +596,15 @@ impl TableShard {
         })
     }
 
-    /// Photons this slice traces over all tables (for progress bars).
+    /// Photons this slice traces over all tables (for progress bars): a white table's walk once,
+    /// else each albedo's.
     pub fn photons(specs: &[TableSpec], index: u64, count: u64) -> u64 {
         specs
             .iter()
             .map(|s| {
                 let chunks = crate::shard::shard_chunks(s.photons, index.max(1) - 1, count.max(1));
-                crate::shard::chunk_photons(s.photons, &chunks) * s.albedos.len() as u64
+                let walks = if s.white { 1 } else { s.albedos.len() as u64 };
+                crate::shard::chunk_photons(s.photons, &chunks) * walks
             })
             .sum()
     }
@@ -902,6 +924,7 @@ mod tests {
             albedos: default_albedos(8, 0.99),
             photons: 1000,
             seed: 1,
+            white: false,
         };
         ok.validate().unwrap();
         let field = |s: TableSpec| match s.validate() {
