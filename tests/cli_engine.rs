@@ -212,3 +212,49 @@ fn from_artist_round_trips_through_openpbr() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("color[R]"));
 }
+
+/// Wine's green and blue channels do not scatter (σs = 0): the built-in material exports like any
+/// other. The dark channels' kernel is the identity with weight 0, engines get their lengths from
+/// the red channel, and no number is NaN.
+#[test]
+fn a_material_with_channels_that_do_not_scatter_exports() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let j = json(&sss(
+        &[
+            "kernel", "wine", "--format", "wgsl", "--photons", "2e4", "--out", "k.wgsl", "--json",
+        ],
+        d,
+    ));
+    assert!(j["chosen"].is_string(), "{j}");
+    let j = json(&sss(
+        &[
+            "engine-params",
+            "wine",
+            "--engine",
+            "unreal",
+            "--photons",
+            "2e4",
+            "--json",
+        ],
+        d,
+    ));
+    // (serde_json writes NaN as null.)
+    for part in ["burley_fit", "best_separable", "params"] {
+        let text = j[part].to_string();
+        assert!(!text.contains("null"), "{part}: {text}");
+    }
+    let notes = j["params"]["notes"].to_string();
+    assert!(notes.contains("G: returns no diffuse light"), "{j}");
+    let o = sss(&["eval", "wine", "--photons", "2e4", "--json"], d);
+    let models = json(&o)["materials"][0]["models"].clone();
+    let models = models.as_array().unwrap();
+    assert!(models.len() >= 60, "{} rows", models.len());
+    for row in models {
+        for (key, v) in row.as_object().unwrap() {
+            // Only the optional fields (a model's k, rank or variant) may be absent.
+            let optional = ["k", "rank", "variant"].contains(&key.as_str());
+            assert!(optional || !v.is_null(), "eval: {key} is null (NaN) in {row}");
+        }
+    }
+}

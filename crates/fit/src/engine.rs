@@ -101,6 +101,10 @@ pub struct BurleyProfileFit {
     pub kernel_rms_rel: [f64; 3],
     /// Image RMS on the test signals of the radial Burley kernel applied in 2D (images in [0, 1]).
     pub image_rms: [f64; 3],
+    /// Channels that return no diffuse light (Rd ≡ 0: they do not scatter): albedo 0, nothing
+    /// to compare (errors 0), d the smallest of the other channels' so that they set the
+    /// engine's distance scale.
+    pub dark: [bool; 3],
 }
 
 impl BurleyProfileFit {
@@ -108,7 +112,12 @@ impl BurleyProfileFit {
     /// kernel against the ground truths of `judge` (made from `p`).
     pub fn new(p: &Profile, judge: &Judge) -> Self {
         let (mut d_cm, mut kernel_rms_rel, mut image_rms) = ([0.0; 3], [0.0; 3], [0.0; 3]);
+        let mut dark = [false; 3];
         for (c, k) in judge.truths().iter().enumerate() {
+            if k.is_delta() {
+                dark[c] = true;
+                continue;
+            }
             let b = Burley::fit_profile(p, c);
             let mut dense = b.kernel(k.half, k.h);
             let s = k.l1() / dense.l1();
@@ -120,11 +129,19 @@ impl BurleyProfileFit {
             let e = judge.image_rms_dense(c, &dense);
             image_rms[c] = e;
         }
+        let lit = (0..3)
+            .filter(|&c| !dark[c])
+            .map(|c| d_cm[c])
+            .fold(f64::INFINITY, f64::min);
+        for c in (0..3).filter(|&c| dark[c]) {
+            d_cm[c] = lit;
+        }
         BurleyProfileFit {
             albedo: [0, 1, 2].map(|c| p.total(c)),
             d_cm,
             kernel_rms_rel,
             image_rms,
+            dark,
         }
     }
 }
@@ -191,6 +208,12 @@ fn field(name: &'static str, value: Value, unit: &'static str) -> Field {
 pub fn burley_engine(engine: Engine, fit: &BurleyProfileFit) -> Option<EngineParams> {
     let (a, d) = (fit.albedo, fit.d_cm);
     let mut notes = Vec::new();
+    for c in (0..3).filter(|&c| fit.dark[c]) {
+        notes.push(format!(
+            "{}: returns no diffuse light (it does not scatter): albedo 0, its length set to the smallest of the other channels' so that they set the distance scale",
+            mc::CHANNELS[c]
+        ));
+    }
     let (location, fields) = match engine {
         Engine::Unreal => {
             let albedo = a.map(|x| x.clamp(0.01, 1.0));
@@ -427,6 +450,7 @@ mod tests {
             d_cm: [0.12, 0.05, 0.02],
             kernel_rms_rel: [0.0; 3],
             image_rms: [0.0; 3],
+            dark: [false; 3],
         };
         let get = |p: &EngineParams, name: &str| {
             p.fields

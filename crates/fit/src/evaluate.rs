@@ -253,7 +253,14 @@ pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Result<Evaluat
                 deon_n
                     .iter()
                     .zip(&truths)
-                    .map(|((g, _), k)| g[n - 1].to_separable(k.half, k.h))
+                    .map(|((g, _), k)| {
+                        // A channel that returns no light: the identity, as every fit gives it.
+                        if k.is_delta() {
+                            Separable::identity(k.half, k.h)
+                        } else {
+                            g[n - 1].to_separable(k.half, k.h)
+                        }
+                    })
                     .collect(),
                 [0, 1, 2].map(|c| deon_n[c].1),
             ),
@@ -328,7 +335,11 @@ pub fn evaluate(p: &Profile, material: &str, image: ImageSize) -> Result<Evaluat
 /// ‖A‖₁ = ‖K‖₁ as for the separable models.
 fn burley_radial(k: &Kernel2, c: usize, eval: &ImageEval) -> Row {
     let t = Instant::now();
-    let mut dense = Burley::fit(k).kernel(k.half, k.h);
+    let mut dense = if k.is_delta() {
+        k.clone()
+    } else {
+        Burley::fit(k).kernel(k.half, k.h)
+    };
     let fit_seconds = t.elapsed().as_secs_f64();
     let kr = |d: &Kernel2| {
         (k.v.iter()

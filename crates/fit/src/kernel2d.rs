@@ -45,6 +45,24 @@ impl Kernel2 {
         self
     }
 
+    /// The identity kernel: a unit sample at the centre, half-width `half`, spacing `h` [cm].
+    pub fn delta(half: usize, h: f64) -> Self {
+        let m = 2 * half + 1;
+        let mut v = vec![0.0; m * m];
+        v[half * m + half] = 1.0;
+        Kernel2 { half, h, v }
+    }
+
+    /// Whether this is the identity kernel ([`Kernel2::delta`]): the normalized kernel of a
+    /// channel that returns no light.
+    pub fn is_delta(&self) -> bool {
+        let c = self.half * self.side() + self.half;
+        self.v
+            .iter()
+            .enumerate()
+            .all(|(i, &x)| x == if i == c { 1.0 } else { 0.0 })
+    }
+
     /// Coordinate of index `i` along an axis [cm].
     pub fn coord(&self, i: usize) -> f64 {
         (i as f64 - self.half as f64) * self.h
@@ -99,6 +117,12 @@ pub fn cell_ground_truth(p: &Profile, c: usize, h: f64, half: usize, sub: usize)
                 v[row * m + n - j] = value;
             }
         }
+    }
+    // A channel that returns no light (Rd ≡ 0: it does not scatter, as wine's green and blue)
+    // spreads nothing: its normalized kernel is the identity; its weight, the channel's total
+    // reflectance, is 0.
+    if v.iter().all(|&x| x == 0.0) {
+        return Kernel2::delta(n, h);
     }
     Kernel2 { half: n, h, v }.normalized()
 }

@@ -290,7 +290,13 @@ impl KernelModel {
             .enumerate()
             .map(|(c, k)| {
                 let t = std::time::Instant::now();
-                let fitted = model.fit_channel(k, c, profile)?;
+                // A channel that returns no light spreads nothing, whatever the model: the
+                // identity (its weight, the channel's reflectance, is 0).
+                let fitted = if k.is_delta() {
+                    Separable::identity(k.half, k.h)
+                } else {
+                    model.fit_channel(k, c, profile)?
+                };
                 Ok((fitted, shared + t.elapsed().as_secs_f64()))
             })
             .collect::<Result<Vec<_>>>()?

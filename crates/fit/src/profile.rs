@@ -134,7 +134,9 @@ impl Profile {
     }
 
     /// Refuses profiles no kernel can be built from: fewer than 2 bins, non-finite or negative
-    /// values, or a channel that is zero everywhere.
+    /// values, or every channel zero everywhere. A single channel that is zero everywhere (one
+    /// that does not scatter: wine's green and blue) is a profile: its kernel is the identity,
+    /// with weight 0 ([`crate::kernel2d::cell_ground_truth`]).
     pub fn validate(&self) -> Result<()> {
         if !(self.dr.is_finite() && self.dr > 0.0) {
             return Err(FitError::invalid("dr", self.dr, "must be positive"));
@@ -165,13 +167,13 @@ impl Profile {
                     "must be finite and non-negative",
                 ));
             }
-            if self.rd[c].iter().all(|&v| v == 0.0) {
-                return Err(FitError::invalid(
-                    format!("Rd[{ch}]"),
-                    0,
-                    "is zero everywhere: no kernel to fit",
-                ));
-            }
+        }
+        if self.rd.iter().all(|ch| ch.iter().all(|&v| v == 0.0)) {
+            return Err(FitError::invalid(
+                "Rd",
+                0,
+                "is zero everywhere in every channel: the material returns no diffuse light, no kernel to fit",
+            ));
         }
         Ok(())
     }

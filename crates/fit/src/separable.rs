@@ -32,6 +32,14 @@ impl Separable {
         }
     }
 
+    /// The identity a(x)a(y) = δ: a unit sample at the centre, half-width `half`, spacing `h`
+    /// [cm]. Every model's kernel for a channel that returns no light (it spreads nothing).
+    pub fn identity(half: usize, h: f64) -> Self {
+        let mut a = vec![0.0; 2 * half + 1];
+        a[half] = 1.0;
+        Separable::rank1(h, a)
+    }
+
     /// Half-width n of the 1D functions (length 2n+1).
     pub fn half(&self) -> usize {
         self.terms.first().map(|t| t.a.len() / 2).unwrap_or(0)

@@ -52,9 +52,10 @@ impl AngleTables {
     /// channel and angle ([`AngleTables::angles`]); `progress` receives photon counts. The
     /// incidence table is ρ(θ)/ρ(0) (all ones unless `incidence`); the exit table h(θ_o; θ_i)
     /// (all ones unless `exit`) has the run at each θ_i as its row: at θ_o = 0° the first exit
-    /// bin's, at 10°…80° the mean of the two bins around the angle. Refuses a material that
-    /// reflects nothing in some channel (at normal incidence, or for the exit table at any
-    /// angle).
+    /// bin's, at 10°…80° the mean of the two bins around the angle. A channel that does not
+    /// scatter (σs = 0) keeps ones: it returns no diffuse light to shape. Refuses a material
+    /// that scatters but reflects nothing in some channel (at normal incidence, or for the exit
+    /// table at any angle).
     pub fn from_mc(
         spec: &mc::BatchSpec,
         incidence: bool,
@@ -79,7 +80,12 @@ impl AngleTables {
         }
         let rows = mc::incidence::rd_table(&spec, &angles, progress)?;
         let rd0 = &rows[0].rd;
-        if let Some(c) = (0..3).find(|&c| rd0[c].value.is_nan() || rd0[c].value <= 0.0) {
+        // A channel that does not scatter (σs = 0: wine's green and blue) returns no diffuse
+        // light at any angle: its diffuse term is 0, so its tables stay ones (nothing to shape).
+        let dark = |c: usize| spec.channels[c].layer.mu_s == 0.0;
+        if let Some(c) =
+            (0..3).find(|&c| !dark(c) && (rd0[c].value.is_nan() || rd0[c].value <= 0.0))
+        {
             return Err(ShadingError::invalid(
                 format!("angle tables: diffuse reflectance at normal incidence of channel {c}"),
                 rd0[c].value,
@@ -88,7 +94,13 @@ impl AngleTables {
         }
         if incidence {
             for (k, row) in rows.iter().enumerate().skip(1) {
-                for (c, (r, r0)) in row.rd.iter().zip(rd0).enumerate() {
+                for (c, (r, r0)) in row
+                    .rd
+                    .iter()
+                    .zip(rd0)
+                    .enumerate()
+                    .filter(|&(c, _)| !dark(c))
+                {
                     let ratio = r.value / r0.value;
                     tables.incidence[k][c] = ratio as f32;
                     // (0 where nothing came back: NaN.max(0) is 0.)
@@ -99,7 +111,7 @@ impl AngleTables {
         }
         if exit {
             for (i, row) in rows.iter().enumerate() {
-                for (c, channel) in row.exit.iter().enumerate() {
+                for (c, channel) in row.exit.iter().enumerate().filter(|&(c, _)| !dark(c)) {
                     if channel.len() < INCIDENCE_STEPS {
                         return Err(ShadingError::invalid(
                             format!(

@@ -98,7 +98,8 @@ impl Translucency {
     /// `mc` slab runs at the [`TRANSLUCENCY_STEPS`] thicknesses of
     /// [`Translucency::thickness_range`], `spec.photons` per channel and thickness; `progress`
     /// receives photon counts. Entries are Tt(d)/ρ with `rho` the total diffuse reflectance of
-    /// the material's profile per channel, which must be positive; the exit tables come from the
+    /// the material's profile per channel, which must be positive (a channel that does not
+    /// scatter, σs = 0, gets 0: it has no diffuse light to carry); the exit tables come from the
     /// same runs in 10° exit bins, read as [`AngleTables`]' exit table is (h_T = 1 where nothing
     /// came through).
     pub fn from_mc(
@@ -113,7 +114,15 @@ impl Translucency {
                 "one material (three channels) per table",
             ));
         }
-        if let Some(r) = rho.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
+        // A channel that does not scatter (σs = 0) has ρ = 0 and no diffuse light to carry
+        // through: its entries are 0. (What crosses such a channel unscattered is direct
+        // transmission, a clear medium's, not a subsurface term.)
+        let dark = |c: usize| spec.channels[c].layer.mu_s == 0.0;
+        if let Some(r) = (0..3)
+            .filter(|&c| !dark(c))
+            .map(|c| rho[c])
+            .find(|r| !(r.is_finite() && *r > 0.0))
+        {
             return Err(ShadingError::invalid(
                 "translucency table: total diffuse reflectance ρ",
                 r,
@@ -132,7 +141,13 @@ impl Translucency {
         let mut table = [[0.0f32; 3]; TRANSLUCENCY_STEPS];
         let mut exit = [[[1.0f32; 3]; INCIDENCE_STEPS]; TRANSLUCENCY_STEPS];
         for (k, row) in rows.iter().enumerate() {
-            table[k] = [0, 1, 2].map(|c| (row.tt[c].value / rho[c]) as f32);
+            table[k] = [0, 1, 2].map(|c| {
+                if dark(c) {
+                    0.0
+                } else {
+                    (row.tt[c].value / rho[c]) as f32
+                }
+            });
             for (c, bins) in row.exit.iter().enumerate() {
                 if bins.len() == INCIDENCE_STEPS {
                     let h = exit_angles(bins);
