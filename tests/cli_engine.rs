@@ -222,7 +222,15 @@ fn a_material_with_channels_that_do_not_scatter_exports() {
     let d = dir.path();
     let j = json(&sss(
         &[
-            "kernel", "wine", "--format", "wgsl", "--photons", "2e4", "--out", "k.wgsl", "--json",
+            "kernel",
+            "wine",
+            "--format",
+            "wgsl",
+            "--photons",
+            "2e4",
+            "--out",
+            "k.wgsl",
+            "--json",
         ],
         d,
     ));
@@ -254,7 +262,10 @@ fn a_material_with_channels_that_do_not_scatter_exports() {
         for (key, v) in row.as_object().unwrap() {
             // Only the optional fields (a model's k, rank or variant) may be absent.
             let optional = ["k", "rank", "variant"].contains(&key.as_str());
-            assert!(optional || !v.is_null(), "eval: {key} is null (NaN) in {row}");
+            assert!(
+                optional || !v.is_null(),
+                "eval: {key} is null (NaN) in {row}"
+            );
         }
     }
 }

@@ -82,16 +82,42 @@ fn tables_match_chandrasekhar_for_an_isotropic_half_space() {
             }
         }
     }
-    // Off means all ones, and no run; a material that reflects nothing is refused by name.
+    // Off means all ones, and no run.
     assert_eq!(
         AngleTables::from_mc(&spec, false, false, &|_| panic!("no run")).unwrap(),
         AngleTables::ONES
     );
-    let black = mc::Material {
-        sigma_s: [0.0; 3],
-        ..material
+}
+
+/// A channel that does not scatter (σs = 0) returns no diffuse light at any angle: nothing to
+/// shape, so its entries stay ones, while the channel that scatters beside it (albedo 0.9) gets
+/// its own table: Chandrasekhar's ρ(θ)/ρ(0) at 80°, as above.
+#[test]
+fn a_channel_that_does_not_scatter_keeps_neutral_tables() {
+    let material = mc::Material {
+        name: "dark".into(),
+        source: String::new(),
+        sigma_a: [1.0, 16.4, 19.2],
+        sigma_s: [9.0, 0.0, 0.0],
+        g: [0.0; 3],
+        eta: 1.0,
+        thickness: None,
     };
-    let spec = config.batch(&[&black], 1000, 11, true).unwrap();
-    let e = AngleTables::from_mc(&spec, true, false, &|_| {}).unwrap_err();
-    assert!(e.to_string().contains("normal incidence"), "{e}");
+    let config = mc::SimConfig::thesis().unwrap();
+    let spec = config.batch(&[&material], 2000, 11, true).unwrap();
+    let t = AngleTables::from_mc(&spec, true, true, &|_| {}).unwrap();
+    for c in [1, 2] {
+        for k in 0..INCIDENCE_STEPS {
+            assert_eq!(t.incidence[k][c], 1.0);
+            assert_eq!(t.incidence_se[k][c], 0.0);
+            assert!(t.exit[k].iter().all(|e| e[c] == 1.0));
+        }
+    }
+    let rd = |mu: f64| 1.0 - (1.0f64 - 0.9).sqrt() * h(0.9, mu);
+    let want = rd(80f64.to_radians().cos()) / rd(1.0);
+    let (got, se) = (t.incidence[8][0] as f64, t.incidence_se[8][0] as f64);
+    assert!(
+        (got - want).abs() <= 4.0 * se + 2e-3,
+        "{got} ± {se}, Chandrasekhar {want}"
+    );
 }
