@@ -474,21 +474,33 @@ impl Table {
             let se = se_of(mass(i, k), q, self.photons);
             se * se
         };
+        // The noise of Σ cᵢXᵢ from the nodes' variances σᵢ²: Σ cᵢ²σᵢ² for nodes of independent
+        // walks; a white table's nodes share every photon, and neighbouring albedos' weights
+        // (α/α_max)ⁿ nearly coincide, so their errors are strongly positively correlated: for a
+        // common correlation ρ ∈ [0, 1] the variance lies between Σ cᵢ²σᵢ² (ρ = 0) and
+        // (Σ cᵢσᵢ)² (ρ = 1), and the larger of the two bounds it.
+        let white = self.white;
+        let noise_of = |var: &dyn Fn(usize) -> f64| -> f64 {
+            let independent: f64 = fine.iter().map(|&(i, c)| c * c * var(i)).sum();
+            if white {
+                let correlated: f64 = fine.iter().map(|&(i, c)| c * var(i).sqrt()).sum();
+                independent.max(correlated * correlated)
+            } else {
+                independent
+            }
+        };
         let mut m = Vec::with_capacity(nk);
         let mut var = Vec::with_capacity(nk);
         for k in 0..nk {
             let v = mix(&fine, &|i| mass(i, k));
             let e = (v - mix(&coarse, &|i| mass(i, k))) / 15.0;
-            let noise: f64 = fine.iter().map(|&(i, c)| c * c * mass_var(i, k)).sum();
+            let noise = noise_of(&|i| mass_var(i, k));
             m.push(v.max(0.0));
             var.push(noise + e * e);
         }
         let rd = mix(&fine, &|i| self.rd[i]);
         let rd_e = (rd - mix(&coarse, &|i| self.rd[i])) / 15.0;
-        let rd_noise: f64 = fine
-            .iter()
-            .map(|&(i, c)| c * c * self.rd_node(i).se.powi(2))
-            .sum();
+        let rd_noise = noise_of(&|i| self.rd_node(i).se.powi(2));
         let mut p = Vec::with_capacity(nk);
         let mut acc = 0.0;
         for &x in &m {
