@@ -34,7 +34,6 @@ use crate::lanes::trace_photons;
 use crate::layer::Incidence;
 use crate::photon::{Depth, Photon, Scorer};
 use crate::rng::Rng;
-use crate::table::LEVELS;
 use crate::tally::{Accumulator, Layout, Tally};
 
 /// The white walk of a table: the walk of its largest albedo, tallied for every albedo.
@@ -43,14 +42,14 @@ struct WhiteJob {
     walk: GroupJob,
     /// Per albedo, ln(α/α_max) (−∞ at α = 0), in the table's order.
     ln_ratio: Vec<f64>,
-    /// The radial grids of a table's levels [mean free paths].
-    levels: [GridIndex; LEVELS],
+    /// The radial grids of a table's levels [mean free paths]: the channels of one albedo.
+    levels: Vec<GridIndex>,
     /// Every albedo's levels, albedo-major: channel i·levels + j is albedo i on level j.
     layout: Layout,
 }
 
 /// The exact sums of chunks `chunks` of a white build of `batch` (a table's batch: per albedo,
-/// in increasing order, one walk group of [`LEVELS`] channels with one radial grid each), as the
+/// in increasing order, one walk group of channels with one radial grid each, its levels), as the
 /// per-albedo build returns them: one accumulator per albedo, each with that group's layout and
 /// the run's photons. The walk's interactions are counted once, on the largest albedo's (the
 /// walk traced); the others' are 0.
@@ -68,17 +67,20 @@ pub(crate) fn accumulate(
     let max = *albedos.last().expect("a table has albedos");
     let job = WhiteJob {
         ln_ratio: albedos.iter().map(|&a| (a / max).ln()).collect(),
-        levels: std::array::from_fn(|j| GridIndex::new(&batch.channels[last[j]].grid)),
+        levels: last
+            .iter()
+            .map(|&c| GridIndex::new(&batch.channels[c].grid))
+            .collect(),
         layout: Layout {
-            channels: albedos.len() * LEVELS,
+            channels: albedos.len() * last.len(),
             ..per_albedo
         },
         walk,
     };
     let seed = job.walk.seed();
     let all = accumulate_job(&job, batch.photons, seed, chunks, progress);
-    // Channel blocks are contiguous: albedo i's channels are [i·LEVELS, (i + 1)·LEVELS).
-    let block = LEVELS * per_albedo.per_channel();
+    // Channel blocks are contiguous: albedo i's channels are [i·levels, (i + 1)·levels).
+    let block = per_albedo.channels * per_albedo.per_channel();
     (0..albedos.len())
         .map(|i| Accumulator {
             layout: per_albedo,
@@ -100,7 +102,11 @@ impl Job for WhiteJob {
     }
 
     fn trace_chunk(&self, tally: &mut Tally, rng: &mut Rng, photons: u64) {
-        let mut scorer = WhiteScorer { job: self, tally };
+        let mut scorer = WhiteScorer {
+            job: self,
+            tally,
+            bins: vec![0; self.levels.len()],
+        };
         trace_photons(self.walk.medium(), rng, &mut scorer, photons);
     }
 }
@@ -109,6 +115,8 @@ impl Job for WhiteJob {
 struct WhiteScorer<'a> {
     job: &'a WhiteJob,
     tally: &'a mut Tally,
+    /// The exit's radial bin on each level (scratch).
+    bins: Vec<usize>,
 }
 
 impl Scorer for WhiteScorer<'_> {
@@ -131,7 +139,10 @@ impl Scorer for WhiteScorer<'_> {
         let job = self.job;
         let l = self.tally.layout;
         let r = p.r();
-        let bins: [usize; LEVELS] = std::array::from_fn(|j| job.levels[j].ir(r));
+        for (b, g) in self.bins.iter_mut().zip(&job.levels) {
+            *b = g.ir(r);
+        }
+        let levels = self.bins.len();
         let n = p.interactions as f64;
         // From the largest albedo down: once a weight underflows, every smaller albedo's does.
         for (i, &ln_ratio) in job.ln_ratio.iter().enumerate().rev() {
@@ -145,8 +156,8 @@ impl Scorer for WhiteScorer<'_> {
                 break;
             }
             let w2 = w * w;
-            for (j, &ir) in bins.iter().enumerate() {
-                let o = l.rd_ra(i * LEVELS + j) + ir * l.na;
+            for (j, &ir) in self.bins.iter().enumerate() {
+                let o = l.rd_ra(i * levels + j) + ir * l.na;
                 self.tally.sum[o] += w;
                 self.tally.sum_sq[o] += w2;
             }
