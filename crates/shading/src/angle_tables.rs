@@ -147,7 +147,7 @@ pub(crate) fn exit_angles(bins: &[mc::exitance::ExitBin]) -> [(f32, f32); INCIDE
 }
 
 /// h(θ_o; θ_i) from an exit table at exit cosine `cos_o` and entry cosine `cos_i`: linear in θ_o
-/// and in θ_i between entries, the 80° values beyond (what scene.wgsl's `exit_table` evaluates).
+/// and in θ_i between entries, the 80° values beyond: the CPU twin of `sss_exit` ([`EXIT_WGSL`]).
 pub fn exit_ratio(table: &ExitTable, cos_o: f32, cos_i: f32) -> [f32; 3] {
     let t = cos_i.clamp(0.0, 1.0).acos().to_degrees() / 10.0;
     let i = (t.floor() as usize).min(INCIDENCE_STEPS - 1);
@@ -159,6 +159,15 @@ pub fn exit_ratio(table: &ExitTable, cos_o: f32, cos_i: f32) -> [f32; 3] {
     );
     [0, 1, 2].map(|c| a[c] * (1.0 - f) + b[c] * f)
 }
+
+/// The WGSL of the incidence table's lookup, `sss_incidence(m, cos_i) -> vec3<f32>`
+/// (`wgsl/incidence.wgsl`; reads the host's `sss_incidence_entry(m, k)`; its CPU twin is
+/// [`incidence_ratio`]).
+pub const INCIDENCE_WGSL: &str = include_str!("wgsl/incidence.wgsl");
+
+/// The WGSL of the exit table's lookup, `sss_exit(m, cos_o, cos_i) -> vec3<f32>`
+/// (`wgsl/exit.wgsl`; reads the host's `sss_exit_entry(m, k)`; its CPU twin is [`exit_ratio`]).
+pub const EXIT_WGSL: &str = include_str!("wgsl/exit.wgsl");
 
 /// The cosine-weighted hemispherical mean 2∫₀^{π/2} f(θ) cos θ sin θ dθ of an incidence table:
 /// the factor for diffuse (ambient) light.

@@ -115,9 +115,30 @@ impl EntryShift {
     }
 
     /// δ at cos θ = `cos_i` per channel [cm], linear in θ between entries, the 80° value beyond
-    /// (also for light from behind, cos θ ≤ 0): what lighting.wgsl's `shifted_entry` reads.
+    /// (also for light from behind, cos θ ≤ 0): the CPU twin of `sss_entry_shift`
+    /// ([`ENTRY_SHIFT_WGSL`]).
     pub fn at(&self, cos_i: f32) -> [f32; 3] {
         incidence_ratio(&self.shift_cm, cos_i)
+    }
+}
+
+/// The WGSL of the entry shift's lookup, `sss_entry_shift(m, cos_i) -> vec3<f32>` [cm], and of
+/// `sss_entry_offset(n, l, delta) -> vec3<f32>`, where the light leaving a point entered
+/// (`wgsl/entry_shift.wgsl`; reads the host's `sss_shift_entry(m, k)`).
+pub const ENTRY_SHIFT_WGSL: &str = include_str!("wgsl/entry_shift.wgsl");
+
+/// Where the light leaving a point entered, relative to it [cm]: `delta` [cm] behind along the
+/// light's propagation over the surface, t = −l less its part along the unit normal `n` (`l`:
+/// the unit direction towards the light); zero where the light arrives along `n` (|t| ≤ 1e-4).
+/// The CPU twin of `sss_entry_offset`.
+pub fn entry_offset(n: [f32; 3], l: [f32; 3], delta: f32) -> [f32; 3] {
+    let n_dot_l = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
+    let t = [0, 1, 2].map(|c| -l[c] + n_dot_l * n[c]);
+    let along = (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt();
+    if along > 1e-4 {
+        t.map(|v| -delta * v / along)
+    } else {
+        [0.0; 3]
     }
 }
 

@@ -19,6 +19,9 @@ pub enum ShadingError {
     /// A profile could not be read.
     #[error(transparent)]
     Fit(#[from] fit::FitError),
+    /// The lookups' WGSL did not translate (a bug: the tests translate it).
+    #[error("the lookups' shaders do not translate to {0}")]
+    Shader(String),
 }
 
 impl ShadingError {

@@ -11,3 +11,10 @@ pub const FRESNEL_WGSL: &str = include_str!("wgsl/fresnel.wgsl");
 pub fn fresnel(eta: f64, cos_i: f64) -> f64 {
     mc::fresnel(1.0, eta, cos_i.clamp(0.0, 1.0)).0
 }
+
+/// The light entering a thin part's far face at incidence cosine `cos_i` relative to normal
+/// incidence: the smooth boundary's Fresnel transmittance T(θ)/T(0) into index `eta`. The CPU
+/// twin of `sss_back_face_entry` ([`crate::TRANSLUCENCY_WGSL`]).
+pub fn back_face_entry(eta: f64, cos_i: f64) -> f64 {
+    (1.0 - fresnel(eta, cos_i)) / (1.0 - fresnel(eta, 1.0))
+}

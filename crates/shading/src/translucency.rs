@@ -11,6 +11,13 @@ pub const RHO_PHOTONS: u64 = 200_000;
 /// Entries of a [`Translucency`] table.
 pub const TRANSLUCENCY_STEPS: usize = 16;
 
+/// The WGSL of the translucency table's lookups, `sss_translucency(m, d) -> vec3<f32>` (Tt/ρ),
+/// `sss_translucency_exit(m, d, cos_o) -> vec3<f32>` (h_T) and `sss_back_face_entry(eta, c)`
+/// (`wgsl/translucency.wgsl`; reads the host's `sss_translucency_grid`, `sss_translucency_entry`
+/// and `sss_translucency_exit_entry`; the CPU twins are [`Translucency::at`],
+/// [`Translucency::exit_at`] and [`crate::back_face_entry`]).
+pub const TRANSLUCENCY_WGSL: &str = include_str!("wgsl/translucency.wgsl");
+
 /// Light through thin parts (thesis §4.2's first pass; the SSSS supplement's transmittance), from
 /// the material itself: a table of its slab transmittance against thickness.
 ///

@@ -147,7 +147,7 @@ pub(crate) struct DipoleUniform {
 }
 
 /// The dipole's model and the disc gather.
-pub(crate) const DIPOLE_WGSL: &str = gather_wgsl!("../shaders/dipole.wgsl");
+pub(crate) const DIPOLE_WGSL: &str = gather_wgsl!(include_str!("../shaders/dipole.wgsl"));
 
 /// WGSL's size of `Dipole`: 7 vec4 × 16 bytes (checked against naga's layout in a test).
 pub(crate) const DIPOLE_UNIFORM_SIZE: usize = 7 * 16;

@@ -111,14 +111,14 @@ struct GatherUniform {
 pub(crate) const GATHER_UNIFORM_SIZE: usize = DISC_LIGHTS * 112 + 4 * 16;
 const _: () = assert!(std::mem::size_of::<GatherUniform>() == GATHER_UNIFORM_SIZE);
 
-/// The gather's WGSL after a model's (`fresnel.wgsl` and `angles.wgsl` first, which the models
-/// use).
+/// The gather's WGSL after a model's parts (`fresnel.wgsl` and `angles.wgsl` first, which the
+/// models use).
 macro_rules! gather_wgsl {
-    ($model:literal) => {
+    ($($part:expr),+) => {
         const_format::concatcp!(
             shading::FRESNEL_WGSL,
             shading::ANGLES_WGSL,
-            include_str!($model),
+            $($part,)+
             include_str!("../shaders/disc_gather.wgsl")
         )
     };

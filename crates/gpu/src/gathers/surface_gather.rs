@@ -215,7 +215,11 @@ struct TablesUniform {
 }
 
 /// The Monte Carlo model and the disc gather.
-pub(crate) const MC_BSSRDF_WGSL: &str = gather_wgsl!("../shaders/mc_bssrdf.wgsl");
+pub(crate) const MC_BSSRDF_WGSL: &str = gather_wgsl!(
+    shading::INCIDENCE_WGSL,
+    shading::EXIT_WGSL,
+    include_str!("../shaders/mc_bssrdf.wgsl")
+);
 
 /// WGSL's size of `Tables`: 5 vec4, 9 vec4 of incidence, 9 × 9 vec4 of exit and 10 vec4 of the
 /// directional tables' total reflectances, 16 bytes each (checked against naga's layout in a test).

@@ -13,10 +13,7 @@ use crate::light::MAX_EMITTERS;
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
 use crate::scene::{AlbedoMode, Scene};
-use shading::{
-    ANGLES_WGSL, EntryShift, FRESNEL_WGSL, INCIDENCE_STEPS, Shading, TRANSLUCENCY_STEPS,
-    incidence_hemispherical,
-};
+use shading::{LOOKUPS_WGSL, PACKED_SHADING_SIZE, PackedShading, Shading};
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -40,83 +37,20 @@ struct Globals {
     ambient: [f32; 4],
     lights: [LightU; MAX_EMITTERS],
     /// Per SSS material.
-    materials: [MaterialU; MAX_MATERIALS],
+    materials: [PackedShading; MAX_MATERIALS],
 }
 
-/// One material's [`Shading`] as scene.wgsl's `Material` holds it.
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct MaterialU {
-    /// ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80° (rgb).
-    incidence: [[f32; 4]; INCIDENCE_STEPS],
-    /// The ambient light's factor (rgb).
-    incidence_ambient: [f32; 4],
-    /// Tt(d)/ρ at the geometric thicknesses of [`crate::Translucency`] (rgb).
-    translucency: [[f32; 4]; TRANSLUCENCY_STEPS],
-    /// x: first thickness [cm], y: ln ratio, z: 1 on / 0 off, w: η ([`Shading::eta`]).
-    translucency_params: [f32; 4],
-    /// h_T(θ; d_k) at θ = 0°, 10°, …, 80° for each thickness d_k, [k][θ] (rgb).
-    translucency_exit: [[f32; 4]; TRANSLUCENCY_STEPS * INCIDENCE_STEPS],
-    /// h(θ_o; θ_i) at 0°, 10°, …, 80°, [θ_i·9 + θ_o] (rgb).
-    exit: [[f32; 4]; INCIDENCE_STEPS * INCIDENCE_STEPS],
-    /// The entry shift δ(θ) [cm] at 0°, 10°, …, 80° (rgb); w of the first: 1 on, 0 off.
-    shift: [[f32; 4]; INCIDENCE_STEPS],
-}
-
-impl MaterialU {
-    /// The material's tables; `plain`: all off but η (the disc gathers bring their own physics).
-    fn new(s: &Shading, plain: bool) -> MaterialU {
-        let s = &if plain {
-            Shading {
-                eta: s.eta,
-                ..Shading::default()
-            }
-        } else {
-            *s
-        };
-        let rgb = |r: [f32; 3]| [r[0], r[1], r[2], 0.0];
-        MaterialU {
-            incidence: s.incidence.map(rgb),
-            incidence_ambient: rgb(incidence_hemispherical(&s.incidence)),
-            translucency: match &s.translucency {
-                Some(t) => t.table.map(rgb),
-                None => [[0.0; 4]; TRANSLUCENCY_STEPS],
-            },
-            translucency_params: match &s.translucency {
-                Some(t) => [t.first_cm, t.ratio.ln(), 1.0, s.eta],
-                None => [1.0, 1.0, 0.0, s.eta],
-            },
-            translucency_exit: match &s.translucency {
-                Some(t) => {
-                    std::array::from_fn(|i| rgb(t.exit[i / INCIDENCE_STEPS][i % INCIDENCE_STEPS]))
-                }
-                None => [[1.0; 4]; TRANSLUCENCY_STEPS * INCIDENCE_STEPS],
-            },
-            exit: std::array::from_fn(|i| rgb(s.exit[i / INCIDENCE_STEPS][i % INCIDENCE_STEPS])),
-            shift: {
-                let mut t = s.entry_shift.shift_cm.map(rgb);
-                t[0][3] = (s.entry_shift != EntryShift::NONE) as u32 as f32;
-                t
-            },
-        }
-    }
-}
-
-/// The scene shader with the shared Fresnel, angle-grid and lighting functions prepended.
+/// The scene shader with the shading model's lookups and the lighting functions prepended.
 pub(crate) const SCENE_WGSL: &str = const_format::concatcp!(
-    FRESNEL_WGSL,
-    ANGLES_WGSL,
+    LOOKUPS_WGSL,
     include_str!("../shaders/lighting.wgsl"),
     include_str!("../shaders/scene.wgsl")
 );
 
-/// The size of scene.wgsl's `Globals`: 2 mat4 + 3 vec4 + 64 emitters × 192 + per material 10 vec4
-/// of incidence, 17 vec4 of translucency, 16 × 9 vec4 of its exit, 9 × 9 vec4 of exit and 9
-/// vec4 of entry shift (checked against naga's layout in a test).
-pub(crate) const GLOBALS_SIZE: usize = 2 * 64
-    + 3 * 16
-    + MAX_EMITTERS * 192
-    + MAX_MATERIALS * (10 * 16 + 17 * 16 + 16 * 9 * 16 + 9 * 9 * 16 + 9 * 16);
+/// The size of scene.wgsl's `Globals`: 2 mat4 + 3 vec4 + 64 emitters × 192 + per material its
+/// packed tables (checked against naga's layout in a test).
+pub(crate) const GLOBALS_SIZE: usize =
+    2 * 64 + 3 * 16 + MAX_EMITTERS * 192 + MAX_MATERIALS * PACKED_SHADING_SIZE;
 const _: () = assert!(std::mem::size_of::<Globals>() == GLOBALS_SIZE);
 
 /// Scene targets: diffuse; specular + strength; view depth + packed post-scatter albedo.
@@ -263,7 +197,17 @@ impl GBufferPass {
             ],
             ambient: scene.ambient.extend(0.0).into(),
             lights,
-            materials: params.shading.map(|s| MaterialU::new(&s, plain)),
+            // `plain`: all off but η (the disc gathers bring their own physics).
+            materials: params.shading.map(|s| {
+                PackedShading::new(&if plain {
+                    Shading {
+                        eta: s.eta,
+                        ..Shading::default()
+                    }
+                } else {
+                    s
+                })
+            }),
         };
         let gbuf = alloc.uniform("globals", bytemuck::bytes_of(&globals));
         let shadow_view = shadow_maps.create_view(&wgpu::TextureViewDescriptor {

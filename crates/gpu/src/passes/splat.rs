@@ -58,10 +58,9 @@ const SEEN_SLOPE_PX: f32 = 2.0;
 /// The pyramid level the splats accumulate at: texels of 2² × 2² = 4 × 4 pixels.
 const SPLAT_LEVEL: usize = 2;
 
-/// The shader: Fresnel, the angle grid, lighting and the kernel lookup prepended.
+/// The shader: the shading model's lookups, lighting and the kernel lookup prepended.
 pub(crate) const SPLAT_WGSL: &str = const_format::concatcp!(
-    shading::FRESNEL_WGSL,
-    shading::ANGLES_WGSL,
+    shading::LOOKUPS_WGSL,
     include_str!("../shaders/lighting.wgsl"),
     include_str!("../shaders/area_kernel.wgsl"),
     include_str!("../shaders/splat.wgsl")

@@ -1,6 +1,7 @@
 // Lighting shared by the scene pass (scene.wgsl) and the splats of the area gather (splat.wgsl):
 // the lights, the SSS materials' tables, shadows, and the albedo split. World units are cm;
-// fresnel.wgsl is prepended.
+// shading::LOOKUPS_WGSL (Fresnel, the angle grid, the tables' lookups and `SssMaterial`) is
+// prepended; the accessors below give its lookups the tables of g.materials.
 
 // One emitter (gpu::Emitter): a directional or point light, or one cell of an area light.
 struct Light {
@@ -17,28 +18,6 @@ struct Light {
     cell_v: vec4<f32>,
 };
 
-// How one SSS material is shaded (shading::Shading).
-struct Material {
-    // Incidence-aware shading: ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80° (rgb), and the ambient light's
-    // cosine-weighted mean of it (all ones: off).
-    incidence: array<vec4<f32>, 9>,
-    incidence_ambient: vec4<f32>,
-    // Light through thin parts: Tt(d)/ρ at d_k = first·ratio^k (rgb), and x: first [cm],
-    // y: ln ratio, z: 1 on / 0 off (shading::Translucency), w: the boundary's η (shading::Shading).
-    translucency: array<vec4<f32>, 16>,
-    translucency_params: vec4<f32>,
-    // The transmitted light's radiance relative to a Lambertian surface's, h_T(θ; d_k) at
-    // θ = 0°, 10°, …, 80° for each thickness d_k, [k·9 + θ index] (rgb; all ones: Lambertian).
-    translucency_exit: array<vec4<f32>, 144>,
-    // Exit-angle-aware shading: the radiance leaving at view angle θ_o relative to a Lambertian
-    // surface's for light that entered at θ_i, h(θ_o; θ_i) at 0°, 10°, …, 80°, [θ_i·9 + θ_o]
-    // (rgb; all ones: off).
-    exit: array<vec4<f32>, 81>,
-    // Entry-shifted shading: the centroid δ(θ) [cm] of the light a half-space returns ahead of
-    // where it entered at θ = 0°, 10°, …, 80° (rgb; shading::EntryShift); shift[0].w: 1 on, 0 off.
-    shift: array<vec4<f32>, 9>,
-};
-
 struct Globals {
     view_proj: mat4x4<f32>,
     view: mat4x4<f32>,
@@ -48,13 +27,39 @@ struct Globals {
     params: vec4<f32>,
     ambient: vec4<f32>,
     lights: array<Light, 64>,
-    // Per SSS material (the vertices' material index).
-    materials: array<Material, 4>,
+    // Per SSS material (the vertices' material index): shading::PackedShading.
+    materials: array<SssMaterial, 4>,
 };
 
 @group(0) @binding(0) var<uniform> g: Globals;
 @group(0) @binding(1) var shadow_maps: texture_depth_2d_array;
 @group(0) @binding(2) var shadow_sampler: sampler_comparison;
+
+// The tables the lookups of shading::LOOKUPS_WGSL read (shading::BINDINGS_WGSL's over a storage
+// buffer).
+fn sss_incidence_entry(m: u32, k: u32) -> vec3<f32> {
+    return g.materials[m].incidence[k].rgb;
+}
+
+fn sss_exit_entry(m: u32, k: u32) -> vec3<f32> {
+    return g.materials[m].exit[k].rgb;
+}
+
+fn sss_shift_entry(m: u32, k: u32) -> vec3<f32> {
+    return g.materials[m].shift[k].rgb;
+}
+
+fn sss_translucency_grid(m: u32) -> vec2<f32> {
+    return g.materials[m].translucency_params.xy;
+}
+
+fn sss_translucency_entry(m: u32, k: u32) -> vec3<f32> {
+    return g.materials[m].translucency[k].rgb;
+}
+
+fn sss_translucency_exit_entry(m: u32, k: u32) -> vec3<f32> {
+    return g.materials[m].translucency_exit[k].rgb;
+}
 
 // The fraction of emitter i's light that reaches `world` (unit normal n, `l` the unit direction
 // towards the light, n_dot_l = n·l > 0): its shadow map's 3×3 comparison filter. The depth bias
@@ -88,40 +93,6 @@ fn shadow(i: u32, world: vec3<f32>, l: vec3<f32>, n_dot_l: f32) -> f32 {
         }
     }
     return lit / 9.0;
-}
-
-// Material m's h_T at thickness d [cm] and exit cosine cos_o: linear in ln d and in θ, held
-// outside the tables (shading::Translucency::exit_at).
-fn translucency_exit(m: u32, d: f32, cos_o: f32) -> vec3<f32> {
-    let t = log(max(d, 1e-30) / g.materials[m].translucency_params.x) / g.materials[m].translucency_params.y;
-    var i = 0u;
-    var f = 0.0;
-    if t > 0.0 {
-        i = min(u32(floor(t)), 15u);
-        f = select(t - f32(i), 0.0, i >= 15u);
-    }
-    let j = min(i + 1u, 15u);
-    let o = angle_index(cos_o);
-    let a = u32(o.x);
-    let b = min(a + 1u, 8u);
-    let fa = o.y;
-    let lo = mix(g.materials[m].translucency_exit[i * 9u + a].rgb, g.materials[m].translucency_exit[i * 9u + b].rgb, fa);
-    let hi = mix(g.materials[m].translucency_exit[j * 9u + a].rgb, g.materials[m].translucency_exit[j * 9u + b].rgb, fa);
-    return mix(lo, hi, f);
-}
-
-// Material m's Tt(d)/ρ at thickness d [cm]: linear in ln d between entries, held outside them.
-fn translucency(m: u32, d: f32) -> vec3<f32> {
-    let table = g.materials[m].translucency;
-    let t = log(max(d, 1e-30) / g.materials[m].translucency_params.x) / g.materials[m].translucency_params.y;
-    if !(t > 0.0) {
-        return table[0].rgb;
-    }
-    let i = u32(floor(t));
-    if i >= 15u {
-        return table[15].rgb;
-    }
-    return mix(table[i].rgb, table[i + 1u].rgb, t - f32(i));
 }
 
 // The thickness [cm] of an SSS part behind `world` as light `i` crosses it: the distance along
@@ -202,20 +173,6 @@ fn mirror(i: u32, world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, eta: f32)
     return 3.14159265 * fresnel(eta, dot(n, view_dir)) * radiance;
 }
 
-// Material m's exit table h(θ_o; θ_i) at exit cosine cos_o and entry cosine cos_i: linear in
-// both angles between entries, the 80° values beyond (shading::exit_ratio is its CPU twin).
-fn exit_table(m: u32, cos_o: f32, cos_i: f32) -> vec3<f32> {
-    let o = angle_index(cos_o);
-    let e = angle_index(cos_i);
-    let o0 = u32(o.x);
-    let i0 = u32(e.x);
-    let o1 = min(o0 + 1u, 8u);
-    let i1 = min(i0 + 1u, 8u);
-    let a = mix(g.materials[m].exit[i0 * 9u + o0].rgb, g.materials[m].exit[i0 * 9u + o1].rgb, o.y);
-    let b = mix(g.materials[m].exit[i1 * 9u + o0].rgb, g.materials[m].exit[i1 * 9u + o1].rgb, o.y);
-    return mix(a, b, e.y);
-}
-
 // How the surface turns around a point: the screen-space derivatives of the position [cm] and of
 // the unit normal (scene.wgsl); all 0 where they are unknown (the splats), read as flat.
 struct Local {
@@ -261,21 +218,19 @@ struct Entry {
 
 fn shifted_entry(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, scale: vec3<f32>,
                  loc: Local) -> Entry {
-    let t = -l + dot(n, l) * n;
-    let along = length(t);
-    let delta = angle_table(g.materials[m].shift, dot(n, l));
+    let delta = sss_entry_shift(m, dot(n, l));
     var e = Entry(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
     for (var c = 0u; c < 3u; c++) {
         var p = world;
         var nc = n;
-        if along > 1e-4 {
-            let d = -delta[c] * t / along;
+        let d = sss_entry_offset(n, l, delta[c]);
+        if any(d != vec3<f32>(0.0)) {
             p = world + d;
             nc = normalize(n + normal_turn(loc, d));
         }
         let ndl = dot(nc, l);
         if ndl > 0.0 {
-            let u = scale[c] * ndl * angle_table(g.materials[m].incidence, ndl)[c];
+            let u = scale[c] * ndl * sss_incidence(m, ndl)[c];
             e.unshadowed[c] = u;
             e.light[c] = u * shadow(i, p, l, ndl);
             e.cos_weighted += u * ndl;
@@ -332,8 +287,8 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
                     // Entering the (parallel) back face at incidence |n·l|, relative to normal.
                     let c = -dot(n, l);
                     let eta = g.materials[m].translucency_params.w;
-                    let entry = (1.0 - fresnel(eta, c)) / (1.0 - fresnel(eta, 1.0));
-                    through_light += scale * c * entry * translucency(m, d) * translucency_exit(m, d, cos_o);
+                    through_light += scale * c * sss_back_face_entry(eta, c) * sss_translucency(m, d)
+                        * sss_translucency_exit(m, d, cos_o);
                 }
             }
         }
@@ -359,7 +314,7 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
             spec += mirror(i, world, n, view_dir, eta) * vis;
         }
         if !shifting {
-            let entering = scale * n_dot_l * select(vec3<f32>(1.0), angle_table(g.materials[m].incidence, n_dot_l), sss);
+            let entering = scale * n_dot_l * select(vec3<f32>(1.0), sss_incidence(m, n_dot_l), sss);
             irradiance += entering * vis;
             let w = entering.r + entering.g + entering.b;
             entry_w += w;
@@ -371,7 +326,7 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
     let entry_cos = select(1.0, entry_c / entry_w, entry_w > 0.0);
     // Transmitted light leaves with its own angular distribution h_T; the scattered light is
     // multiplied by the reflection's h after the blur, which this divides out.
-    let exit = select(vec3<f32>(1.0), exit_table(m, cos_o, entry_cos), sss);
+    let exit = select(vec3<f32>(1.0), sss_exit(m, cos_o, entry_cos), sss);
     irradiance += through_light / max(exit, vec3<f32>(1e-3));
     return Lit(irradiance, spec, exit);
 }

@@ -46,24 +46,13 @@ struct Tables {
 // Directional tables [cm⁻²]: [angle][channel][iy 0..=n][ix 0..=2n].
 @group(0) @binding(9) var<storage, read> directional: array<f32>;
 
-// The incidence table ρ(θ)/ρ(0) at cos θ, linear in θ.
-fn incidence_table(cos_t: f32) -> vec3<f32> {
-    let a = angle_index(cos_t);
-    let i = u32(a.x);
-    return mix(tb.incidence[i].rgb, tb.incidence[min(i + 1u, 8u)].rgb, a.y);
+// The tables shading::INCIDENCE_WGSL's and EXIT_WGSL's lookups read (one material: m = 0).
+fn sss_incidence_entry(m: u32, k: u32) -> vec3<f32> {
+    return tb.incidence[k].rgb;
 }
 
-// The exit table h(θ_o; θ_i), linear in both angles (shading::exit_ratio is its CPU twin).
-fn exit_table(cos_o: f32, cos_i: f32) -> vec3<f32> {
-    let o = angle_index(cos_o);
-    let e = angle_index(cos_i);
-    let o0 = u32(o.x);
-    let i0 = u32(e.x);
-    let o1 = min(o0 + 1u, 8u);
-    let i1 = min(i0 + 1u, 8u);
-    let a = mix(tb.exit[i0 * 9u + o0].rgb, tb.exit[i0 * 9u + o1].rgb, o.y);
-    let b = mix(tb.exit[i1 * 9u + o0].rgb, tb.exit[i1 * 9u + o1].rgb, o.y);
-    return mix(a, b, e.y);
+fn sss_exit_entry(m: u32, k: u32) -> vec3<f32> {
+    return tb.exit[k].rgb;
 }
 
 fn model_sample_radius(state: ptr<function, u32>) -> f32 {
@@ -152,7 +141,7 @@ fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: v
         if bin >= tb.shape.z {
             return vec3<f32>(0.0);
         }
-        return profile[bin].rgb * incidence_table(cos_i);
+        return profile[bin].rgb * sss_incidence(0u, cos_i);
     }
     // The modified tangent plane's normal n* (n_i where x_o lies along n_i or on x_i).
     var n_star = ni;
@@ -188,5 +177,5 @@ fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: v
 }
 
 fn model_exit(cos_o: f32, cos_i: f32) -> vec3<f32> {
-    return exit_table(cos_o, cos_i);
+    return sss_exit(0u, cos_o, cos_i);
 }

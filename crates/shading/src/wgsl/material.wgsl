@@ -1,0 +1,18 @@
+// One material's tables as a renderer uploads them (shading::PackedShading; 4,176 bytes, every
+// member a vec4 so the layout is the same in uniform and storage buffers, std140 and std430).
+struct SssMaterial {
+    // ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80° (rgb), and the ambient light's factor: its cosine-weighted
+    // hemispherical mean (rgb). All ones: off.
+    incidence: array<vec4<f32>, 9>,
+    incidence_ambient: vec4<f32>,
+    // Tt(d)/ρ at d_k = first·ratio^k (rgb); x: first [cm], y: ln ratio, z: 1 on / 0 off,
+    // w: the boundary's relative index η.
+    translucency: array<vec4<f32>, 16>,
+    translucency_params: vec4<f32>,
+    // h_T(θ_o; d_k) at θ_o = 0°, 10°, …, 80° for each d_k, [9·k + o] (rgb; all ones: Lambertian).
+    translucency_exit: array<vec4<f32>, 144>,
+    // h(θ_o; θ_i) at 0°, 10°, …, 80°, [9·i + o] (rgb; all ones: off).
+    exit: array<vec4<f32>, 81>,
+    // δ(θ) [cm] at θ = 0°, 10°, …, 80° (rgb); shift[0].w: 1 on, 0 off.
+    shift: array<vec4<f32>, 9>,
+};
