@@ -20,6 +20,8 @@ use mc::provenance::{self, Explicit, Provenance, Reuse, provenance_path};
 use crate::common::{self, parse_count};
 use crate::files::Outputs;
 use crate::library::{self, Named};
+use render::RenderError;
+use serde_json::{Value, json};
 
 /// Where Monte Carlo profiles come from: a folder, with missing or mismatching ones simulated
 /// and written there.
@@ -188,4 +190,63 @@ fn load_tables(path: &Path) -> Result<fit::table_profile::Tables> {
         .map(|(name, text)| Ok((name.clone(), mc::table::Table::from_json(&text, &name)?)))
         .collect::<Result<Vec<_>>>()?;
     Ok(fit::table_profile::Tables::new(tables)?)
+}
+
+/// Profiles from the profile cache (`--profiles`), simulated ones added to the command's outputs.
+pub struct Cached<'a> {
+    /// The cache's folder and run settings.
+    pub source: &'a ProfileSource,
+    /// The command's outputs, which simulated profiles and tables join.
+    pub files: &'a mut Outputs,
+}
+
+impl render::Profiles for Cached<'_> {
+    fn profile(&mut self, m: &render::NamedMaterial) -> render::Result<fit::Profile> {
+        let named = library::Named {
+            slug: m.slug.clone(),
+            material: m.material.clone(),
+        };
+        self.source
+            .profile(&named, self.files)
+            .map_err(|e| RenderError::Profile {
+                material: m.slug.clone(),
+                reason: format!("{e:#}"),
+            })
+    }
+
+    /// Tables kept in the profile folder as NAME.tables.json beside the profiles, with the key
+    /// they were made for: reused when it matches (announced), else built and added to the
+    /// command's outputs. Nothing is kept with `--table` or when no table was asked for.
+    fn tables(
+        &mut self,
+        m: &render::NamedMaterial,
+        key: &str,
+        build: &mut dyn FnMut() -> render::Result<render::MaterialTables>,
+    ) -> render::Result<render::MaterialTables> {
+        let path = self.source.folder().join(format!("{}.tables.json", m.slug));
+        if self.source.table.is_none()
+            && let Some(kept) = kept_tables(&path, key)
+        {
+            eprintln!("{}: reusing its tables from {}", m.slug, path.display());
+            return Ok(kept);
+        }
+        let t = build()?;
+        let any =
+            t.simulated != (false, false) || t.entry_shift.is_some() || t.translucency.is_some();
+        if self.source.table.is_none() && any {
+            let file = json!({ "key": key, "tables": t });
+            self.files.add(&path, file.to_string());
+        }
+        Ok(t)
+    }
+}
+
+/// The tables kept in `path` if they were made for `key` (anything unreadable counts as none).
+fn kept_tables(path: &std::path::Path, key: &str) -> Option<render::MaterialTables> {
+    let text = crate::files::read_text(path).ok()?;
+    let v: Value = serde_json::from_str(&text).ok()?;
+    if v.get("key")?.as_str()? != key {
+        return None;
+    }
+    serde_json::from_value(v.get("tables")?.clone()).ok()
 }

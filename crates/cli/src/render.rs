@@ -7,10 +7,10 @@
 
 use anyhow::{Context, Result, bail};
 use gpu::Gpu;
-use render::{Gather, KernelChoice, Plan, RenderError};
+use render::{Gather, KernelChoice, Plan};
 use serde_json::{Value, json};
 
-use crate::cache::ProfileSource;
+use crate::cache::Cached;
 use crate::common::Bars;
 use crate::files::Outputs;
 use crate::library;
@@ -18,63 +18,6 @@ use crate::library;
 mod flags;
 pub use flags::RenderArgs;
 use flags::{flagged, request};
-
-/// Profiles from the profile cache (`--profiles`), simulated ones added to the command's outputs.
-struct Cached<'a> {
-    source: &'a ProfileSource,
-    files: &'a mut Outputs,
-}
-
-impl render::Profiles for Cached<'_> {
-    fn profile(&mut self, m: &render::NamedMaterial) -> render::Result<fit::Profile> {
-        let named = library::Named {
-            slug: m.slug.clone(),
-            material: m.material.clone(),
-        };
-        self.source
-            .profile(&named, self.files)
-            .map_err(|e| RenderError::Profile {
-                material: m.slug.clone(),
-                reason: format!("{e:#}"),
-            })
-    }
-
-    /// Tables kept in the profile folder as NAME.tables.json beside the profiles, with the key
-    /// they were made for: reused when it matches (announced), else built and added to the
-    /// command's outputs. Nothing is kept with `--table` or when no table was asked for.
-    fn tables(
-        &mut self,
-        m: &render::NamedMaterial,
-        key: &str,
-        build: &mut dyn FnMut() -> render::Result<render::MaterialTables>,
-    ) -> render::Result<render::MaterialTables> {
-        let path = self.source.folder().join(format!("{}.tables.json", m.slug));
-        if self.source.table.is_none()
-            && let Some(kept) = kept_tables(&path, key)
-        {
-            eprintln!("{}: reusing its tables from {}", m.slug, path.display());
-            return Ok(kept);
-        }
-        let t = build()?;
-        let any =
-            t.simulated != (false, false) || t.entry_shift.is_some() || t.translucency.is_some();
-        if self.source.table.is_none() && any {
-            let file = json!({ "key": key, "tables": t });
-            self.files.add(&path, file.to_string());
-        }
-        Ok(t)
-    }
-}
-
-/// The tables kept in `path` if they were made for `key` (anything unreadable counts as none).
-fn kept_tables(path: &std::path::Path, key: &str) -> Option<render::MaterialTables> {
-    let text = crate::files::read_text(path).ok()?;
-    let v: Value = serde_json::from_str(&text).ok()?;
-    if v.get("key")?.as_str()? != key {
-        return None;
-    }
-    serde_json::from_value(v.get("tables")?.clone()).ok()
-}
 
 /// The JSON summary's settings of the method: the kernels, each gather's (null when not used)
 /// and the materials' translucency tables.

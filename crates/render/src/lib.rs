@@ -2,7 +2,8 @@
 //! lights, method and every shading option) is checked at once, each refusal naming the field;
 //! [`Plan::build`] turns it into the scene, the renderer's settings with each material's shading
 //! tables (`shading`, simulated by `mc`), the kernels (`fit`) or a gather's set-up; and
-//! [`Plan::render`] draws the frame (`gpu`). The command line (`sss render`) and Python
+//! [`Plan::render`] draws the frame (`gpu`); [`Package`] keeps what an engine needs of a plan
+//! (the kernel, the tables, the lookups in WGSL, GLSL and HLSL). The command line (`sss render`) and Python
 //! (`sss.render`) both map their arguments onto a [`Request`], so the same arguments give the same
 //! image.
 //!
@@ -16,6 +17,7 @@
 
 mod error;
 pub mod options;
+pub mod package;
 pub mod parse;
 pub mod plan;
 pub mod progress;
@@ -24,6 +26,7 @@ pub mod tables;
 
 pub use error::{RenderError, Result};
 pub use options::{Choice, DipoleEnergy, ExitLaw};
+pub use package::Package;
 pub use plan::{Gather, KernelChoice, Plan, Profiles, Simulated, describe};
 pub use progress::Progress;
 pub use request::{
