@@ -8,16 +8,18 @@ use crate::frame::pool::{Alloc, FramePool};
 use crate::frame::recording::Recording;
 use crate::frame::target::Target;
 use crate::frame::timing::{PassTime, Timer};
+use crate::gathers::DiscModel;
 use crate::gathers::area_gather::{AreaGather, AreaGatherSetup};
 use crate::gathers::dipole::DipoleSetup;
 use crate::gathers::disc_gather::DiscPipelines;
 use crate::gathers::surface_gather::SurfaceGatherSetup;
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
-use crate::passes::blur::{Blur, BlurIo, BlurParams};
+use crate::passes::Pass;
 use crate::passes::combine::Combine;
 use crate::passes::gbuffer::{GBufferPass, camera_view_proj};
-use crate::passes::half::{HalfRes, half_size};
+use crate::passes::separable::Separable;
+pub use crate::passes::separable::{SUBPIXEL_PX, kernel_footprint_px};
 use crate::passes::shadow::ShadowPass;
 use crate::passes::splat::Splats;
 use crate::scene::Scene;
@@ -56,42 +58,6 @@ impl Scatter<'_> {
             Scatter::DirectionalDipole(_) | Scatter::SurfaceGather(_)
         )
     }
-}
-
-/// The largest kernel footprint [px] (its farthest tap from the pixel) that
-/// [`RenderParams::skip_subpixel`] treats as below a pixel: taps within half a pixel interpolate
-/// between the pixel and a neighbour, so the light moves by less than half a pixel.
-pub const SUBPIXEL_PX: f32 = 0.5;
-
-/// The largest distance [px] kernel `k` of `material` reaches on screen: its range × width ×
-/// the material's largest SSS strength (with jitter, the outermost tap cell's bound instead of the
-/// range), at the material's nearest vertex
-/// (or the fixed depth). Vertices at or behind the near plane count as at it.
-pub fn kernel_footprint_px(
-    scene: &Scene,
-    material: u32,
-    k: &KernelTaps,
-    params: &RenderParams,
-) -> f32 {
-    let view = scene.camera.view();
-    let (depth, strength) = scene
-        .mesh
-        .vertices
-        .iter()
-        .filter(|v| v.strength > 0.0 && v.material == material)
-        .fold((f32::MAX, 0.0f32), |(d, s), v| {
-            let z = -(view * glam::Vec3::from(v.pos).extend(1.0)).z;
-            (
-                d.min(z.max(crate::passes::gbuffer::NEAR)),
-                s.max(v.strength),
-            )
-        });
-    let depth = params.fixed_depth.unwrap_or(depth);
-    k.reach_cm(params.jitter)
-        * params.sss_width
-        * strength
-        * scene.camera.px_per_cm_at_unit_depth(params.height)
-        / depth
 }
 
 /// A rendered frame: row-major, top row first.
@@ -133,8 +99,7 @@ pub struct FrameTime {
 pub struct Renderer {
     shadow: ShadowPass,
     gbuffer: GBufferPass,
-    blur: Blur,
-    half: HalfRes,
+    separable: Separable,
     area: AreaGather,
     splats: Splats,
     combine: Combine,
@@ -158,12 +123,11 @@ impl Renderer {
         Renderer {
             shadow: ShadowPass::new(gpu),
             gbuffer: GBufferPass::new(gpu),
-            blur: Blur::new(gpu),
-            half: HalfRes::new(gpu),
+            separable: Separable::new(gpu),
             area: AreaGather::new(gpu),
             splats: Splats::new(gpu),
             combine: Combine::new(gpu),
-            disc: DiscPipelines::default(),
+            disc: DiscPipelines::new(gpu),
             pool: FramePool::default(),
         }
     }
@@ -259,10 +223,10 @@ impl Renderer {
         let alloc = Alloc::pooled(gpu, &self.pool);
         let mesh = MeshBuffers::upload(alloc, &scene.mesh);
         let mut rec = Recording::timed(alloc, enc);
-        let shadow_maps = self.shadow.encode(&mut rec, scene, &mesh);
+        let shadow_maps = self.shadow.encode(&mut rec, (scene, &mesh))?;
         let gbuffer = self
             .gbuffer
-            .encode(&mut rec, scene, &mesh, &shadow_maps, params, disc);
+            .encode(&mut rec, (scene, &mesh, &shadow_maps, params, disc))?;
         let scattered = alloc.pixels(n, "scattered");
         let target = Target {
             scene,
@@ -274,20 +238,21 @@ impl Renderer {
         };
         let mut surface = None;
         match scatter {
-            Scatter::Separable(given) => self.separable(&mut rec, &target, given, params)?,
-            Scatter::DirectionalDipole(setup) => {
-                crate::gathers::dipole::encode(&mut rec, &target, setup, &self.disc)?
+            Scatter::Separable(given) => {
+                self.separable.encode(&mut rec, (&target, given, params))?
             }
-            Scatter::SurfaceGather(setup) => {
-                crate::gathers::surface_gather::encode(&mut rec, &target, setup, &self.disc)?
-            }
+            Scatter::DirectionalDipole(setup) => self
+                .disc
+                .encode(&mut rec, (&target, DiscModel::Dipole(setup)))?,
+            Scatter::SurfaceGather(setup) => self
+                .disc
+                .encode(&mut rec, (&target, DiscModel::Surface(setup)))?,
             Scatter::AreaGather(setup) => {
-                let g = self
-                    .area
-                    .encode(&mut rec, &target, setup, params.sss_width)?;
+                let width = params.sss_width;
+                let g = self.area.encode(&mut rec, (&target, setup, width))?;
                 let lighting = self.gbuffer.lighting(&gbuffer);
                 self.splats
-                    .encode(&mut rec, &target, setup, params.sss_width, lighting, &g);
+                    .encode(&mut rec, (&target, setup, width, lighting, &g))?;
                 surface = Some(g.surface);
             }
             Scatter::None => {
@@ -295,7 +260,9 @@ impl Renderer {
                     .copy_buffer_to_buffer(&gbuffer.diffuse, 0, &scattered, 0, (n * 16) as u64)
             }
         }
-        let combined = self.combine.encode(&mut rec, params, &scattered, &gbuffer);
+        let combined = self
+            .combine
+            .encode(&mut rec, (params, &scattered, &gbuffer))?;
         let timer = rec.submit();
         Ok(Recorded {
             gbuffer,
@@ -305,76 +272,6 @@ impl Renderer {
             timer,
             _frame: frame,
         })
-    }
-
-    /// Records the separable kernels' passes on the target: one kernel per material, each
-    /// replaced by a single tap where it reaches less than [`SUBPIXEL_PX`] (with
-    /// `params.skip_subpixel`); at half resolution between a depth-aware down- and upsampling.
-    fn separable(
-        &self,
-        rec: &mut Recording,
-        target: &Target,
-        given: &[KernelTaps],
-        params: &RenderParams,
-    ) -> Result<()> {
-        let (scene, (w, h)) = (target.scene, target.size);
-        let alloc = rec.alloc;
-        // Half resolution: the blur's pixels are 2×2 of the image's.
-        let px = if params.half_res { 0.5 } else { 1.0 };
-        let kernels: Vec<KernelTaps> = given
-            .iter()
-            .enumerate()
-            .map(|(m, k)| {
-                let footprint = px * kernel_footprint_px(scene, m as u32, k, params);
-                if params.skip_subpixel && footprint < SUBPIXEL_PX {
-                    k.point()
-                } else {
-                    k.clone()
-                }
-            })
-            .collect();
-        let blur_params = BlurParams {
-            px_per_cm_at_unit_depth: px * scene.camera.px_per_cm_at_unit_depth(h),
-            sss_width: params.sss_width,
-            depth_mode: params.depth_mode,
-            tolerance_cm: params.tolerance_cm,
-            jitter: params.jitter,
-            fixed_depth: params.fixed_depth,
-            skip_empty: params.skip_empty,
-            fast: params.fast,
-        };
-        let full = (&target.gbuffer.diffuse, &target.gbuffer.geometry);
-        if !params.half_res {
-            let tmp = alloc.pixels((w * h) as usize, "tmp");
-            let io = BlurIo {
-                size: (w, h),
-                src: full.0,
-                geometry: full.1,
-                tmp: &tmp,
-                dst: target.scattered,
-            };
-            return self.blur.encode(rec, &kernels, &blur_params, &io);
-        }
-        let size = half_size((w, h));
-        let m = (size.0 * size.1) as usize;
-        let [hd, hg, hs, tmp] =
-            ["half diffuse", "half geometry", "half scattered", "tmp"].map(|l| alloc.pixels(m, l));
-        // Upsampling weights fall by e over the largest kernel's range.
-        let tolerance = params
-            .tolerance_cm
-            .unwrap_or(params.sss_width * given.iter().map(|k| k.range_cm).fold(0.0, f32::max));
-        let u = self.half.down(rec, (w, h), tolerance, full, (&hd, &hg));
-        let io = BlurIo {
-            size,
-            src: &hd,
-            geometry: &hg,
-            tmp: &tmp,
-            dst: &hs,
-        };
-        self.blur.encode(rec, &kernels, &blur_params, &io)?;
-        self.half
-            .up(rec, (w, h), &u, full, (&hs, &hg), target.scattered);
-        Ok(())
     }
 }
 

@@ -37,6 +37,7 @@ use crate::frame::pool::Alloc;
 use crate::frame::recording::Recording;
 use crate::frame::target::Target;
 use crate::frame::timing::Timer;
+use crate::passes::Pass;
 
 /// The gather's shader with the shared kernel lookup prepended.
 pub(crate) const AREA_GATHER_WGSL: &str = concat!(
@@ -421,8 +422,13 @@ pub(crate) struct Gathered {
     pub levels: Vec<[u32; 4]>,
 }
 
-impl AreaGather {
-    pub(crate) fn new(gpu: &Gpu) -> AreaGather {
+impl Pass for AreaGather {
+    /// The target, the gather's set-up and the width factor.
+    type Input<'a> = (&'a Target<'a>, &'a AreaGatherSetup, f32);
+    /// The surface buffer and pyramid the splats read.
+    type Output = Gathered;
+
+    fn new(gpu: &Gpu) -> AreaGather {
         let dev = &gpu.device;
         let surface = dev.create_shader_module(wgpu::include_wgsl!("../shaders/surface.wgsl"));
         let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -440,54 +446,12 @@ impl AreaGather {
         }
     }
 
-    fn params(kernel: &AreaKernel, size: (u32, u32), taps: u32, scale: f32) -> Uniform {
-        let lv = levels(size);
-        let mut level = [[0; 4]; MAX_LEVELS];
-        level[..lv.len()].copy_from_slice(&lv);
-        Uniform {
-            width: size.0,
-            height: size.1,
-            taps,
-            material: 0,
-            kernel: kernel.uniform(scale),
-            levels: lv.len() as u32,
-            _pad: [0; 3],
-            level,
-        }
-    }
-
-    /// One compute pass of `pipeline` with `entries` as its bind group.
-    fn dispatch(
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
-        pipeline: &wgpu::ComputePipeline,
-        label: &str,
-        entries: &[wgpu::BindGroupEntry],
-        groups: (u32, u32),
-        timer: Option<&mut Timer>,
-    ) {
-        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &pipeline.get_bind_group_layout(0),
-            entries,
-        });
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(label),
-            timestamp_writes: timer.map(|t| t.writes(label)),
-        });
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups(groups.0, groups.1, 1);
-    }
-
     /// Records the surface pass, the pyramid and the gather of the target's SSS light into its
     /// scattered light (0 on pixels without SSS, as the separable passes leave them).
-    pub(crate) fn encode(
+    fn encode(
         &self,
         rec: &mut Recording,
-        target: &Target,
-        setup: &AreaGatherSetup,
-        sss_width: f32,
+        (target, setup, sss_width): Self::Input<'_>,
     ) -> Result<Gathered> {
         let Target {
             camera_view_proj: view_proj,
@@ -629,6 +593,48 @@ impl AreaGather {
             table,
             levels: lv,
         })
+    }
+}
+
+impl AreaGather {
+    fn params(kernel: &AreaKernel, size: (u32, u32), taps: u32, scale: f32) -> Uniform {
+        let lv = levels(size);
+        let mut level = [[0; 4]; MAX_LEVELS];
+        level[..lv.len()].copy_from_slice(&lv);
+        Uniform {
+            width: size.0,
+            height: size.1,
+            taps,
+            material: 0,
+            kernel: kernel.uniform(scale),
+            levels: lv.len() as u32,
+            _pad: [0; 3],
+            level,
+        }
+    }
+
+    /// One compute pass of `pipeline` with `entries` as its bind group.
+    fn dispatch(
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        pipeline: &wgpu::ComputePipeline,
+        label: &str,
+        entries: &[wgpu::BindGroupEntry],
+        groups: (u32, u32),
+        timer: Option<&mut Timer>,
+    ) {
+        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &pipeline.get_bind_group_layout(0),
+            entries,
+        });
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(label),
+            timestamp_writes: timer.map(|t| t.writes(label)),
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(groups.0, groups.1, 1);
     }
 
     /// The GPU's R′_s/energy at each (distance [cm], area [cm²]) of `points`: what the gather

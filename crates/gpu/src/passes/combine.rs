@@ -1,9 +1,11 @@
 //! Recombination: the scattered diffuse light (the unscattered on pixels without SSS) × the
 //! post-scatter albedo + specular, then exposure, tone curve and sRGB (combine.wgsl).
 
+use crate::error::Result;
 use crate::frame::context::{Gpu, compute_pipeline};
 use crate::frame::recording::Recording;
 use crate::params::RenderParams;
+use crate::passes::Pass;
 use crate::passes::gbuffer::GBuffer;
 
 /// The final image: linear radiance (RGBA f32) and tone-mapped sRGB (RGBA8) per pixel.
@@ -17,8 +19,13 @@ pub(crate) struct Combine {
     pipeline: wgpu::ComputePipeline,
 }
 
-impl Combine {
-    pub(crate) fn new(gpu: &Gpu) -> Combine {
+impl Pass for Combine {
+    /// The frame's settings, the scattered light and the G-buffer.
+    type Input<'a> = (&'a RenderParams, &'a wgpu::Buffer, &'a GBuffer);
+    /// The linear and the tone-mapped image.
+    type Output = Combined;
+
+    fn new(gpu: &Gpu) -> Combine {
         Combine {
             pipeline: compute_pipeline(
                 &gpu.device,
@@ -30,13 +37,11 @@ impl Combine {
 
     /// Records the recombination of `scattered` with the G-buffer at the size and exposure of
     /// `params`.
-    pub(crate) fn encode(
+    fn encode(
         &self,
         rec: &mut Recording,
-        params: &RenderParams,
-        scattered: &wgpu::Buffer,
-        g: &GBuffer,
-    ) -> Combined {
+        (params, scattered, g): Self::Input<'_>,
+    ) -> Result<Combined> {
         let (alloc, enc, timer) = (rec.alloc, &mut rec.enc, &mut rec.timer.as_mut());
         let (w, h, exposure) = (params.width, params.height, params.exposure);
         let n = (w * h) as usize;
@@ -83,6 +88,6 @@ impl Combine {
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         drop(pass);
-        out
+        Ok(out)
     }
 }

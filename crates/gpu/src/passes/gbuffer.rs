@@ -7,11 +7,13 @@
 
 use glam::Mat4;
 
+use crate::error::Result;
 use crate::frame::context::{Gpu, cleared_depth, compute_pipeline};
 use crate::frame::recording::Recording;
 use crate::light::MAX_EMITTERS;
 use crate::mesh::MeshBuffers;
 use crate::params::{MAX_MATERIALS, RenderParams};
+use crate::passes::Pass;
 use crate::scene::{AlbedoMode, Scene};
 use shading::{LOOKUPS_WGSL, PACKED_SHADING_SIZE, PackedShading, Shading};
 
@@ -106,6 +108,69 @@ fn lighting_entries<'a>(
     ]
 }
 
+/// The scene pass's uniform block for `scene` at `params`' size: the camera, the lights with
+/// their shadow maps' projections, the albedo mode and each material's packed tables (`plain`:
+/// no albedo split and all tables off but η).
+fn globals(scene: &Scene, params: &RenderParams, plain: bool) -> Globals {
+    let (w, h) = (params.width, params.height);
+    let cam = &scene.camera;
+    let emitters = scene.emitters();
+    let mut lights = [LightU {
+        view_proj: Mat4::IDENTITY.to_cols_array_2d(),
+        inv_view_proj: Mat4::IDENTITY.to_cols_array_2d(),
+        pos_or_dir: [0.0; 4],
+        color: [0.0; 4],
+        cell_u: [0.0; 4],
+        cell_v: [0.0; 4],
+    }; MAX_EMITTERS];
+    for (i, light) in emitters.iter().enumerate() {
+        let vp = scene.light_view_proj(light);
+        let [u, v] = light.cell.unwrap_or([glam::Vec3::ZERO; 2]);
+        lights[i] = LightU {
+            view_proj: vp.to_cols_array_2d(),
+            inv_view_proj: vp.inverse().to_cols_array_2d(),
+            pos_or_dir: light.pos_or_dir.into(),
+            color: light
+                .power
+                .extend(if light.shadow { i as f32 } else { -1.0 })
+                .into(),
+            cell_u: u
+                .extend(if light.cell.is_some() { 1.0 } else { 0.0 })
+                .into(),
+            cell_v: v.extend(0.0).into(),
+        };
+    }
+    Globals {
+        view_proj: camera_view_proj(scene, (w, h)).to_cols_array_2d(),
+        view: cam.view().to_cols_array_2d(),
+        camera_pos: cam.position.extend(1.0).into(),
+        params: [
+            emitters.len() as f32,
+            match params.albedo {
+                _ if plain => 0.0,
+                AlbedoMode::Pre => 0.0,
+                AlbedoMode::Post => 1.0,
+                AlbedoMode::PrePost => 2.0,
+            },
+            scene.specular,
+            scene.shininess,
+        ],
+        ambient: scene.ambient.extend(0.0).into(),
+        lights,
+        // `plain`: all off but η (the disc gathers bring their own physics).
+        materials: params.shading.map(|s| {
+            PackedShading::new(&if plain {
+                Shading {
+                    eta: s.eta,
+                    ..Shading::default()
+                }
+            } else {
+                s
+            })
+        }),
+    }
+}
+
 /// The compiled scene and unpack pipelines and the shadow-map sampler.
 pub(crate) struct GBufferPass {
     scene: wgpu::RenderPipeline,
@@ -113,8 +178,21 @@ pub(crate) struct GBufferPass {
     sampler: wgpu::Sampler,
 }
 
-impl GBufferPass {
-    pub(crate) fn new(gpu: &Gpu) -> GBufferPass {
+impl Pass for GBufferPass {
+    /// The scene, its mesh as uploaded, the shadow maps, the frame's settings and `plain`: no
+    /// albedo split and no SSS shading tables (the disc gathers, [`crate::gathers::disc_gather`],
+    /// bring their own colour and angular dependence).
+    type Input<'a> = (
+        &'a Scene,
+        &'a MeshBuffers,
+        &'a wgpu::Texture,
+        &'a RenderParams,
+        bool,
+    );
+    /// The G-buffer.
+    type Output = GBuffer;
+
+    fn new(gpu: &Gpu) -> GBufferPass {
         let dev = &gpu.device;
         let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("scene"),
@@ -132,83 +210,16 @@ impl GBufferPass {
         }
     }
 
-    /// The lighting bindings of `g`'s frame, for other passes that light surfaces as the scene
-    /// pass does (the splats).
-    pub(crate) fn lighting<'a>(&'a self, g: &'a GBuffer) -> [wgpu::BindGroupEntry<'a>; 3] {
-        lighting_entries(&g.globals, &g.shadow_view, &self.sampler)
-    }
-
-    /// Records the scene pass and the unpacking; `plain`: no albedo split and no SSS shading
-    /// tables (the disc gathers, [`crate::gathers::disc_gather`], bring their own colour and angular
-    /// dependence).
-    pub(crate) fn encode(
+    /// Records the scene pass and the unpacking.
+    fn encode(
         &self,
         rec: &mut Recording,
-        scene: &Scene,
-        mesh: &MeshBuffers,
-        shadow_maps: &wgpu::Texture,
-        params: &RenderParams,
-        plain: bool,
-    ) -> GBuffer {
+        (scene, mesh, shadow_maps, params, plain): Self::Input<'_>,
+    ) -> Result<GBuffer> {
         let (alloc, enc, timer) = (rec.alloc, &mut rec.enc, &mut rec.timer.as_mut());
         let dev = &alloc.gpu.device;
         let (w, h) = (params.width, params.height);
-        let cam = &scene.camera;
-        let emitters = scene.emitters();
-        let mut lights = [LightU {
-            view_proj: Mat4::IDENTITY.to_cols_array_2d(),
-            inv_view_proj: Mat4::IDENTITY.to_cols_array_2d(),
-            pos_or_dir: [0.0; 4],
-            color: [0.0; 4],
-            cell_u: [0.0; 4],
-            cell_v: [0.0; 4],
-        }; MAX_EMITTERS];
-        for (i, light) in emitters.iter().enumerate() {
-            let vp = scene.light_view_proj(light);
-            let [u, v] = light.cell.unwrap_or([glam::Vec3::ZERO; 2]);
-            lights[i] = LightU {
-                view_proj: vp.to_cols_array_2d(),
-                inv_view_proj: vp.inverse().to_cols_array_2d(),
-                pos_or_dir: light.pos_or_dir.into(),
-                color: light
-                    .power
-                    .extend(if light.shadow { i as f32 } else { -1.0 })
-                    .into(),
-                cell_u: u
-                    .extend(if light.cell.is_some() { 1.0 } else { 0.0 })
-                    .into(),
-                cell_v: v.extend(0.0).into(),
-            };
-        }
-        let globals = Globals {
-            view_proj: camera_view_proj(scene, (w, h)).to_cols_array_2d(),
-            view: cam.view().to_cols_array_2d(),
-            camera_pos: cam.position.extend(1.0).into(),
-            params: [
-                emitters.len() as f32,
-                match params.albedo {
-                    _ if plain => 0.0,
-                    AlbedoMode::Pre => 0.0,
-                    AlbedoMode::Post => 1.0,
-                    AlbedoMode::PrePost => 2.0,
-                },
-                scene.specular,
-                scene.shininess,
-            ],
-            ambient: scene.ambient.extend(0.0).into(),
-            lights,
-            // `plain`: all off but η (the disc gathers bring their own physics).
-            materials: params.shading.map(|s| {
-                PackedShading::new(&if plain {
-                    Shading {
-                        eta: s.eta,
-                        ..Shading::default()
-                    }
-                } else {
-                    s
-                })
-            }),
-        };
+        let globals = globals(scene, params, plain);
         let gbuf = alloc.uniform("globals", bytemuck::bytes_of(&globals));
         let shadow_view = shadow_maps.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -308,6 +319,14 @@ impl GBufferPass {
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         drop(pass);
-        out
+        Ok(out)
+    }
+}
+
+impl GBufferPass {
+    /// The lighting bindings of `g`'s frame, for other passes that light surfaces as the scene
+    /// pass does (the splats).
+    pub(crate) fn lighting<'a>(&'a self, g: &'a GBuffer) -> [wgpu::BindGroupEntry<'a>; 3] {
+        lighting_entries(&g.globals, &g.shadow_view, &self.sampler)
     }
 }

@@ -3,9 +3,11 @@
 //! lights and the cells of area lights; [`crate::Scene`]'s `light_view_proj`). The scene pass reads them for shadows and for
 //! the thickness light crosses in thin parts.
 
+use crate::error::Result;
 use crate::frame::context::{Gpu, cleared_depth};
 use crate::frame::recording::Recording;
 use crate::mesh::MeshBuffers;
+use crate::passes::Pass;
 use crate::scene::Scene;
 
 /// Side of each shadow map [texels]: 2048, or 1024 beyond 16 emitters (an area light's cells),
@@ -19,8 +21,13 @@ pub(crate) struct ShadowPass {
     pipeline: wgpu::RenderPipeline,
 }
 
-impl ShadowPass {
-    pub(crate) fn new(gpu: &Gpu) -> ShadowPass {
+impl Pass for ShadowPass {
+    /// The scene and its mesh as uploaded.
+    type Input<'a> = (&'a Scene, &'a MeshBuffers);
+    /// The shadow maps.
+    type Output = wgpu::Texture;
+
+    fn new(gpu: &Gpu) -> ShadowPass {
         let dev = &gpu.device;
         let module = dev.create_shader_module(wgpu::include_wgsl!("../shaders/shadow.wgsl"));
         ShadowPass {
@@ -31,12 +38,7 @@ impl ShadowPass {
     /// Records the shadow maps of `scene`'s emitters: a depth array with one layer per emitter
     /// (at least one, so the scene pass's binding exists); layers of emitters without shadows
     /// stay cleared.
-    pub(crate) fn encode(
-        &self,
-        rec: &mut Recording,
-        scene: &Scene,
-        mesh: &MeshBuffers,
-    ) -> wgpu::Texture {
+    fn encode(&self, rec: &mut Recording, (scene, mesh): Self::Input<'_>) -> Result<wgpu::Texture> {
         let (alloc, enc, timer) = (rec.alloc, &mut rec.enc, &mut rec.timer.as_mut());
         let dev = &alloc.gpu.device;
         let emitters = scene.emitters();
@@ -79,6 +81,6 @@ impl ShadowPass {
                 mesh.draw(&mut pass);
             }
         }
-        maps
+        Ok(maps)
     }
 }

@@ -40,11 +40,13 @@
 
 use glam::Vec3;
 
+use crate::error::Result;
 use crate::frame::context::{Gpu, bind};
 use crate::frame::recording::Recording;
 use crate::frame::target::Target;
 use crate::frame::timing::Timer;
 use crate::gathers::area_gather::{AreaGatherSetup, Gathered};
+use crate::passes::Pass;
 use crate::passes::gbuffer::NEAR;
 use crate::scene::Scene;
 
@@ -184,8 +186,19 @@ pub(crate) struct Splats {
     format: wgpu::TextureFormat,
 }
 
-impl Splats {
-    pub(crate) fn new(gpu: &Gpu) -> Splats {
+impl Pass for Splats {
+    /// The target, the area gather's set-up, the width factor, the scene pass's lighting bindings and what the gather left.
+    type Input<'a> = (
+        &'a Target<'a>,
+        &'a AreaGatherSetup,
+        f32,
+        [wgpu::BindGroupEntry<'a>; 3],
+        &'a Gathered,
+    );
+    /// Nothing: the splats add into the target's scattered light.
+    type Output = ();
+
+    fn new(gpu: &Gpu) -> Splats {
         let dev = &gpu.device;
         let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("splat"),
@@ -241,15 +254,11 @@ impl Splats {
 
     /// Records the splats of `material` and adds their upsampled light to the target's scattered
     /// light on the material's pixels.
-    pub(crate) fn encode(
+    fn encode(
         &self,
         rec: &mut Recording,
-        target: &Target,
-        setup: &AreaGatherSetup,
-        sss_width: f32,
-        lighting: [wgpu::BindGroupEntry; 3],
-        gathered: &Gathered,
-    ) {
+        (target, setup, sss_width, lighting, gathered): Self::Input<'_>,
+    ) -> Result<()> {
         let Target {
             scene,
             size: (w, h),
@@ -262,7 +271,7 @@ impl Splats {
         let reach = sss_width * setup.kernel.r_max_cm();
         let tris = triangles(scene, 0, std::f32::consts::PI * (0.5 * reach).powi(2));
         if tris.is_empty() {
-            return;
+            return Ok(());
         }
         let dev = &alloc.gpu.device;
         let level = SPLAT_LEVEL.min(gathered.levels.len() - 1);
@@ -387,8 +396,11 @@ impl Splats {
             (w.div_ceil(8), h.div_ceil(8)),
             timer,
         );
+        Ok(())
     }
 }
+
+impl Splats {}
 
 #[cfg(test)]
 mod tests {
