@@ -183,3 +183,21 @@ def render(
     render --light` writes it ("dir:X,Y,Z[:E]", "point:X,Y,Z[:I]", "area:X,Y,Z:AX,AY,AZ:SIDE[:L]");
     exit_aware: "entry", "on" or "off". Needs a GPU adapter (Mesa's lavapipe will do); raises
     SssError naming the argument on bad input."""
+
+def package(
+    material: Optional[Material] = None,
+    *,
+    taps: int = 17,
+    photons: Optional[Number] = None,
+    seed: Optional[int] = None,
+    incidence_photons: Optional[Number] = None,
+    translucency_photons: Optional[Number] = None,
+) -> dict[str, Any]:
+    """A material's whole shading model as `sss export MATERIAL --format package` writes it:
+    "files" (file name → bytes: README.md, tables.json, tables.bin, kernel.*, sss_lookups.wgsl,
+    .glsl, .hlsl) and the tables as float32 arrays: "angles_deg" (9,), "incidence" and
+    "incidence_se" (9 × 3, ρ(θ)/ρ(0)), "exit" and "exit_se" (9 × 9 × 3, h(θ_o; θ_i) as
+    [θ_i][θ_o]), "entry_shift_cm" and "entry_shift_se_cm" (9 × 3), "translucency" (a dict:
+    "thickness_cm" (16,), "tt_over_rho" (16 × 3), "exit" (16 × 9 × 3), "rho", "rho_se" (3,)),
+    "eta" and "notes". Needs no GPU; raises SssError naming the argument on bad input."""
+    ...

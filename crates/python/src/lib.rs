@@ -1,4 +1,4 @@
-//! The Python module `sss`: the `mc`, `fit` and `render` libraries with NumPy arrays in and out. Every
+//! The Python module `sss`: the `mc`, `fit`, `shading` and `render` libraries with NumPy arrays in and out. Every
 //! number comes from a library call; this crate only converts arguments (refusing what does not
 //! fit, naming the argument) and results (dicts of arrays), releases the GIL while the libraries
 //! work, and lets Ctrl-C stop a long run.
@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 mod args;
 mod kernels;
 mod mcml;
+mod package;
 mod render;
 mod simulate;
 
@@ -43,5 +44,6 @@ fn sss(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(kernels::evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(kernels::engine_params, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
+    m.add_function(wrap_pyfunction!(package::package, m)?)?;
     Ok(())
 }

@@ -35,7 +35,7 @@ const ARGUMENTS: [(&str, &str); 17] = [
 ];
 
 /// A library error as [`SssError`], a refused field named by its keyword argument.
-fn refused(e: RenderError) -> PyErr {
+pub(crate) fn refused(e: RenderError) -> PyErr {
     let name = |field: &str| {
         ARGUMENTS
             .iter()
@@ -101,7 +101,7 @@ fn point(name: &str, v: Option<&Bound<'_, PyAny>>) -> PyResult<Option<glam::Vec3
 
 /// The material arguments as named materials: one, or a list (one per SSS material of the
 /// scene).
-fn materials(v: &Bound<'_, PyAny>) -> PyResult<Vec<::render::NamedMaterial>> {
+pub(crate) fn materials(v: &Bound<'_, PyAny>) -> PyResult<Vec<::render::NamedMaterial>> {
     let items: Vec<Bound<'_, PyAny>> = if v.is_instance_of::<pyo3::types::PyList>() {
         v.try_iter()?.collect::<PyResult<_>>()?
     } else {
@@ -162,7 +162,7 @@ fn albedos(object_albedo: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<glam::Vec3>
 }
 
 /// The run settings of the profiles and tables: the thesis's, with the photons and seed given.
-fn tables(
+pub(crate) fn tables(
     photons: Option<&Bound<'_, PyAny>>,
     seed: Option<u64>,
     incidence_photons: Option<&Bound<'_, PyAny>>,
