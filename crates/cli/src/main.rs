@@ -20,6 +20,7 @@ mod reproduce;
 mod shard;
 mod simulate;
 mod table;
+mod view;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -75,6 +76,8 @@ enum Command {
     EngineParams(engine::EngineParamsArgs),
     /// Benchmarks (run time against error); measurements only, never pass/fail
     Bench(bench::BenchArgs),
+    /// Write the browser page (WebGPU) with a material's shading model and scenes, to serve and open
+    View(view::ViewArgs),
 }
 
 fn main() -> ExitCode {
@@ -95,6 +98,7 @@ fn main() -> ExitCode {
         Command::Bench(a) => bench::run(a),
         Command::Kernel(a) => engine::kernel(a),
         Command::EngineParams(a) => engine::engine_params(a),
+        Command::View(a) => view::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -43,6 +43,7 @@ mod passes;
 mod render;
 pub mod request;
 mod scene;
+mod web;
 
 pub use error::{GpuError, Result};
 pub use eval::compare::{Comparison, compare_kernels, compare_models};
@@ -60,6 +61,7 @@ pub use render::{Frame, FrameTime, Renderer, SUBPIXEL_PX, Scatter, kernel_footpr
 pub use request::{Method, RenderRequest};
 pub use scene::{AlbedoMode, Camera, Scene};
 pub use shading::KernelTaps;
+pub use web::{WebBlurStep, WebFrame, WebShaders, WebShadow};
 
 #[cfg(test)]
 mod tests {

@@ -192,24 +192,7 @@ impl Scene {
     /// sphere for directional lights, perspective onto it from points (point lights, the cells
     /// of area lights).
     pub(crate) fn light_view_proj(&self, light: &Emitter) -> Mat4 {
-        let (lo, hi) = self.mesh.bounds();
-        // The floor is large; shadow maps cover the objects on it.
-        let objects: Vec<_> = self
-            .mesh
-            .vertices
-            .iter()
-            .filter(|v| v.strength > 0.0)
-            .collect();
-        let (lo, hi) = if objects.is_empty() {
-            (lo, hi)
-        } else {
-            objects.iter().fold(
-                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-                |(a, b), v| (a.min(Vec3::from(v.pos)), b.max(Vec3::from(v.pos))),
-            )
-        };
-        let centre = 0.5 * (lo + hi);
-        let radius = 0.5 * (hi - lo).length() * 1.5;
+        let (centre, radius) = self.shadow_bounds();
         let at = light.pos_or_dir.truncate();
         if light.pos_or_dir.w == 0.0 {
             let eye = centre + at * 3.0 * radius;
@@ -231,6 +214,28 @@ impl Scene {
             Mat4::perspective_rh(fov, 1.0, near, d + 3.0 * radius)
                 * Mat4::look_at_rh(at, centre, up_for(centre - at))
         }
+    }
+
+    /// The sphere the shadow maps cover [cm]: centre and radius, 1.5 × the half-diagonal of the
+    /// SSS objects' bounding box (of everything when there are none; the floor is large).
+    pub(crate) fn shadow_bounds(&self) -> (Vec3, f32) {
+        let (lo, hi) = self.mesh.bounds();
+        // The floor is large; shadow maps cover the objects on it.
+        let objects: Vec<_> = self
+            .mesh
+            .vertices
+            .iter()
+            .filter(|v| v.strength > 0.0)
+            .collect();
+        let (lo, hi) = if objects.is_empty() {
+            (lo, hi)
+        } else {
+            objects.iter().fold(
+                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+                |(a, b), v| (a.min(Vec3::from(v.pos)), b.max(Vec3::from(v.pos))),
+            )
+        };
+        (0.5 * (lo + hi), 0.5 * (hi - lo).length() * 1.5)
     }
 
     /// Every emitter of the scene's lights, in order.

@@ -23,6 +23,7 @@ pub mod plan;
 pub mod progress;
 pub mod request;
 pub mod tables;
+pub mod view;
 
 pub use error::{RenderError, Result};
 pub use options::{Choice, DipoleEnergy, ExitLaw};
@@ -33,3 +34,4 @@ pub use request::{
     GatherOptions, NamedMaterial, Request, ResolvedShading, ShadingOptions, TableSettings,
 };
 pub use tables::MaterialTables;
+pub use view::{Site, SiteScene};

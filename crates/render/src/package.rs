@@ -64,6 +64,18 @@ impl Package {
             ));
         }
         let plan = Plan::build(request, profiles, progress)?;
+        Package::from_plan(request, &plan)
+    }
+
+    /// The package of a plan already built for `request` (checked as [`Package::build`] does).
+    pub fn from_plan(request: &Request, plan: &Plan) -> Result<Package> {
+        if plan.materials.len() != 1 || plan.kernels.is_empty() {
+            return Err(RenderError::invalid(
+                "method",
+                format!("{:?}", request.method()),
+                "a package holds one material's separable kernel and tables",
+            ));
+        }
         let m = &plan.materials[0];
         let key = MaterialTables::key(m, &plan.shading, &request.tables)?;
         let mut notes = plan.notes.clone();

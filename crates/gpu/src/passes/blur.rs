@@ -60,9 +60,10 @@ pub struct BlurParams {
     pub fast: bool,
 }
 
+/// blur.wgsl's `Params`: one 1D pass's settings.
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct Uniform {
+pub(crate) struct Uniform {
     width: u32,
     height: u32,
     taps: u32,
@@ -100,6 +101,80 @@ pub(crate) const BLUR_FAST_WGSL: &str = concat!(
 
 /// The fast path's texture format: light and view depth at half precision, filterable.
 const FAST_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// One 1D pass of the blur: the material's kernel and separable term it applies, its direction
+/// and its uniform. A horizontal step reads the light into the scratch buffer, the vertical one
+/// after it adds sign × its result into the output.
+pub(crate) struct BlurStep {
+    /// The SSS material (its kernel in the list).
+    pub material: usize,
+    /// The kernel's separable term.
+    pub pass: usize,
+    /// Horizontal (else vertical).
+    pub horizontal: bool,
+    /// Its settings as blur.wgsl reads them.
+    pub uniform: Uniform,
+}
+
+/// Every 1D pass of `kernels` (`kernels[m]` on the pixels of material m) on a `width`×`height`
+/// image, in order: per material and term, horizontal then vertical.
+pub(crate) fn steps(
+    kernels: &[KernelTaps],
+    params: &BlurParams,
+    (width, height): (u32, u32),
+) -> Vec<BlurStep> {
+    let mode = match params.depth_mode {
+        DepthMode::None => 0,
+        DepthMode::Lerp => 1,
+        DepthMode::Reject => 2,
+        DepthMode::Gaussian => 3,
+    };
+    let mut steps = Vec::new();
+    for (material, k) in kernels.iter().enumerate() {
+        for (pass, (sign, taps)) in k.passes.iter().enumerate() {
+            let sum = taps.iter().fold([0.0f32; 4], |a, t| {
+                [a[0] + t[0], a[1] + t[1], a[2] + t[2], 0.0]
+            });
+            let tolerance = params
+                .tolerance_cm
+                .unwrap_or(
+                    params.sss_width
+                        * match params.depth_mode {
+                            DepthMode::Gaussian => k.variance_cm2().sqrt(),
+                            _ => k.range_cm,
+                        },
+                )
+                .max(1e-12);
+            for horizontal in [true, false] {
+                let uniform = Uniform {
+                    width,
+                    height,
+                    taps: taps.len() as u32,
+                    horizontal: horizontal as u32,
+                    sign: [sign[0], sign[1], sign[2], 0.0],
+                    tap_sum: sum,
+                    px_per_cm_at_unit_depth: params.px_per_cm_at_unit_depth,
+                    sss_width: params.sss_width,
+                    tolerance,
+                    mode,
+                    jitter: params.jitter,
+                    accumulate: (!horizontal) as u32,
+                    fixed_depth: params.fixed_depth.unwrap_or(0.0),
+                    material: material as u32,
+                    skip_empty: params.skip_empty as u32,
+                    _pad: [0; 3],
+                };
+                steps.push(BlurStep {
+                    material,
+                    pass,
+                    horizontal,
+                    uniform,
+                });
+            }
+        }
+    }
+    steps
+}
 
 /// The compiled blur pipelines: the exact path, the fast path and its packing pass.
 /// What one blur reads and writes: the image size [px], the light to scatter, the geometry
@@ -187,132 +262,95 @@ impl Blur {
             };
             [texture("blur source"), texture("blur horizontal")]
         });
-        let mode = match params.depth_mode {
-            DepthMode::None => 0,
-            DepthMode::Lerp => 1,
-            DepthMode::Reject => 2,
-            DepthMode::Gaussian => 3,
-        };
         let cells_of: Vec<Vec<Vec<[f32; 2]>>> = kernels.iter().map(KernelTaps::cells).collect();
-        let passes = kernels.iter().enumerate().flat_map(|(m, k)| {
-            k.passes
-                .iter()
-                .enumerate()
-                .map(move |(p, pass)| (m, k, p, pass))
-        });
-        for (material, k, p, (sign, taps)) in passes {
-            let taps_buf = alloc.storage("taps", bytemuck::cast_slice(taps));
-            let sum = taps.iter().fold([0.0f32; 4], |a, t| {
-                [a[0] + t[0], a[1] + t[1], a[2] + t[2], 0.0]
-            });
-            let tolerance = params
-                .tolerance_cm
-                .unwrap_or(
-                    params.sss_width
-                        * match params.depth_mode {
-                            DepthMode::Gaussian => k.variance_cm2().sqrt(),
-                            _ => k.range_cm,
-                        },
-                )
-                .max(1e-12);
-            let cells = alloc.storage("tap cells", bytemuck::cast_slice(&cells_of[material][p]));
-            for horizontal in [true, false] {
-                let u = Uniform {
-                    width,
-                    height,
-                    taps: taps.len() as u32,
-                    horizontal: horizontal as u32,
-                    sign: [sign[0], sign[1], sign[2], 0.0],
-                    tap_sum: sum,
-                    px_per_cm_at_unit_depth: params.px_per_cm_at_unit_depth,
-                    sss_width: params.sss_width,
-                    tolerance,
-                    mode,
-                    jitter: params.jitter,
-                    accumulate: (!horizontal) as u32,
-                    fixed_depth: params.fixed_depth.unwrap_or(0.0),
-                    material: material as u32,
-                    skip_empty: params.skip_empty as u32,
-                    _pad: [0; 3],
-                };
-                let ubuf = alloc.uniform("blur params", bytemuck::bytes_of(&u));
-                fn buffer(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-                    wgpu::BindGroupEntry {
-                        binding,
-                        resource: b.as_entire_binding(),
-                    }
-                }
-                fn view(binding: u32, v: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
-                    wgpu::BindGroupEntry {
-                        binding,
-                        resource: wgpu::BindingResource::TextureView(v),
-                    }
-                }
-                let mut entries = vec![
-                    buffer(0, &ubuf),
-                    buffer(1, &taps_buf),
-                    buffer(3, geometry),
-                    buffer(5, &cells),
-                ];
-                let pipeline = match &textures {
-                    None => {
-                        let (from, to) = if horizontal { (src, tmp) } else { (tmp, dst) };
-                        entries.extend([buffer(2, from), buffer(4, to)]);
-                        &self.pipeline
-                    }
-                    Some([packed, across]) => {
-                        if horizontal && p == 0 && material == 0 {
-                            self.encode_pack(
-                                gpu,
-                                enc,
-                                (&ubuf, src, geometry),
-                                packed,
-                                (width, height),
-                                timer,
-                            );
-                        }
-                        // Sampled source and storage target swap between the two passes.
-                        let (from, to) = if horizontal {
-                            (packed, across)
-                        } else {
-                            (across, packed)
-                        };
-                        entries.extend([
-                            view(2, from),
-                            buffer(4, dst),
-                            wgpu::BindGroupEntry {
-                                binding: 6,
-                                resource: wgpu::BindingResource::Sampler(&self.sampler),
-                            },
-                            view(7, to),
-                        ]);
-                        &self.fast
-                    }
-                };
-                let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: None,
-                    layout: &pipeline.get_bind_group_layout(0),
-                    entries: &entries,
-                });
-                let label = format!(
-                    "{}pass {} {}",
-                    if kernels.len() > 1 {
-                        format!("material {} ", material + 1)
-                    } else {
-                        String::new()
-                    },
-                    p + 1,
-                    if horizontal { "horizontal" } else { "vertical" }
-                );
-                let writes = timer.as_mut().map(|t| t.writes(&label));
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(&label),
-                    timestamp_writes: writes,
-                });
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, &bind, &[]);
-                pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+        let mut buffers = None;
+        for step in steps(kernels, params, (width, height)) {
+            let (material, p, horizontal) = (step.material, step.pass, step.horizontal);
+            if horizontal {
+                let taps = &kernels[material].passes[p].1;
+                buffers = Some((
+                    alloc.storage("taps", bytemuck::cast_slice(taps)),
+                    alloc.storage("tap cells", bytemuck::cast_slice(&cells_of[material][p])),
+                ));
             }
+            let (taps_buf, cells) = buffers.as_ref().expect("a horizontal step comes first");
+            let ubuf = alloc.uniform("blur params", bytemuck::bytes_of(&step.uniform));
+            fn buffer(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+                wgpu::BindGroupEntry {
+                    binding,
+                    resource: b.as_entire_binding(),
+                }
+            }
+            fn view(binding: u32, v: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
+                wgpu::BindGroupEntry {
+                    binding,
+                    resource: wgpu::BindingResource::TextureView(v),
+                }
+            }
+            let mut entries = vec![
+                buffer(0, &ubuf),
+                buffer(1, taps_buf),
+                buffer(3, geometry),
+                buffer(5, cells),
+            ];
+            let pipeline = match &textures {
+                None => {
+                    let (from, to) = if horizontal { (src, tmp) } else { (tmp, dst) };
+                    entries.extend([buffer(2, from), buffer(4, to)]);
+                    &self.pipeline
+                }
+                Some([packed, across]) => {
+                    if horizontal && p == 0 && material == 0 {
+                        self.encode_pack(
+                            gpu,
+                            enc,
+                            (&ubuf, src, geometry),
+                            packed,
+                            (width, height),
+                            timer,
+                        );
+                    }
+                    // Sampled source and storage target swap between the two passes.
+                    let (from, to) = if horizontal {
+                        (packed, across)
+                    } else {
+                        (across, packed)
+                    };
+                    entries.extend([
+                        view(2, from),
+                        buffer(4, dst),
+                        wgpu::BindGroupEntry {
+                            binding: 6,
+                            resource: wgpu::BindingResource::Sampler(&self.sampler),
+                        },
+                        view(7, to),
+                    ]);
+                    &self.fast
+                }
+            };
+            let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: None,
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &entries,
+            });
+            let label = format!(
+                "{}pass {} {}",
+                if kernels.len() > 1 {
+                    format!("material {} ", material + 1)
+                } else {
+                    String::new()
+                },
+                p + 1,
+                if horizontal { "horizontal" } else { "vertical" }
+            );
+            let writes = timer.as_mut().map(|t| t.writes(&label));
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(&label),
+                timestamp_writes: writes,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
         }
         Ok(())
     }

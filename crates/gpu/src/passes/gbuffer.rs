@@ -111,6 +111,11 @@ fn lighting_entries<'a>(
 /// The scene pass's uniform block for `scene` at `params`' size: the camera, the lights with
 /// their shadow maps' projections, the albedo mode and each material's packed tables (`plain`:
 /// no albedo split and all tables off but η).
+pub(crate) fn globals_bytes(scene: &Scene, params: &RenderParams, plain: bool) -> Vec<u8> {
+    bytemuck::bytes_of(&globals(scene, params, plain)).to_vec()
+}
+
+/// The scene pass's uniform block (see [`globals_bytes`]).
 fn globals(scene: &Scene, params: &RenderParams, plain: bool) -> Globals {
     let (w, h) = (params.width, params.height);
     let cam = &scene.camera;

@@ -51,6 +51,41 @@ pub fn kernel_footprint_px(
         / depth
 }
 
+/// The kernels as the blur applies them (each replaced by a single tap where it reaches less than
+/// [`SUBPIXEL_PX`], with `params.skip_subpixel`) and the blur's settings, for `scene` at
+/// `params`' size and resolution.
+pub(crate) fn blur_setup(
+    scene: &Scene,
+    given: &[KernelTaps],
+    params: &RenderParams,
+) -> (Vec<KernelTaps>, BlurParams) {
+    // Half resolution: the blur's pixels are 2×2 of the image's.
+    let px = if params.half_res { 0.5 } else { 1.0 };
+    let kernels: Vec<KernelTaps> = given
+        .iter()
+        .enumerate()
+        .map(|(m, k)| {
+            let footprint = px * kernel_footprint_px(scene, m as u32, k, params);
+            if params.skip_subpixel && footprint < SUBPIXEL_PX {
+                k.point()
+            } else {
+                k.clone()
+            }
+        })
+        .collect();
+    let blur_params = BlurParams {
+        px_per_cm_at_unit_depth: px * scene.camera.px_per_cm_at_unit_depth(params.height),
+        sss_width: params.sss_width,
+        depth_mode: params.depth_mode,
+        tolerance_cm: params.tolerance_cm,
+        jitter: params.jitter,
+        fixed_depth: params.fixed_depth,
+        skip_empty: params.skip_empty,
+        fast: params.fast,
+    };
+    (kernels, blur_params)
+}
+
 /// The blur and the half-resolution resampling, compiled.
 pub(crate) struct Separable {
     blur: Blur,
@@ -76,30 +111,7 @@ impl Pass for Separable {
     fn encode(&self, rec: &mut Recording, (target, given, params): Self::Input<'_>) -> Result<()> {
         let (scene, (w, h)) = (target.scene, target.size);
         let alloc = rec.alloc;
-        // Half resolution: the blur's pixels are 2×2 of the image's.
-        let px = if params.half_res { 0.5 } else { 1.0 };
-        let kernels: Vec<KernelTaps> = given
-            .iter()
-            .enumerate()
-            .map(|(m, k)| {
-                let footprint = px * kernel_footprint_px(scene, m as u32, k, params);
-                if params.skip_subpixel && footprint < SUBPIXEL_PX {
-                    k.point()
-                } else {
-                    k.clone()
-                }
-            })
-            .collect();
-        let blur_params = BlurParams {
-            px_per_cm_at_unit_depth: px * scene.camera.px_per_cm_at_unit_depth(h),
-            sss_width: params.sss_width,
-            depth_mode: params.depth_mode,
-            tolerance_cm: params.tolerance_cm,
-            jitter: params.jitter,
-            fixed_depth: params.fixed_depth,
-            skip_empty: params.skip_empty,
-            fast: params.fast,
-        };
+        let (kernels, blur_params) = blur_setup(scene, given, params);
         let full = (&target.gbuffer.diffuse, &target.gbuffer.geometry);
         if !params.half_res {
             let tmp = alloc.pixels((w * h) as usize, "tmp");

@@ -12,7 +12,7 @@ use crate::scene::Scene;
 
 /// Side of each shadow map [texels]: 2048, or 1024 beyond 16 emitters (an area light's cells),
 /// which keeps the maps within 256 MB.
-fn shadow_size(layers: u32) -> u32 {
+pub(crate) fn shadow_size(layers: u32) -> u32 {
     if layers > 16 { 1024 } else { 2048 }
 }
 

@@ -83,7 +83,7 @@ fn index(x: i32, y: i32) -> u32 {
 
 // Uniform in [0, 1] from a pixel, a tap and a stream.
 fn hash(x: u32, y: u32, t: u32) -> f32 {
-    var h = x * 73856093u ^ y * 19349663u ^ t * 83492791u;
+    var h = (x * 73856093u) ^ (y * 19349663u) ^ (t * 83492791u);
     h = (h ^ (h >> 16u)) * 0x45d9f3bu;
     h = (h ^ (h >> 16u)) * 0x45d9f3bu;
     h = h ^ (h >> 16u);

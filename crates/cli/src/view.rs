@@ -1,0 +1,143 @@
+//! `sss view`: the browser page (`web/`) with a material's package and its scenes' frames,
+//! written into a folder to serve (`render::Site`).
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+
+use crate::cache::{Cached, ProfileSource};
+use crate::common::{Bars, parse_count};
+use crate::files::Outputs;
+use crate::library;
+
+#[derive(Args)]
+pub struct ViewArgs {
+    /// Material (built-in name or material .toml path)
+    #[arg(default_value = "skin1")]
+    pub material: String,
+
+    /// Scenes the page offers (repeatable; the first is its default): sphere, fin or an .obj path
+    /// (named after its file) [default: sphere and fin]
+    #[arg(long = "scene", value_name = "SCENE")]
+    pub scenes: Vec<String>,
+
+    /// A path-traced reference to show beside a scene: NAME=FILE.png (repeatable; e.g.
+    /// `mitsuba.png` that scripts/references/images.py wrote for that scene, whose camera and
+    /// light are the reference scene's)
+    #[arg(long = "reference", value_name = "NAME=FILE.png")]
+    pub references: Vec<String>,
+
+    /// Image width [px] (the frames are drawn at this size, as `sss render --width`)
+    #[arg(long, default_value_t = 960)]
+    pub width: u32,
+
+    /// Image height [px]
+    #[arg(long, default_value_t = 540)]
+    pub height: u32,
+
+    /// Taps per 1D pass of the kernel
+    #[arg(long, default_value_t = 17)]
+    pub taps: usize,
+
+    /// Photons per channel and angle of the incidence, exit and entry-shift tables
+    #[arg(long, value_parser = parse_count, default_value = "100000")]
+    pub incidence_photons: u64,
+
+    /// Photons per channel and thickness of the translucency table
+    #[arg(long, value_parser = parse_count, default_value = "20000")]
+    pub translucency_photons: u64,
+
+    /// The page's folder [default: out/view]
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+
+    /// Where the profile and tables come from
+    #[command(flatten)]
+    pub source: ProfileSource,
+}
+
+pub fn run(mut a: ViewArgs) -> Result<()> {
+    let named = library::material(&a.material)?;
+    let out = a
+        .out
+        .clone()
+        .unwrap_or_else(|| crate::common::default_out().join("view"));
+    a.source
+        .profiles
+        .get_or_insert_with(crate::common::default_out);
+    let scenes: Vec<render::SiteScene> = if a.scenes.is_empty() {
+        vec!["sphere".to_string(), "fin".to_string()]
+    } else {
+        a.scenes.clone()
+    }
+    .into_iter()
+    .map(|scene| render::SiteScene {
+        name: std::path::Path::new(&scene)
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("scene")
+            .to_string(),
+        scene,
+        reference: None,
+    })
+    .collect();
+    let mut scenes = scenes;
+    for r in &a.references {
+        let Some((name, file)) = r.split_once('=') else {
+            bail!("invalid --reference {r:?}: expected NAME=FILE.png");
+        };
+        let names: Vec<String> = scenes.iter().map(|s| s.name.clone()).collect();
+        let Some(s) = scenes.iter_mut().find(|s| s.name == name) else {
+            bail!(
+                "invalid --reference {r:?}: no scene {name} (the page has {})",
+                names.join(", ")
+            );
+        };
+        let png = std::fs::read(file).with_context(|| format!("cannot read --reference {file}"))?;
+        if !png.starts_with(b"\x89PNG") {
+            bail!("invalid --reference {file}: not a PNG");
+        }
+        s.reference = Some(png);
+    }
+    let config = library::config(a.source.config.as_deref())?;
+    let mut request = render::Request {
+        materials: vec![render::NamedMaterial {
+            slug: named.slug,
+            material: named.material,
+        }],
+        tables: render::TableSettings {
+            seed: a.source.seed_in(&config),
+            config,
+            incidence_photons: a.incidence_photons,
+            translucency_photons: a.translucency_photons,
+        },
+        ..render::Request::default()
+    };
+    request.frame.width = a.width;
+    request.frame.height = a.height;
+    request.frame.taps = a.taps;
+    let mut files = Outputs::default();
+    let bars = Bars::default();
+    let mut profiles = Cached {
+        source: &a.source,
+        files: &mut files,
+    };
+    let site = render::Site::build(&request, &scenes, &mut profiles, &bars)?;
+    files.add_in(&out, site.files().to_vec());
+    files.commit()?;
+    let names: Vec<&str> = scenes.iter().map(|s| s.name.as_str()).collect();
+    eprintln!(
+        "wrote the page for {} ({}) to {}\n\
+         serve it and open it in a browser with WebGPU (Chrome or Edge 113+, Safari 26, Firefox 141+):\n  \
+         python3 -m http.server --directory {} 8000   then   http://localhost:8000/?scene={}\n\
+         or without a server: chromium --allow-file-access-from-files {}/index.html",
+        site.package.slug,
+        names.join(", "),
+        out.display(),
+        out.display(),
+        names[0],
+        out.display()
+    );
+    Ok(())
+}
