@@ -152,6 +152,108 @@ pub fn color_for(target: f64, g: f64) -> Option<f64> {
     )
 }
 
+/// Photons per channel and evaluation of [`matched_alpha`]'s runs: the reflectance's relative
+/// standard error is about √((1 − Rd)/(Rd·N)), 0.2–0.5 % for Rd between 0.1 and 0.5.
+pub const MATCH_PHOTONS: u64 = 200_000;
+
+/// Seed of [`matched_alpha`]'s runs: every evaluation draws the same numbers, so the reflectance
+/// it solves for is a smooth function of the albedo.
+pub const MATCH_SEED: u64 = 46;
+
+/// The total diffuse reflectance Rd(0°) [-] of an index-matched half-space of single-scattering
+/// albedo `alpha` and anisotropy `g` (σt = 1: a half-space's Rd does not depend on lengths) under
+/// a beam at normal incidence, traced with `walk` ([`mc::cycles::CyclesWalk::EXACT`]: the medium
+/// itself; `BLENDER`: what Cycles traces).
+pub fn half_space_rd(
+    alpha: f64,
+    g: f64,
+    walk: mc::cycles::CyclesWalk,
+    photons: u64,
+    seed: u64,
+) -> mc::Result<mc::Estimate> {
+    let spec = mc::RunSpec {
+        sample: mc::Sample::single(mc::Layer {
+            n: 1.0,
+            mu_a: 1.0 - alpha,
+            mu_s: alpha,
+            g,
+            thickness: 1e9,
+        }),
+        grid: mc::Grid {
+            dr: 1.0,
+            dz: 1.0,
+            nr: 1,
+            nz: 1,
+            na: 1,
+        },
+        photons,
+        seed,
+        tallies: mc::TallySet {
+            absorption_rz: false,
+            absorption_rz_se: false,
+            surface_xy: 0,
+        },
+    };
+    Ok(mc::cycles::run_cycles(&spec, mc::Incidence::NORMAL, walk, &|_| {})?.rd)
+}
+
+/// What [`matched_alpha`] found.
+#[derive(Clone, Copy, Debug)]
+pub struct Matched {
+    /// The single-scattering albedo Cycles should trace [-].
+    pub alpha: f64,
+    /// The medium's own Rd(0°) [-], with its standard error.
+    pub target: mc::Estimate,
+    /// Cycles' walk's Rd(0°) at `alpha` [-], with its standard error.
+    pub walk: mc::Estimate,
+    /// Cycles' walk's Rd(0°) at the medium's own albedo (the exact inversion) [-].
+    pub walk_at_own: mc::Estimate,
+}
+
+/// The single-scattering albedo that makes Cycles' walk ([`mc::cycles::CyclesWalk::BLENDER`],
+/// anisotropy `g_cycles`) reflect what the medium of albedo `alpha` and anisotropy `g` reflects:
+/// the root of Rd_Cycles(α′) = Rd(α) at normal incidence in an index-matched half-space, found by
+/// the secant method in u = −ln(1 − α′) (where Rd is nearly linear) on runs of [`MATCH_PHOTONS`]
+/// with one seed ([`MATCH_SEED`]: the same random numbers at every α′), until Rd_Cycles is within
+/// a tenth of its standard error of the target or eight runs are spent. α′ stays within
+/// [[`MIN_ALPHA`], `max_alpha`] (what Base Color ≤ 1 reaches).
+pub fn matched_alpha(alpha: f64, g: f64, g_cycles: f64, max_alpha: f64) -> mc::Result<Matched> {
+    use mc::cycles::CyclesWalk;
+    let target = half_space_rd(alpha, g, CyclesWalk::EXACT, MATCH_PHOTONS, MATCH_SEED)?;
+    let rd = |a: f64| half_space_rd(a, g_cycles, CyclesWalk::BLENDER, MATCH_PHOTONS, MATCH_SEED);
+    let u = |a: f64| -(1.0 - a).ln();
+    let a_of = |u: f64| (1.0 - (-u).exp()).clamp(MIN_ALPHA, max_alpha);
+    let start = alpha.clamp(MIN_ALPHA, max_alpha);
+    let walk_at_own = rd(start)?;
+    let (mut u0, mut f0) = (u(start), walk_at_own.value - target.value);
+    let mut best = (start, walk_at_own);
+    // The second point: a step of the size a linear Rd(u) near the start suggests, at most ¼.
+    let mut u1 = u0 * (1.0 - (f0 / target.value.max(1e-9)).clamp(-0.25, 0.25));
+    for _ in 0..7 {
+        if (best.1.value - target.value).abs() <= 0.1 * best.1.se {
+            break;
+        }
+        let a1 = a_of(u1);
+        let r1 = rd(a1)?;
+        let f1 = r1.value - target.value;
+        if f1.abs() < (best.1.value - target.value).abs() {
+            best = (a1, r1);
+        }
+        if f1 == f0 || u(a1) == u0 {
+            break;
+        }
+        let next = u1 - f1 * (u1 - u0) / (f1 - f0);
+        (u0, f0) = (u(a1), f1);
+        u1 = next.clamp(u(MIN_ALPHA), u(max_alpha));
+    }
+    Ok(Matched {
+        alpha: best.0,
+        target,
+        walk: best.1,
+        walk_at_own,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -290,7 +290,9 @@ pub fn burley_engine(engine: Engine, fit: &BurleyProfileFit) -> Option<EnginePar
 }
 
 /// Blender Cycles' Principled BSDF with Subsurface Method "Random Walk" (Blender 4.0–5.0; "Random
-/// Walk (Fixed Radius)" in 3.x): the material's own medium, not a fit. Subsurface Radius ×
+/// Walk (Fixed Radius)" in 3.x): the material's own medium, with Base Color matched to the walk
+/// Cycles really runs where g > 0 ([`crate::cycles::matched_alpha`]: its reflectance at normal
+/// incidence is the medium's; [`random_walk_exact`] leaves that out). Subsurface Radius ×
 /// Subsurface Scale (d) with Subsurface Anisotropy give Cycles' extinction σt = 4π/(d·(1 − g)),
 /// and Base Color its single-scattering
 /// albedo through the remap of [`crate::cycles`], inverted numerically; lengths in metres (scene
@@ -299,6 +301,17 @@ pub fn burley_engine(engine: Engine, fit: &BurleyProfileFit) -> Option<EnginePar
 /// function does not). Fields as Blender 4.0–5.0 name them (Principled BSDF v2); in 3.x choose
 /// "Random Walk (Fixed Radius)", set Subsurface to 1 and Subsurface Color to the Base Color.
 pub fn random_walk(m: &mc::Material) -> EngineParams {
+    random_walk_fields(m, true)
+}
+
+/// [`random_walk`] without the match of Cycles' walk: Base Color is the exact inversion of
+/// Cycles' remap, so that Cycles' first ten bounces trace the material's own σa, σs and g (and
+/// every bounce where g = 0). Cheap (no runs).
+pub fn random_walk_exact(m: &mc::Material) -> EngineParams {
+    random_walk_fields(m, false)
+}
+
+fn random_walk_fields(m: &mc::Material, matched: bool) -> EngineParams {
     let mean = m.g.iter().sum::<f64>() / 3.0;
     let g = mean.clamp(0.0, crate::cycles::MAX_G);
     let mut notes = vec![
@@ -328,6 +341,12 @@ pub fn random_walk(m: &mc::Material) -> EngineParams {
             m.eta.clamp(1.01, 3.8)
         ));
     }
+    if matched && corrects(m, g) {
+        notes.push(format!(
+            "Cycles does not trace the medium it is given at g > 0: bounces 0–9 of its walk trace σs, σt and g, later ones the similarity-scaled medium σs(1 − g), isotropic (SUBSURFACE_RANDOM_WALK_SIMILARITY_LEVEL 9), and walks end after 256 bounces. Base Color is therefore not the exact inversion of Cycles' remap but the single-scattering albedo that makes that walk (mc::cycles, traced by mc) reflect the medium's own total Rd at normal incidence in an index-matched half-space: a secant root find per channel on runs of {} photons at one seed. Subsurface Radius keeps the medium's σt, so Cycles' first flights are the medium's and its later ones have the medium's transport coefficient σa + σs(1 − g). What remains: Rd at other incidences and the profile Rd(r) are not matched, only close (the first ten flights use the lowered albedo; the walk's light leaves from slightly different depths)",
+            crate::cycles::MATCH_PHOTONS
+        ));
+    }
     let (mut color, mut radius_cm) = ([0.0; 3], [0.0; 3]);
     for (c, ch) in mc::CHANNELS.iter().enumerate() {
         let sigma_t = m.sigma_a[c] + m.sigma_s[c];
@@ -337,8 +356,13 @@ pub fn random_walk(m: &mc::Material) -> EngineParams {
             ));
             continue;
         }
-        let alpha = m.sigma_s[c] / sigma_t;
+        let own = m.sigma_s[c] / sigma_t;
         radius_cm[c] = crate::cycles::radius_for(sigma_t, g);
+        let alpha = if matched {
+            match_walk(own, m.g[c], g, ch, &mut notes)
+        } else {
+            own
+        };
         color[c] = match crate::cycles::color_for(alpha, g) {
             Some(a) => a,
             None => {
@@ -349,9 +373,9 @@ pub fn random_walk(m: &mc::Material) -> EngineParams {
                 1.0
             }
         };
-        if alpha < crate::cycles::MIN_ALPHA {
+        if own < crate::cycles::MIN_ALPHA {
             notes.push(format!(
-                "{ch}: single-scattering albedo {alpha:.4} is below 0.2, where Cycles traces 0.2 and scales the light by α/0.2: not the same medium"
+                "{ch}: single-scattering albedo {own:.4} is below 0.2, where Cycles traces 0.2 and scales the light by α/0.2: not the same medium"
             ));
         }
     }
@@ -376,6 +400,46 @@ pub fn random_walk(m: &mc::Material) -> EngineParams {
             field("Roughness", Value::Number(0.0), ""),
         ],
         notes,
+    }
+}
+
+/// Whether Cycles' walk differs from the material's medium beyond its 256-bounce cap: its
+/// anisotropy `g` is not 0 (the walk turns to the similarity-scaled medium after ten flights), or
+/// a channel's own g differs from it.
+fn corrects(m: &mc::Material, g: f64) -> bool {
+    g != 0.0 || m.g.iter().any(|&x| x != g)
+}
+
+/// The single-scattering albedo Cycles should trace for a channel of albedo `own` and anisotropy
+/// `g_own` when it traces anisotropy `g` ([`crate::cycles::matched_alpha`]), with a note; `own`
+/// itself where the walk is the medium's (g = 0 everywhere), where Cycles substitutes 0.2, or
+/// where the runs fail (noted).
+fn match_walk(own: f64, g_own: f64, g: f64, ch: &str, notes: &mut Vec<String>) -> f64 {
+    if (g == 0.0 && g_own == 0.0) || own < crate::cycles::MIN_ALPHA {
+        return own;
+    }
+    let max = crate::cycles::alpha(1.0, g);
+    match crate::cycles::matched_alpha(own, g_own, g, max) {
+        Ok(m) => {
+            notes.push(format!(
+                "{ch}: Cycles' walk at the medium's single-scattering albedo {own:.6} reflects Rd(0°) = {:.4} ± {:.4} against the medium's {:.4} ± {:.4} ({:+.1} %); traced at {:.6} it reflects {:.4} ± {:.4}",
+                m.walk_at_own.value,
+                m.walk_at_own.se,
+                m.target.value,
+                m.target.se,
+                100.0 * (m.walk_at_own.value / m.target.value - 1.0),
+                m.alpha,
+                m.walk.value,
+                m.walk.se
+            ));
+            m.alpha
+        }
+        Err(e) => {
+            notes.push(format!(
+                "{ch}: the walk's albedo could not be matched ({e}); the exact inversion is kept"
+            ));
+            own
+        }
     }
 }
 
@@ -521,7 +585,7 @@ mod tests {
             }
         }
         for m in &materials {
-            let p = random_walk(m);
+            let p = random_walk_exact(m);
             let v = |n: &str| p.fields.iter().find(|f| f.name == n).unwrap().value.clone();
             let (Value::Color(color), Value::Color(radius), Value::Number(scale), Value::Number(g)) = (
                 v("Base Color"),
@@ -569,7 +633,7 @@ mod tests {
                 g: [g; 3],
                 ..materials[0].clone()
             };
-            let p = random_walk(&m);
+            let p = random_walk_exact(&m);
             let v = p
                 .fields
                 .iter()

@@ -39,6 +39,7 @@ pub mod builtin;
 mod cfmt;
 mod channel;
 mod config;
+pub mod cycles;
 mod error;
 pub mod exitance;
 mod fresnel;

@@ -291,7 +291,7 @@ fn hop_in_glass<S: Scorer>(m: &Medium, p: &mut Photon, rng: &mut Rng, scorer: &m
 /// Free path s = −ln ξ / μt [cm] (sampled with the ziggurat method, no logarithm), or the optical
 /// depth left over from the last boundary hit.
 #[inline]
-fn step_size(p: &mut Photon, mu_t: f64, rng: &mut Rng) -> f64 {
+pub(crate) fn step_size(p: &mut Photon, mu_t: f64, rng: &mut Rng) -> f64 {
     if p.s_left == 0.0 {
         let tau: f64 = Exp1.sample(rng);
         tau / mu_t
@@ -305,7 +305,7 @@ fn step_size(p: &mut Photon, mu_t: f64, rng: &mut Rng) -> f64 {
 /// Distance to the layer boundary along the direction when it is shorter than `s` [cm]. The test
 /// z + s·uz beyond the boundary needs no division; the distance is computed only on a hit.
 #[inline]
-fn hit_boundary(p: &Photon, slab: &Slab, s: f64) -> Option<f64> {
+pub(crate) fn hit_boundary(p: &Photon, slab: &Slab, s: f64) -> Option<f64> {
     let z_end = p.z + s * p.uz;
     if z_end > slab.z1 {
         Some((slab.z1 - p.z) / p.uz)
@@ -325,7 +325,7 @@ pub(crate) fn hop(p: &mut Photon, s: f64) {
 
 /// Implicit capture: deposit w·μa/μt, keep the rest (MCML's `Drop`).
 #[inline]
-fn drop<S: Scorer>(p: &mut Photon, absorb: f64, scorer: &mut S) {
+pub(crate) fn drop<S: Scorer>(p: &mut Photon, absorb: f64, scorer: &mut S) {
     let dw = p.w * absorb;
     p.w -= dw;
     p.interactions += 1;
@@ -336,7 +336,7 @@ fn drop<S: Scorer>(p: &mut Photon, absorb: f64, scorer: &mut S) {
 /// (g = 0) forgets the old direction, so the new one is drawn directly on the sphere; otherwise
 /// the sampled (θ, ψ) are applied in the frame of the old direction.
 #[inline(always)]
-fn spin(p: &mut Photon, g: f64, rng: &mut Rng) {
+pub(crate) fn spin(p: &mut Photon, g: f64, rng: &mut Rng) {
     if g == 0.0 {
         // Marsaglia (1972): for (u, v) uniform in the unit disk and s = u² + v²,
         // (2u√(1−s), 2v√(1−s), 1 − 2s) is uniform on the unit sphere.
