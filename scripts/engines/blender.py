@@ -76,6 +76,8 @@ CYCLES_MIN_IOR = 1.01
 # The slab check: the random walk's reflected energy within 3 % of `mc`'s total reflectance; the
 # white calibration slab's radiance within 0.5 % of E/π.
 SLAB_TOLERANCE, SLAB_CALIBRATION = 0.03, 0.005
+# `slab --g`: Cycles' reflectance at normal incidence within 1 % of the exact medium's Rd(0°).
+SWEEP_TOLERANCE = 0.01
 
 
 def blender():
@@ -634,6 +636,8 @@ def slab_command(a):
           + ", ".join(f"{k}: " + "/".join(f"{x:.4f}" for x in v) for k, v in calibration.items())
           + f" (must be 1 within {100 * SLAB_CALIBRATION:.1f} %): {'passes' if cal_ok else 'FAILS'}", flush=True)
     ok, checks, reported = cal_ok, [], []
+    if a.g:
+        return g_sweep(a, sss, m, render, calibration, cal_ok, bpy, t0)
 
     def line(what, ratio, se, required=None):
         print(f"  {what:<72} " + "/".join(f"{x:.3f} ± {e:.3f}" for x, e in zip(ratio, se))
@@ -710,6 +714,42 @@ def slab_command(a):
     return 0 if ok else 1
 
 
+def g_sweep(a, sss, m, render, calibration, cal_ok, bpy, t0):
+    """`slab --g LIST`: the material's σa and σs with each anisotropy g of LIST in every channel,
+    index-matched, on the thick slab under normal light, seen at 0°: Cycles' reflectance (Random
+    Walk with engine-params' fields, which match Base Color to the walk Cycles really runs) over
+    `sss simulate`'s Rd(0°) of the exact medium, required within SWEEP_TOLERANCE per channel."""
+    ok, sweep = cal_ok, []
+    print(f"g sweep: {a.material}'s σa, σs with g replaced, η = 1; Cycles (view 0°, light 0°) over mc's Rd(0°), R/G/B")
+    with tempfile.TemporaryDirectory() as tmp:
+        for g in [float(x) for x in a.g.split(",")]:
+            mg = json.loads(json.dumps(m))
+            for c in "RGB":
+                mg["channels"][c]["g"] = g
+            path = material_toml(mg, 1.0, os.path.join(tmp, f"g{g}.toml"))
+            mc = incidence_rd(sss, path, [0.0], a.photons, tmp)[0]
+            _, walk = engine_params(sss, path)
+            c = render(lambda s: s.principled(walk, "RANDOM_WALK", 1.0), 0.0, 0.0)
+            r = [p / q for p, q in zip(c[0], mc[0])]
+            se = [v * math.hypot(e / p, f / q) for v, p, e, q, f in zip(r, c[0], c[1], mc[0], mc[1])]
+            passed = all(abs(x - 1) <= SWEEP_TOLERANCE for x in r)
+            ok &= passed
+            sweep.append({"g": g, "cycles": c[0], "cycles_se": c[1], "mc_rd": mc[0], "mc_rd_se": mc[1],
+                          "ratio": r, "ratio_se": se, "base_color": walk["Base Color"], "pass": passed})
+            print(f"  g = {g:<4}  Cycles " + "/".join(f"{x:.4f}" for x in c[0]) + "  mc Rd(0°) "
+                  + "/".join(f"{x:.4f}" for x in mc[0]) + "  ratio " + "/".join(f"{x:.4f} ± {e:.4f}" for x, e in zip(r, se))
+                  + f": {'within' if passed else 'NOT within'} {100 * SWEEP_TOLERANCE:.0f} %", flush=True)
+    result = {"material": a.material, "blender": bpy.app.version_string, "resolution": a.resolution, "spp": a.spp,
+              "incidence_photons": a.photons, "calibration": calibration, "calibration_pass": cal_ok,
+              "g_sweep": sweep, "pass": ok, "seconds": time.time() - t0}
+    if a.json:
+        os.makedirs(os.path.dirname(os.path.abspath(a.json)), exist_ok=True)
+        with open(a.json, "w") as f:
+            json.dump(result, f, indent=2)
+    print(f"slab --g: {'agrees' if ok else 'DISAGREES'} ({time.time() - t0:.0f} s)")
+    return 0 if ok else 1
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sss", help="path to the sss binary [default: target/release/sss]")
@@ -720,6 +760,8 @@ def main():
     p.add_argument("--spp", type=int, default=64, help="Cycles' samples per pixel [default 64]")
     p.add_argument("--photons", type=int, default=300_000,
                    help="`sss simulate` photons per channel and angle [default 3e5]")
+    p.add_argument("--g", help="comma-separated anisotropies, e.g. 0,0.5,0.8,0.9: instead of the checks above, the "
+                   "material's σa, σs with each g, index-matched, Cycles' Rd(0°) within 1 %% of mc's (use --spp 1024)")
     p.add_argument("--json", help="also write the numbers to this file")
     p = sub.add_parser("scene", help="images.py's scenes in Blender, scored against its Mitsuba reference")
     p.add_argument("--scene", default="sphere", choices=["sphere", "fin", "bust"])
