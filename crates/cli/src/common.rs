@@ -109,4 +109,8 @@ impl render::Progress for Bars {
             b.finish_and_clear();
         }
     }
+
+    fn note(&self, line: &str) {
+        eprintln!("{line}");
+    }
 }

@@ -7,9 +7,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use fit::engine::{
-    BurleyProfileFit, Engine, EngineParams, burley_engine, materialx, openpbr, random_walk,
-};
+use fit::engine::{BurleyProfileFit, Engine, burley_engine, materialx, openpbr, random_walk};
 use fit::export::{OffsetUnit, ShaderFormat, export};
 use fit::select::{Budget, Judge, Scored};
 use serde_json::json;
@@ -37,73 +35,17 @@ impl MaterialArg {
     pub fn resolve(&self) -> Result<Named> {
         match (&self.material, &self.from_artist) {
             (Some(m), _) => library::material(m),
-            (None, Some(kv)) => artist_material(kv),
+            (None, Some(kv)) => {
+                let (slug, material) = mc::Material::from_artist(kv)?;
+                eprintln!(
+                    "artist material: σa = {:.4?} cm⁻¹, σs = {:.4?} cm⁻¹ (van de Hulst inversion)",
+                    material.sigma_a, material.sigma_s
+                );
+                Ok(Named { slug, material })
+            }
             (None, None) => bail!("give a MATERIAL or --from-artist"),
         }
     }
-}
-
-/// `color=…`, `radius=…[:unit]`, `g=…`, `eta=…` → a material named after its parameters (so
-/// profiles of different artist materials never share a file).
-fn artist_material(kv: &[String]) -> Result<Named> {
-    let (mut color, mut radius, mut g, mut eta) = (None, None, 0.0, 1.3);
-    for item in kv {
-        let (key, value) = item
-            .split_once('=')
-            .with_context(|| format!("invalid --from-artist {item:?}: expected KEY=VALUE"))?;
-        let rgb = |v: &str| {
-            crate::common::parse_rgb(v)
-                .map_err(|e| anyhow::anyhow!("invalid --from-artist {key}: {e}"))
-        };
-        let number = |v: &str| {
-            v.trim()
-                .parse::<f64>()
-                .map_err(|_| anyhow::anyhow!("invalid --from-artist {key}={v:?}: not a number"))
-        };
-        match key.trim() {
-            "color" => color = Some(rgb(value)?),
-            "radius" => {
-                let (v, unit) = value.split_once(':').unwrap_or((value, "cm"));
-                let to_cm = match unit {
-                    "cm" => 1.0,
-                    "mm" => 0.1,
-                    u => bail!("invalid --from-artist radius unit {u:?}: cm or mm"),
-                };
-                radius = Some(rgb(v)?.map(|r| r * to_cm));
-            }
-            "g" => g = number(value)?,
-            "eta" => eta = number(value)?,
-            k => bail!("invalid --from-artist key {k:?}: color, radius, g or eta"),
-        }
-    }
-    let (Some(color), Some(radius)) = (color, radius) else {
-        bail!("--from-artist needs color=R,G,B and radius=R,G,B[:unit]");
-    };
-    let art = mc::artist::Artist { color, radius };
-    let (sigma_a, sigma_s) = art.coefficients([g; 3])?;
-    let id = format!("{color:?}{radius:?}{g}{eta}")
-        .bytes()
-        .fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-            (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
-        });
-    let material = mc::Material {
-        name: "artist".into(),
-        source: format!("artist color {color:?}, radius {radius:?} cm, g {g}, eta {eta}"),
-        sigma_a,
-        sigma_s,
-        g: [g; 3],
-        eta,
-        thickness: None,
-    };
-    material.validate()?;
-    eprintln!(
-        "artist material: σa = {:.4?} cm⁻¹, σs = {:.4?} cm⁻¹ (van de Hulst inversion)",
-        sigma_a, sigma_s
-    );
-    Ok(Named {
-        slug: format!("artist-{:08x}", id as u32),
-        material,
-    })
 }
 
 fn print_ranking(ranked: &[Scored], budget: Budget) {
@@ -257,9 +199,9 @@ pub fn engine_params(a: EngineParamsArgs) -> Result<()> {
     }
     files.commit()?;
     let ch = mc::CHANNELS;
-    let mut text = fields_text(&named.slug, &params);
+    let mut text = params.text(&named.slug);
     if let Some(w) = &walk {
-        text += &fields_text(&named.slug, w);
+        text += &w.text(&named.slug);
     }
     text += &format!(
         "Burley fit to the Monte Carlo profile: albedo {:.4?}, d {:.4e}/{:.4e}/{:.4e} cm\n",
@@ -294,16 +236,4 @@ pub fn engine_params(a: EngineParamsArgs) -> Result<()> {
         print!("{text}");
     }
     Ok(())
-}
-
-/// An engine's fields as printed: where they live, each field with its unit, the notes.
-fn fields_text(slug: &str, p: &EngineParams) -> String {
-    let mut text = format!("{slug} — {} ({}):\n", p.location, p.engine);
-    for f in &p.fields {
-        text += &format!("  {:<32} {} {}\n", f.name, f.value, f.unit);
-    }
-    for n in &p.notes {
-        text += &format!("  note: {n}\n");
-    }
-    text
 }

@@ -7,10 +7,7 @@ use anyhow::{Context, Result, bail};
 use mc::{Material, SimConfig};
 
 /// A material with the short name used for file names.
-pub struct Named {
-    pub slug: String,
-    pub material: Material,
-}
+pub use render::NamedMaterial as Named;
 
 /// Resolves a material argument: a path to a TOML file (contains a path separator or ends in
 /// `.toml`), else a built-in name (case-insensitive).
@@ -50,12 +47,5 @@ pub fn all() -> Result<Vec<Named>> {
 
 /// The run settings: a TOML file, or the built-in thesis settings.
 pub fn config(path: Option<&Path>) -> Result<SimConfig> {
-    match path {
-        Some(p) => {
-            let text = crate::files::read_text(p)
-                .with_context(|| format!("cannot read config file {}", p.display()))?;
-            Ok(SimConfig::from_toml(&text, &p.display().to_string())?)
-        }
-        None => Ok(SimConfig::thesis()?),
-    }
+    Ok(SimConfig::read(path)?)
 }

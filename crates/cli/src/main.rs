@@ -17,7 +17,6 @@ mod materials;
 mod profile;
 mod render;
 mod reproduce;
-mod shard;
 mod simulate;
 mod table;
 mod view;

@@ -70,7 +70,10 @@ pub fn profile(a: ProfileArgs) -> Result<()> {
     let grid = config.grid_for(&n.material)?;
     let nr = grid.nr - 1;
     let csv = match (a.model, &a.table) {
-        (Source::Table, Some(t)) => crate::cache::table_profile(t, &n, &config)?.to_csv(),
+        (Source::Table, Some(t)) => {
+            render::profile_cache::table_profile(t, &n, &config, &crate::common::Bars::default())?
+                .to_csv()
+        }
         (Source::Table, None) => bail!("--model table needs --table FILE|DIR (from `sss table`)"),
         (Source::Analytic(_), Some(_)) => bail!("--table is read only with --model table"),
         (Source::Analytic(model), None) => {

@@ -7,7 +7,8 @@
 
 use anyhow::{Context, Result, bail};
 use gpu::Gpu;
-use render::{Gather, KernelChoice, Plan};
+use render::{Gather, Plan};
+use report::render_checks::{self, compare_models};
 use serde_json::{Value, json};
 
 use crate::cache::Cached;
@@ -18,52 +19,6 @@ use crate::library;
 mod flags;
 pub use flags::RenderArgs;
 use flags::{flagged, request};
-
-/// The JSON summary's settings of the method: the kernels, each gather's (null when not used)
-/// and the materials' translucency tables.
-fn settings_json(plan: &Plan) -> Value {
-    let kernels = &plan.kernels;
-    json!({
-        "kernel": kernels.first().map(|(k, _)| k.model.to_string()),
-        "kernels": kernels.iter().map(|(k, _)| json!({"model": k.model.to_string(), "passes": k.pass.len(), "taps": k.taps})).collect::<Vec<_>>(),
-        "area_gather": match &plan.gather { Some(Gather::Area(s)) => json!({"inner": s.pattern.inner, "layers": s.pattern.layers, "taps": s.pattern.taps().len(), "reach_px": s.pattern.reach_px(), "brighten": s.pattern.brighten, "r_max_cm": s.kernel.r_max_cm(), "table": gpu::gathers::area_gather::AREA_TABLE_SIZE}), _ => Value::Null },
-        "surface_gather": match &plan.gather { Some(Gather::Surface(s)) => json!({"bssrdf": render::Choice::name(s.bssrdf), "samples": s.sampling.samples, "frames": s.sampling.frames, "radius_cm": s.sampling.radius_cm, "light_map": s.sampling.map_size, "seed": s.sampling.seed}), _ => Value::Null },
-        "dipole": match &plan.gather { Some(Gather::Dipole(d)) => json!({"samples": d.sampling.samples, "frames": d.sampling.frames, "radius_cm": d.sampling.radius_cm, "light_map": d.sampling.map_size, "scale": d.scale}), _ => Value::Null },
-        "translucency": plan.tables.iter().map(|t| t.translucency.as_ref().map(|(t, _)| json!({"first_cm": t.first_cm, "ratio": t.ratio, "tt_over_rho": t.table}))).collect::<Vec<_>>(),
-    })
-}
-
-/// What the plan tells the user on stderr: its tables, each kernel's rank ladder, its notes.
-fn report_plan(plan: &Plan) {
-    for t in &plan.tables {
-        for line in t.describe() {
-            eprintln!("{line}");
-        }
-    }
-    for ((k, choice), t) in plan.kernels.iter().zip(&plan.tables) {
-        if let KernelChoice::Ladder(tried, met) = choice {
-            for (i, (rank, model, error)) in tried.iter().enumerate() {
-                let chosen = *met && i + 1 == tried.len();
-                let tail = if chosen { " ≤ target: chosen" } else { "" };
-                eprintln!(
-                    "{}: rank {rank} ({model}, {} taps) image RMS {error:.5}{tail}",
-                    t.slug, k.taps
-                );
-            }
-            if !met {
-                eprintln!(
-                    "warning: {}: no rank up to {} meets --error-target: using rank {}",
-                    t.slug,
-                    fit::select::MAX_RANK,
-                    fit::select::MAX_RANK
-                );
-            }
-        }
-    }
-    for note in &plan.notes {
-        eprintln!("{note}");
-    }
-}
 
 pub fn run(mut a: RenderArgs) -> Result<()> {
     let names: Vec<&str> = a.material.split(',').map(str::trim).collect();
@@ -83,12 +38,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     }
     let materials = names
         .iter()
-        .map(|n| {
-            library::material(n).map(|n| render::NamedMaterial {
-                slug: n.slug,
-                material: n.material,
-            })
-        })
+        .map(|n| library::material(n))
         .collect::<Result<Vec<_>>>()?;
     // Nothing is written outside --out unless --profiles says where.
     a.source.profiles.get_or_insert_with(|| a.out.clone());
@@ -101,14 +51,16 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         files: &mut files,
     };
     let plan = Plan::build(&request, &mut profiles, &bars).map_err(flagged)?;
-    report_plan(&plan);
+    for line in render::summary::plan_lines(&plan) {
+        eprintln!("{line}");
+    }
     let gpu = Gpu::new()?;
     eprintln!("GPU: {}", gpu.adapter_name);
     let named = &request.materials[0];
     if a.bench {
         let p = render::Profiles::profile(&mut profiles, named)?;
         bench(&gpu, &plan, &p, &a)?;
-        return files.commit();
+        return Ok(files.commit()?);
     }
     let start = std::time::Instant::now();
     let frame = plan.render(&gpu)?;
@@ -128,7 +80,10 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         "materials": request.materials.iter().map(|n| &n.slug).collect::<Vec<_>>(), "width": a.width, "height": a.height,
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
     });
-    if let (Some(m), Value::Object(extra)) = (summary.as_object_mut(), settings_json(&plan)) {
+    if let (Some(m), Value::Object(extra)) = (
+        summary.as_object_mut(),
+        render::summary::settings_json(&plan),
+    ) {
         m.extend(extra);
     }
     if a.compare_models {
@@ -171,91 +126,30 @@ fn compare(
 ) -> Result<Value> {
     let m = &plan.materials[0];
     let media = fit::analytic::Medium::channels(&m.material);
-    let c = report::render_checks::compare_models(
-        gpu,
-        &plan.scene,
-        &a.scene,
-        &plan.params,
-        p,
-        (&m.slug, &media),
-        a.taps,
-    )
-    .with_context(|| format!("--compare-models: {}", m.slug))?;
+    let (scene, params) = (&plan.scene, &plan.params);
+    let c = compare_models(gpu, scene, &a.scene, params, p, (&m.slug, &media), a.taps)
+        .with_context(|| format!("--compare-models: {}", m.slug))?;
     eprintln!("{}", c.scale);
     if !a.json {
         c.table.iter().for_each(|l| println!("{l}"));
     }
-    let mut rows = c.rows;
-    for ((label, png), row) in c.images.into_iter().zip(rows.iter_mut().skip(1)) {
-        let path = a.out.join(format!("{label}.png"));
-        row["png"] = json!(path);
-        files.add(path, png);
-    }
-    let sheet = a.out.join("compare_sheet.png");
-    files.add(&sheet, c.sheet);
-    let v = json!({ "cm_per_px": c.cm_per_px, "models": rows, "sheet": sheet });
-    files.add(
-        a.out.join("compare.json"),
-        serde_json::to_string_pretty(&v)?,
-    );
-    Ok(v)
+    Ok(c.add_files(&a.out, files))
 }
 
 /// `--bench`: the directional dipole's time per frame, or the separable passes' every
-/// configuration and skip (`gpu::bench`), as a table (stdout, or stderr with --json) and with
-/// --json as JSON on stdout.
+/// configuration and skip (`report::render_checks::bench`), as a table (stdout, or stderr with
+/// --json) and with --json as JSON on stdout.
 fn bench(gpu: &Gpu, plan: &Plan, p: &fit::Profile, a: &RenderArgs) -> Result<()> {
     let slug = &plan.materials[0].slug;
-    let (table, json) = match &plan.gather {
-        Some(Gather::Dipole(setup)) => {
-            if !gpu.timestamps {
-                eprintln!(
-                    "this adapter has no timestamp queries: reporting whole-render wall time instead"
-                );
-            }
-            let rows = gpu::eval::bench::dipole(gpu, &plan.scene, setup)?;
-            let table = report::render_checks::dipole_bench_table(
-                &rows,
-                &gpu.adapter_name,
-                slug,
-                setup.sampling.frames,
-            );
-            (table, json!({"adapter": gpu.adapter_name, "rows": rows}))
-        }
-        gather => {
-            if !gpu.timestamps {
-                eprintln!(
-                    "this adapter has no timestamp queries: GPU times are null, frame times remain"
-                );
-            }
-            let cpu_adapter = gpu.adapter_name.contains("Cpu");
-            if cpu_adapter {
-                eprintln!(
-                    "{} runs on the CPU: its timestamps do not measure the work; compare the frame-time ratios",
-                    gpu.adapter_name
-                );
-            }
-            let area = match gather {
-                Some(Gather::Area(s)) => Some(s.as_ref()),
-                _ => None,
-            };
-            let b = gpu::eval::bench::separable(gpu, &plan.scene, (p, slug), &plan.params, area)?;
-            let title = format!(
-                "SSS passes at {}×{} on {} ({slug} on {}, renderer built once, median of 5 frames)",
-                a.width, a.height, gpu.adapter_name, a.scene
-            );
-            let json = json!({
-                "adapter": gpu.adapter_name, "width": a.width, "height": a.height,
-                "scene": a.scene, "material": slug, "timestamps": gpu.timestamps,
-                "cpu_adapter": cpu_adapter, "configs": b.configs, "skips": b.skips,
-            });
-            (
-                report::render_checks::separable_bench_table(&b, &title),
-                json,
-            )
-        }
+    let gathers = match &plan.gather {
+        Some(Gather::Dipole(setup)) => (Some(setup.as_ref()), None),
+        Some(Gather::Area(s)) => (None, Some(s.as_ref())),
+        _ => (None, None),
     };
-    for line in table {
+    let scene = (&plan.scene, a.scene.as_str(), a.width, a.height);
+    let b = render_checks::bench(gpu, scene, (p, slug), &plan.params, gathers)?;
+    b.warnings.iter().for_each(|w| eprintln!("{w}"));
+    for line in b.table {
         if a.json {
             eprintln!("{line}")
         } else {
@@ -263,7 +157,7 @@ fn bench(gpu: &Gpu, plan: &Plan, p: &fit::Profile, a: &RenderArgs) -> Result<()>
         }
     }
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&json)?);
+        println!("{}", serde_json::to_string_pretty(&b.json)?);
     }
     Ok(())
 }

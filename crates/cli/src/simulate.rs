@@ -7,18 +7,14 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use fit::analytic::Medium;
-use mc::incidence::IncidenceRow;
+use mc::CHANNELS;
 use mc::shard::{self, Shard};
-use mc::{BatchSpec, CHANNELS, ChannelSpec, Output};
-use rayon::prelude::*;
-use report::incidence::IncidenceComparison;
-use serde_json::{Value, json};
+use report::simulation::{self, Finished};
+use serde_json::json;
 
 use crate::common::{self, parse_count};
 use crate::files::Outputs;
 use crate::library::{self, Named};
-use mc::provenance::{Provenance, provenance_path};
 
 #[derive(Args)]
 pub struct SimulateArgs {
@@ -132,7 +128,7 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
 
     let start = Instant::now();
     if let Some(s) = &args.shard {
-        let (i, n) = crate::shard::parse(s)?;
+        let (i, n) = mc::job_array::slice(s, &|k| std::env::var(k).ok())?;
         let chunks = shard::shard_chunks(photons, i - 1, n);
         let bar = common::photons(
             shard::chunk_photons(photons, &chunks) * groups,
@@ -212,7 +208,7 @@ pub fn merge(texts: &[(String, String)], out: &Path, json: bool) -> Result<()> {
         .map(|(name, text)| Ok((name.clone(), Shard::from_json(text, name)?)))
         .collect::<Result<Vec<_>>>()?;
     let (spec, labels, accs) = shard::merge(&shards)?;
-    check_labels(&labels)?;
+    shard::check_labels(&labels)?;
     let outputs = mc::batch_outputs(&spec, &accs);
     let run = Finished {
         spec: &spec,
@@ -226,240 +222,30 @@ pub fn merge(texts: &[(String, String)], out: &Path, json: bool) -> Result<()> {
     finish(&run, out, json)
 }
 
-/// Output files are named after the shards' labels, so they must be what `simulate` writes: one
-/// `SLUG:R`, `SLUG:G`, `SLUG:B` triple per material, the slug a plain file name.
-fn check_labels(labels: &[String]) -> Result<()> {
-    if !labels.len().is_multiple_of(3) {
-        bail!(
-            "invalid shard labels: {} channels is not three per material",
-            labels.len()
-        );
-    }
-    for m in labels.chunks(3) {
-        let slug = m[0].split(':').next().unwrap_or_default();
-        let plain = !slug.is_empty()
-            && slug != "."
-            && slug != ".."
-            && !slug.contains(['/', '\\'])
-            && !slug.chars().any(char::is_control);
-        for (label, ch) in m.iter().zip(CHANNELS) {
-            if !plain || *label != format!("{slug}:{ch}") {
-                bail!(
-                    "invalid shard label {label:?}: expected MATERIAL:{ch} with MATERIAL a plain file name"
-                );
-            }
-        }
-    }
-    Ok(())
-}
-
-/// A finished batch (simulated or merged from shards), ready to be written.
-struct Finished<'a> {
-    spec: &'a BatchSpec,
-    /// `SLUG:R`, `SLUG:G`, `SLUG:B` per material.
-    labels: &'a [String],
-    outputs: &'a [Output],
-    /// Rd(θ) per material, or empty.
-    incidence: &'a [Vec<IncidenceRow>],
-    /// The profile run's wall time [s].
-    seconds: f64,
-    threads: usize,
-    target_error: Option<f64>,
-}
-
-/// Writes each material's CSV profile with its provenance, JSON summary and, with A(r, z)
-/// tallied, its .mco files (and its Rd(θ) CSV and plot when `incidence` holds a table per
-/// material), and reports.
+/// Writes each material's files (`report::simulation`) and reports.
 fn finish(run: &Finished, out: &Path, json_out: bool) -> Result<()> {
-    let &Finished {
-        spec,
-        labels,
-        outputs,
-        incidence,
-        seconds,
-        threads,
-        target_error,
-    } = run;
-    let profile_only = !spec.tallies.absorption_rz;
-    let mut files = Outputs::default();
-    let mut summaries = Vec::new();
-    for m in 0..outputs.len() / 3 {
-        let slug = labels[3 * m]
-            .split(':')
-            .next()
-            .unwrap_or("material")
-            .to_string();
-        let chans: Vec<&Output> = outputs[3 * m..3 * m + 3].iter().collect();
-        let specs = &spec.channels[3 * m..3 * m + 3];
-        let csv = out.join(format!("{slug}.profile.csv"));
-        files.add(
-            provenance_path(&csv),
-            Provenance::of(spec, m, &slug, target_error).to_json(),
-        );
-        files.add(
-            csv,
-            fit::Profile::csv_from_mc([chans[0], chans[1], chans[2]]),
-        );
-        let mut mco_files = Vec::new();
-        if !profile_only {
-            // The three .mco texts (each a few MB of formatted numbers) in parallel.
-            let texts: Vec<(String, String)> = CHANNELS
-                .par_iter()
-                .enumerate()
-                .map(|(c, ch)| {
-                    let name = format!("{slug}.{ch}.mco");
-                    let run = mc::RunSpec::of_channel(spec, 3 * m + c, chans[c].photons);
-                    let text = mc::mco::write(&name, &run, chans[c], seconds)?;
-                    Ok((name, text))
-                })
-                .collect::<Result<_>>()?;
-            for (name, text) in texts {
-                files.add(out.join(&name), text);
-                mco_files.push(name);
-            }
-        }
-        let mut summary = summary_json(&slug, spec, specs, &chans, seconds, threads, &mco_files);
-        if let Some(rows) = incidence.get(m) {
-            let (csv, png) = (
-                format!("{slug}.incidence.csv"),
-                format!("{slug}.incidence.png"),
-            );
-            let media = [0, 1, 2].map(|c| Medium::of_layer(&specs[c].layer, spec.n_above));
-            let table = IncidenceComparison::new(&media, rows.clone());
-            files.add(out.join(&csv), table.csv());
-            files.add(out.join(&png), table.png(&slug)?);
-            summary["incidence"] = table.json();
-            summary["files"]["incidence"] = json!(csv);
-            summary["files"]["incidence_plot"] = json!(png);
-        }
-        files.add(
-            out.join(format!("{slug}.summary.json")),
-            serde_json::to_string_pretty(&summary)? + "\n",
-        );
-        summaries.push(summary);
-    }
+    let (files, mut summaries) = run.files(out)?;
     let written = files.len();
     files.commit()?;
     if json_out {
         let v = if summaries.len() == 1 {
             summaries.remove(0)
         } else {
-            json!({ "materials": summaries, "seconds": seconds })
+            json!({ "materials": summaries, "seconds": run.seconds })
         };
         println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         for s in &summaries {
-            print_summary(s);
-            print_incidence(s);
+            print!("{}", simulation::summary_text(s));
+            eprint!("{}", simulation::incidence_text(s));
         }
         eprintln!(
-            "wrote {written} file(s) to {} in {seconds:.1} s",
-            out.display()
+            "wrote {written} file(s) to {} in {:.1} s",
+            out.display(),
+            run.seconds
         );
     }
     Ok(())
-}
-
-fn summary_json(
-    slug: &str,
-    spec: &BatchSpec,
-    specs: &[ChannelSpec],
-    chans: &[&Output],
-    seconds: f64,
-    threads: usize,
-    mco: &[String],
-) -> Value {
-    let g = chans[0].grid;
-    let channels: serde_json::Map<String, Value> = CHANNELS
-        .iter()
-        .enumerate()
-        .map(|(c, ch)| {
-            let (o, l) = (chans[c], specs[c].layer);
-            let v = json!({
-                "rsp": o.rsp, "rd": o.rd.value, "rd_se": o.rd.se, "a": o.a.value, "a_se": o.a.se, "tt": o.tt.value, "tt_se": o.tt.se,
-                "photons": o.photons, "interactions": o.interactions,
-                "sigma_a_per_cm": l.mu_a, "sigma_s_per_cm": l.mu_s, "g": l.g, "eta": l.n, "thickness_cm": l.thickness,
-                "albedo": l.albedo(), "mfp_cm": l.transport_mfp(),
-            });
-            (ch.to_string(), v)
-        })
-        .collect();
-    json!({
-        "material": slug,
-        "photons": chans[0].photons,
-        "seed": spec.seed,
-        "seconds": seconds,
-        "threads": threads,
-        "grid": { "dr_cm": g.dr, "nr": g.nr, "dz_cm": g.dz, "nz": g.nz, "na": g.na, "da_rad": g.da() },
-        "channels": channels,
-        "walk_groups": spec.groups().len(),
-        "files": { "profile": format!("{slug}.profile.csv"), "provenance": format!("{slug}.profile.json"), "mco": mco },
-    })
-}
-
-/// The summary's Rd(θ) table on stderr, with the ratio to normal incidence when 0° was run.
-fn print_incidence(s: &Value) {
-    let Some(rows) = s["incidence"].as_array() else {
-        return;
-    };
-    let rd = |r: &Value, ch: &str| r["rd"][ch].as_f64().unwrap_or(f64::NAN);
-    let normal = rows.iter().find(|r| r["theta_deg"].as_f64() == Some(0.0));
-    eprintln!(
-        "{}: Rd(θ) per unit incident power{}",
-        s["material"].as_str().unwrap_or("?"),
-        if normal.is_some() {
-            ", and Rd(θ)/Rd(0°)"
-        } else {
-            " (no 0° angle: no ratio)"
-        }
-    );
-    eprintln!(
-        "  θ [deg]   Rd R     Rd G     Rd B{}",
-        if normal.is_some() {
-            "     ratio R  ratio G  ratio B"
-        } else {
-            ""
-        }
-    );
-    for r in rows {
-        let mut line = format!(
-            "  {:>7.2}  {:.5}  {:.5}  {:.5}",
-            r["theta_deg"].as_f64().unwrap_or(f64::NAN),
-            rd(r, "R"),
-            rd(r, "G"),
-            rd(r, "B")
-        );
-        if let Some(n) = normal {
-            for ch in CHANNELS {
-                line += &format!("  {:>7.4}", rd(r, ch) / rd(n, ch));
-            }
-        }
-        eprintln!("{line}");
-    }
-}
-
-fn print_summary(s: &Value) {
-    println!(
-        "{}  ({} photons/channel, dr = {:.4e} cm, nr = {})",
-        s["material"].as_str().unwrap_or("?"),
-        s["photons"],
-        s["grid"]["dr_cm"].as_f64().unwrap_or(0.0),
-        s["grid"]["nr"]
-    );
-    for ch in CHANNELS {
-        let c = &s["channels"][ch];
-        let f = |k: &str| c[k].as_f64().unwrap_or(f64::NAN);
-        println!(
-            "  {ch}: Rd = {:.5} ± {:.5}  A = {:.5} ± {:.5}  Tt = {:.5}  Rsp = {:.5}  MFP = {:.4} cm",
-            f("rd"),
-            f("rd_se"),
-            f("a"),
-            f("a_se"),
-            f("tt"),
-            f("rsp"),
-            f("mfp_cm")
-        );
-    }
 }
 
 fn run_mci(path: &Path, args: &SimulateArgs) -> Result<()> {
@@ -488,10 +274,11 @@ fn run_mci(path: &Path, args: &SimulateArgs) -> Result<()> {
             args.out.join(&name),
             mc::mco::write(&r.out_name, &r.spec, &out, seconds)?,
         );
-        report.push(json!({
-            "output": args.out.join(&name), "photons": out.photons, "seconds": seconds,
-            "rsp": out.rsp, "rd": out.rd.value, "rd_se": out.rd.se, "a": out.a.value, "a_se": out.a.se, "tt": out.tt.value, "tt_se": out.tt.se,
-        }));
+        report.push(simulation::mci_run_json(
+            &args.out.join(&name),
+            &out,
+            seconds,
+        ));
     }
     files.commit()?;
     if args.json {
@@ -501,17 +288,7 @@ fn run_mci(path: &Path, args: &SimulateArgs) -> Result<()> {
         );
     } else {
         for r in &report {
-            println!(
-                "{}: Rsp = {:.5}  Rd = {:.5} ± {:.5}  A = {:.5} ± {:.5}  Tt = {:.5} ± {:.5}",
-                r["output"].as_str().unwrap_or("?"),
-                r["rsp"],
-                r["rd"].as_f64().unwrap_or(0.0),
-                r["rd_se"].as_f64().unwrap_or(0.0),
-                r["a"].as_f64().unwrap_or(0.0),
-                r["a_se"].as_f64().unwrap_or(0.0),
-                r["tt"].as_f64().unwrap_or(0.0),
-                r["tt_se"].as_f64().unwrap_or(0.0)
-            );
+            println!("{}", simulation::mci_run_text(r));
         }
     }
     Ok(())

@@ -106,7 +106,7 @@ pub fn run(a: TableArgs) -> Result<()> {
     let specs = specs(&a)?;
     let pool = crate::common::thread_pool(a.threads)?;
     let (i, n) = match &a.shard {
-        Some(s) => crate::shard::parse(s)?,
+        Some(s) => mc::job_array::slice(s, &|k| std::env::var(k).ok())?,
         None => (1, 1),
     };
     let start = Instant::now();

@@ -189,6 +189,21 @@ pub struct EngineParams {
     pub notes: Vec<String>,
 }
 
+impl EngineParams {
+    /// The fields as printed for material `slug`: where they live, each field with its value
+    /// and unit, the notes; one line each.
+    pub fn text(&self, slug: &str) -> String {
+        let mut text = format!("{slug} — {} ({}):\n", self.location, self.engine);
+        for f in &self.fields {
+            text += &format!("  {:<32} {} {}\n", f.name, f.value, f.unit);
+        }
+        for n in &self.notes {
+            text += &format!("  note: {n}\n");
+        }
+        text
+    }
+}
+
 /// Christensen–Burley's fit for a pencil beam with the mean free path (UE's "perpendicular").
 fn s_perp(a: f64) -> f64 {
     1.85 - a + 7.0 * (a - 0.8).abs().powi(3)

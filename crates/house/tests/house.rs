@@ -775,7 +775,7 @@ fn no_crate_has_a_module_cycle() {
 /// The command line's shared modules: what every command may use. Every other top-level module
 /// of `crates/cli/src` is a command (it parses, calls the libraries and prints) and never uses
 /// another command; `main.rs` dispatches to them.
-const CLI_SHARED: &[&str] = &["common", "files", "library", "cache", "shard"];
+const CLI_SHARED: &[&str] = &["common", "files", "library", "cache"];
 
 /// The command-line modules that use another command, as printed (`simulate uses table`).
 fn command_imports(g: &Graph) -> Vec<String> {

@@ -65,6 +65,17 @@ impl SimConfig {
         Self::from_toml(THESIS_TOML, "configs/thesis.toml")
     }
 
+    /// The run settings of a TOML file, or the thesis's ([`SimConfig::thesis`]) without one.
+    pub fn read(path: Option<&std::path::Path>) -> Result<Self> {
+        let Some(p) = path else {
+            return Self::thesis();
+        };
+        let name = p.display().to_string();
+        let text = crate::input::read_text(p)
+            .map_err(|e| McError::file(format!("cannot read config file {name}"), e))?;
+        Self::from_toml(&text, &name)
+    }
+
     /// Parses and validates a config TOML; `source_name` is used in error messages.
     pub fn from_toml(text: &str, source_name: &str) -> Result<Self> {
         let c: SimConfig = toml::from_str(text).map_err(|e| McError::toml(text, source_name, e))?;

@@ -29,6 +29,41 @@ pub enum McError {
     /// Shards to merge do not belong to the same run.
     #[error("cannot merge shards: {0}")]
     ShardMismatch(String),
+
+    /// A file could not be read or written; `what` says which and what was being done
+    /// (`cannot write out/x.csv`).
+    #[error("{what}: {io}")]
+    File {
+        /// What was being done, naming the file.
+        what: String,
+        /// What the file system said.
+        io: std::io::Error,
+    },
+
+    /// A shard slice (`I/N`, `auto`, `auto/N`) or the job array's environment it is read from is
+    /// refused; the message names the value or variable.
+    #[error("{0}")]
+    Slice(String),
+
+    /// An artist's material (`--from-artist KEY=VALUE …`) is refused; the message names the key.
+    #[error("{0}")]
+    Artist(String),
+
+    /// Shard labels that are not one `MATERIAL:R`, `MATERIAL:G`, `MATERIAL:B` triple per
+    /// material with a plain file name as `MATERIAL`.
+    #[error(
+        "invalid shard label {label:?}: expected MATERIAL:{channel} with MATERIAL a plain file name"
+    )]
+    ShardLabel {
+        /// The offending label.
+        label: String,
+        /// The channel expected at its place.
+        channel: &'static str,
+    },
+
+    /// Shards whose channel count is not three per material.
+    #[error("invalid shard labels: {0} channels is not three per material")]
+    ShardLabelCount(usize),
 }
 
 impl McError {
@@ -61,6 +96,14 @@ impl McError {
             .map(|s| text[..s.start].lines().count().max(1))
             .unwrap_or(0);
         McError::parse(source_name, line, e.message().to_string())
+    }
+
+    /// A file error: `what` (naming the file), then the file system's message.
+    pub fn file(what: impl Into<String>, io: std::io::Error) -> Self {
+        McError::File {
+            what: what.into(),
+            io,
+        }
     }
 
     pub(crate) fn parse(

@@ -25,3 +25,20 @@ pub fn read_text(path: impl AsRef<std::path::Path>) -> std::io::Result<String> {
     }
     Ok(text)
 }
+
+/// Each file's text with its name, for messages; `what` names the kind of file in errors
+/// (`cannot read shard out/shard-1-of-2.json: …`).
+pub fn read_named(
+    paths: &[std::path::PathBuf],
+    what: &str,
+) -> crate::Result<Vec<(String, String)>> {
+    paths
+        .iter()
+        .map(|p| {
+            let name = p.display().to_string();
+            let text = read_text(p)
+                .map_err(|e| crate::McError::file(format!("cannot read {what} {name}"), e))?;
+            Ok((name, text))
+        })
+        .collect()
+}

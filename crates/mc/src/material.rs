@@ -64,6 +64,77 @@ enum OneOrThree {
 }
 
 impl Material {
+    /// An artist's material from `KEY=VALUE` items: `color=R,G,B` (multiple-scattering albedo in
+    /// [0, 1]; one value for all three), `radius=R,G,B[:cm|mm]` (mean free path 1/σt, default cm),
+    /// optionally `g=G` (default 0) and `eta=N` (default 1.3); inverted to σa, σs by van de Hulst's
+    /// fit ([`crate::artist::Artist::coefficients`]). Returns the material with a name made from its parameters
+    /// (`artist-XXXXXXXX`, so that profiles of different artist materials never share a file).
+    pub fn from_artist(kv: &[String]) -> Result<(String, Material)> {
+        let refuse = |m: String| McError::Artist(format!("invalid --from-artist {m}"));
+        let (mut color, mut radius, mut g, mut eta) = (None, None, 0.0, 1.3);
+        for item in kv {
+            let (key, value) = item
+                .split_once('=')
+                .ok_or_else(|| refuse(format!("{item:?}: expected KEY=VALUE")))?;
+            let number = |v: &str| {
+                v.trim()
+                    .parse::<f64>()
+                    .map_err(|_| refuse(format!("{key}={v:?}: not a number")))
+            };
+            let rgb = |v: &str| match v.split(',').map(number).collect::<Result<Vec<_>>>() {
+                Ok(x) if x.len() == 1 => Ok([x[0]; 3]),
+                Ok(x) if x.len() == 3 => Ok([x[0], x[1], x[2]]),
+                Ok(_) => Err(refuse(format!(
+                    "{key}: {v:?}: give one value or three (R,G,B)"
+                ))),
+                Err(_) => {
+                    let bad = v.split(',').find(|x| x.trim().parse::<f64>().is_err());
+                    Err(refuse(format!(
+                        "{key}: {:?} is not a number",
+                        bad.unwrap_or(v)
+                    )))
+                }
+            };
+            match key.trim() {
+                "color" => color = Some(rgb(value)?),
+                "radius" => {
+                    let (v, unit) = value.split_once(':').unwrap_or((value, "cm"));
+                    let to_cm = match unit {
+                        "cm" => 1.0,
+                        "mm" => 0.1,
+                        u => return Err(refuse(format!("radius unit {u:?}: cm or mm"))),
+                    };
+                    radius = Some(rgb(v)?.map(|r| r * to_cm));
+                }
+                "g" => g = number(value)?,
+                "eta" => eta = number(value)?,
+                k => return Err(refuse(format!("key {k:?}: color, radius, g or eta"))),
+            }
+        }
+        let (Some(color), Some(radius)) = (color, radius) else {
+            return Err(McError::Artist(
+                "--from-artist needs color=R,G,B and radius=R,G,B[:unit]".into(),
+            ));
+        };
+        let (sigma_a, sigma_s) = crate::artist::Artist { color, radius }.coefficients([g; 3])?;
+        let id = format!("{color:?}{radius:?}{g}{eta}")
+            .bytes()
+            .fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+                (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
+            });
+        let material = Material {
+            name: "artist".into(),
+            source: format!("artist color {color:?}, radius {radius:?} cm, g {g}, eta {eta}"),
+            sigma_a,
+            sigma_s,
+            g: [g; 3],
+            eta,
+            thickness: None,
+        };
+        material.validate()?;
+        Ok((format!("artist-{:08x}", id as u32), material))
+    }
+
     /// Parses and validates a material TOML; `source_name` is used in error messages.
     pub fn from_toml(text: &str, source_name: &str) -> Result<Self> {
         let f: MaterialFile =

@@ -230,6 +230,14 @@ pub fn count(n: u64) -> String {
     }
 }
 
+/// Reads the provenance file `sidecar` of a cached profile.
+pub fn read(sidecar: &Path) -> Result<Provenance> {
+    let name = sidecar.display().to_string();
+    let text = crate::input::read_text(sidecar)
+        .map_err(|e| crate::McError::file(format!("cannot read {name}"), e))?;
+    Provenance::from_json(&text, &name)
+}
+
 /// The provenance file beside a profile CSV: `NAME.profile.csv` → `NAME.profile.json`.
 pub fn provenance_path(csv: &Path) -> PathBuf {
     csv.with_extension("json")

@@ -338,3 +338,29 @@ pub fn merge(shards: &[(String, Shard)]) -> Result<(BatchSpec, Vec<String>, Vec<
     }
     Ok((first.spec.clone(), first.labels.clone(), groups))
 }
+
+/// Checks that shard labels are what `sss simulate` writes, since output files are named after
+/// them: one `SLUG:R`, `SLUG:G`, `SLUG:B` triple per material, the slug a plain file name (not
+/// empty, `.` or `..`, without a path separator or control character).
+pub fn check_labels(labels: &[String]) -> Result<()> {
+    if !labels.len().is_multiple_of(3) {
+        return Err(McError::ShardLabelCount(labels.len()));
+    }
+    for m in labels.chunks(3) {
+        let slug = m[0].split(':').next().unwrap_or_default();
+        let plain = !slug.is_empty()
+            && slug != "."
+            && slug != ".."
+            && !slug.contains(['/', '\\'])
+            && !slug.chars().any(char::is_control);
+        for (label, channel) in m.iter().zip(crate::CHANNELS) {
+            if !plain || *label != format!("{slug}:{channel}") {
+                return Err(McError::ShardLabel {
+                    label: label.clone(),
+                    channel,
+                });
+            }
+        }
+    }
+    Ok(())
+}

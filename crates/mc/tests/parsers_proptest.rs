@@ -30,7 +30,14 @@ fn check_error(e: &McError, text: &str) -> Result<(), TestCaseError> {
             prop_assert!(!message.is_empty(), "{msg}");
             prop_assert!(*line <= text.lines().count().max(1), "{msg}");
         }
-        McError::ShardMismatch(_) => prop_assert!(false, "a parser reported a shard error: {msg}"),
+        McError::ShardMismatch(_)
+        | McError::Slice(_)
+        | McError::ShardLabel { .. }
+        | McError::ShardLabelCount(_)
+        | McError::Artist(_) => {
+            prop_assert!(false, "a parser reported a shard error: {msg}")
+        }
+        McError::File { .. } => prop_assert!(false, "a parser reported a file error: {msg}"),
     }
     Ok(())
 }

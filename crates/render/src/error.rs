@@ -21,6 +21,9 @@ pub enum RenderError {
         /// What the profile source said.
         reason: String,
     },
+    /// A folder of profile tables holds none.
+    #[error("no table in {0} (expected files *.table.json from `sss table`)")]
+    NoTables(String),
     /// The renderer refused a setting or failed.
     #[error(transparent)]
     Gpu(#[from] gpu::GpuError),

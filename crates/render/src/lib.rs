@@ -20,8 +20,10 @@ pub mod options;
 pub mod package;
 pub mod parse;
 pub mod plan;
+pub mod profile_cache;
 pub mod progress;
 pub mod request;
+pub mod summary;
 pub mod tables;
 pub mod view;
 
@@ -29,6 +31,7 @@ pub use error::{RenderError, Result};
 pub use options::{Choice, DipoleEnergy, ExitLaw};
 pub use package::Package;
 pub use plan::{Gather, KernelChoice, Plan, Profiles, Simulated, describe};
+pub use profile_cache::{Cached, ProfileCache};
 pub use progress::Progress;
 pub use request::{
     GatherOptions, NamedMaterial, Request, ResolvedShading, ShadingOptions, TableSettings,

@@ -27,6 +27,14 @@ pub enum ReportError {
         reason: String,
     },
 
+    /// A profile of a folder the user named does not stand for what was asked.
+    #[error("{0}")]
+    Refused(String),
+
+    /// The run settings, a material or a file were refused, or a run failed.
+    #[error(transparent)]
+    Mc(#[from] mc::McError),
+
     /// The numerics underneath failed.
     #[error(transparent)]
     Fit(#[from] FitError),

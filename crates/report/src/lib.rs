@@ -1,8 +1,9 @@
 //! `report`: what people look at, built on the numerics of `mc`, `fit` and `gpu` — plots as PNG
 //! bytes ([`plot`], [`pareto`]), Rd(θ) of `mc` beside the analytic models ([`incidence`]), the comparison sheet of rendered kernels against their ground
 //! truth ([`sheet`]), the thesis's tables and claims regenerated with the HTML page
-//! ([`reproduce`]), the rendered Tables 6.4–6.5 ([`rendered`]) and the result types of the
-//! Mitsuba scripts' JSON ([`reproduce::MitsubaImages`]).
+//! ([`reproduce`]) and the whole run of `sss reproduce` ([`reproduction`]), the rendered Tables
+//! 6.4–6.5 ([`rendered`]), what a finished simulation writes and prints ([`simulation`]) and the
+//! result types of the Mitsuba scripts' JSON ([`reproduce::MitsubaImages`]).
 //!
 //! Nothing here computes physics the libraries below do not: it arranges, compares and draws
 //! their numbers. Every picture is returned as bytes; the caller decides where it goes.
@@ -21,6 +22,8 @@ pub mod plot;
 pub mod render_checks;
 pub mod rendered;
 pub mod reproduce;
+pub mod reproduction;
 pub mod sheet;
+pub mod simulation;
 
 pub use error::{ReportError, Result};

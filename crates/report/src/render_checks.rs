@@ -7,8 +7,10 @@ use fit::taps::TapSpec;
 use fit::{KernelModel, Profile};
 use gpu::eval::bench::{DipoleRow, SeparableBench};
 use gpu::eval::compare::{ImageError, Shown};
-use gpu::{Gpu, RenderParams, Scene};
+use gpu::{AreaGatherSetup, DipoleSetup, Gpu, RenderParams, Scene};
+use mc::outputs::Outputs;
 use serde_json::{Value, json};
+use std::path::Path;
 
 use crate::error::Result;
 
@@ -220,4 +222,90 @@ pub fn separable_bench_table(b: &SeparableBench, title: &str) -> Vec<String> {
         r.target_image_rms, r.rank_chosen, r.saving.frame_ms_on, r.saving.frame_ms_off
     ));
     t
+}
+
+impl ModelComparison {
+    /// Its files in `out` (each model's `LABEL.png`, `compare_sheet.png` and `compare.json`),
+    /// added to `files`; and `compare.json`'s value (each row with its PNG's path).
+    pub fn add_files(self, out: &Path, files: &mut Outputs) -> Value {
+        let mut rows = self.rows;
+        for ((label, png), row) in self.images.into_iter().zip(rows.iter_mut().skip(1)) {
+            let path = out.join(format!("{label}.png"));
+            row["png"] = json!(path);
+            files.add(path, png);
+        }
+        let sheet = out.join("compare_sheet.png");
+        files.add(&sheet, self.sheet);
+        let v = json!({ "cm_per_px": self.cm_per_px, "models": rows, "sheet": sheet });
+        files.add(out.join("compare.json"), format!("{v:#}"));
+        v
+    }
+}
+
+/// What `--bench` measured: lines for stderr (what the adapter cannot measure), the table, and
+/// the JSON.
+pub struct Bench {
+    /// Warnings about the adapter's timestamps.
+    pub warnings: Vec<String>,
+    /// The table, lines.
+    pub table: Vec<String>,
+    /// The measurements.
+    pub json: Value,
+}
+
+/// The scene `scene_name` at `width` × `height` timed (`gpu::eval::bench`): the directional
+/// dipole's time per frame when `dipole` is given, else the separable passes' every
+/// configuration and skip of `p` (with the area gather's set-up `area`, if any).
+pub fn bench(
+    gpu: &Gpu,
+    (scene, scene_name, width, height): (&Scene, &str, u32, u32),
+    (p, slug): (&Profile, &str),
+    params: &RenderParams,
+    (dipole, area): (Option<&DipoleSetup>, Option<&AreaGatherSetup>),
+) -> Result<Bench> {
+    let mut warnings = Vec::new();
+    if let Some(setup) = dipole {
+        if !gpu.timestamps {
+            warnings.push(
+                "this adapter has no timestamp queries: reporting whole-render wall time instead"
+                    .to_string(),
+            );
+        }
+        let rows = gpu::eval::bench::dipole(gpu, scene, setup)?;
+        let frames = setup.sampling.frames;
+        let table = dipole_bench_table(&rows, &gpu.adapter_name, slug, frames);
+        let json = json!({"adapter": gpu.adapter_name, "rows": rows});
+        return Ok(Bench {
+            warnings,
+            table,
+            json,
+        });
+    }
+    if !gpu.timestamps {
+        warnings.push(
+            "this adapter has no timestamp queries: GPU times are null, frame times remain".into(),
+        );
+    }
+    let cpu_adapter = gpu.adapter_name.contains("Cpu");
+    if cpu_adapter {
+        warnings.push(format!(
+            "{} runs on the CPU: its timestamps do not measure the work; compare the frame-time ratios",
+            gpu.adapter_name
+        ));
+    }
+    let b = gpu::eval::bench::separable(gpu, scene, (p, slug), params, area)?;
+    let title = format!(
+        "SSS passes at {width}×{height} on {} ({slug} on {scene_name}, renderer built once, median of 5 frames)",
+        gpu.adapter_name
+    );
+    let json = json!({
+        "adapter": gpu.adapter_name, "width": width, "height": height,
+        "scene": scene_name, "material": slug, "timestamps": gpu.timestamps,
+        "cpu_adapter": cpu_adapter, "configs": b.configs, "skips": b.skips,
+    });
+    Ok(Bench {
+        warnings,
+        table: separable_bench_table(&b, &title),
+        json,
+    })
 }
