@@ -129,7 +129,10 @@ fn capture(port: u16, rx: &mpsc::Receiver<Vec<u8>>, scene: &str) -> (usize, usiz
     // The page's own shadow projection of the default light (what the mouse moves) against the
     // renderer's matrices.
     let light = json["light_error"].as_f64().expect("a directional light");
-    assert!(light < 1e-5, "{scene}: the page's light matrices differ by {light}");
+    assert!(
+        light < 1e-5,
+        "{scene}: the page's light matrices differ by {light}"
+    );
     (w, h, rgb)
 }
 
