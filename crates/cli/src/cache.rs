@@ -64,6 +64,30 @@ impl ProfileSource {
         self.seed.unwrap_or(config.seed)
     }
 
+    /// `sss render`'s default request for `named` with these flags' run settings and seed, and
+    /// the tables' photons (`sss export --format package`, `sss view`).
+    pub fn request(
+        &self,
+        named: Named,
+        incidence_photons: u64,
+        translucency_photons: u64,
+    ) -> Result<render::Request> {
+        let config = crate::library::config(self.config.as_deref())?;
+        Ok(render::Request {
+            materials: vec![render::NamedMaterial {
+                slug: named.slug,
+                material: named.material,
+            }],
+            tables: render::TableSettings {
+                seed: self.seed_in(&config),
+                config,
+                incidence_photons,
+                translucency_photons,
+            },
+            ..render::Request::default()
+        })
+    }
+
     /// The cache these flags describe.
     pub fn cache(&self) -> render::ProfileCache {
         render::ProfileCache {

@@ -128,20 +128,9 @@ fn package(mut a: ExportArgs) -> Result<()> {
     a.source
         .profiles
         .get_or_insert_with(crate::common::default_out);
-    let config = library::config(a.source.config.as_deref())?;
-    let mut request = render::Request {
-        materials: vec![render::NamedMaterial {
-            slug: named.slug.clone(),
-            material: named.material,
-        }],
-        tables: render::TableSettings {
-            seed: a.source.seed_in(&config),
-            config,
-            incidence_photons: a.incidence_photons,
-            translucency_photons: a.translucency_photons,
-        },
-        ..render::Request::default()
-    };
+    let mut request = a
+        .source
+        .request(named, a.incidence_photons, a.translucency_photons)?;
     request.frame.taps = a.taps;
     let mut files = Outputs::default();
     let bars = Bars::default();

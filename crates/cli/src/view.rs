@@ -100,20 +100,9 @@ pub fn run(mut a: ViewArgs) -> Result<()> {
         }
         s.reference = Some(png);
     }
-    let config = library::config(a.source.config.as_deref())?;
-    let mut request = render::Request {
-        materials: vec![render::NamedMaterial {
-            slug: named.slug,
-            material: named.material,
-        }],
-        tables: render::TableSettings {
-            seed: a.source.seed_in(&config),
-            config,
-            incidence_photons: a.incidence_photons,
-            translucency_photons: a.translucency_photons,
-        },
-        ..render::Request::default()
-    };
+    let mut request = a
+        .source
+        .request(named, a.incidence_photons, a.translucency_photons)?;
     request.frame.width = a.width;
     request.frame.height = a.height;
     request.frame.taps = a.taps;
