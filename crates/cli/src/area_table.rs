@@ -82,24 +82,13 @@ pub fn run(a: AreaTableArgs) -> Result<()> {
 
     let curves = fit::area_table::zoom_effect(&table, [&*rd[0], &*rd[1], &*rd[2]], &media);
 
-    let mut bytes = Vec::with_capacity(a.size * a.size * 12);
-    for k in 0..a.size * a.size {
-        for c in 0..3 {
-            bytes.extend_from_slice(&(table.values[c][k] as f32).to_le_bytes());
-        }
-    }
     let table_path = a.out.join(format!("{}.area.f32", n.slug));
     let header_path = a.out.join(format!("{}.area.json", n.slug));
-    let header = json!({
-        "material": n.slug, "source": source, "unit": "1/cm^2",
-        "layout": "little-endian f32, RGB interleaved, row-major: row j = disc radius r_A = (j+0.5)*r_max/rows, column i = distance r = (i+0.5)*r_max/columns",
-        "columns": a.size, "rows": a.size, "r_max_cm": r_max, "a_max_cm2": table.a_max(),
-        "q_min_per_cm": a.q_min, "build_seconds": seconds,
-        "zoom_effect": curves.iter().enumerate().map(|(c, v)| (mc::CHANNELS[c].to_string(), json!(v.iter().map(|&(p, point, area)| json!({"pitch_cm": p, "point_sampled": point, "area_preintegrated": area})).collect::<Vec<_>>()))).collect::<serde_json::Map<_, _>>(),
-    });
+    let mut header = table.header(&n.slug, &source, a.q_min, &curves);
+    header["build_seconds"] = json!(seconds);
     let plot = a.out.join(format!("{}.area_effect.png", n.slug));
     let mut files = Outputs::default();
-    files.add(&table_path, bytes);
+    files.add(&table_path, table.f32_bytes());
     files.add(&header_path, serde_json::to_string_pretty(&header)?);
     files.add(&plot, report::plot::area_effect(&curves, &n.slug)?);
     files.commit()?;

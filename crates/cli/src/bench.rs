@@ -3,7 +3,7 @@
 
 use anyhow::Result;
 use clap::{Args, Subcommand};
-use serde_json::json;
+use report::tracer_bench;
 
 use crate::common::parse_count;
 use crate::library;
@@ -60,16 +60,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
         .map(|(n, photons)| (n.slug.as_str(), &n.material, photons))
         .collect();
     let throughput = single.install(|| mc::bench::throughput(&cases, &config))?;
-    for r in &throughput {
-        eprintln!(
-            "{:<10} R  {:<17} {:>10.0} photons/s  {:>6.1} M events/s  ({:.0} events/photon)",
-            r.material,
-            r.tallies,
-            r.photons_per_s,
-            r.events_per_s / 1e6,
-            r.events_per_photon
-        );
-    }
+    tracer_bench::throughput_lines(&throughput)
+        .iter()
+        .for_each(|l| eprintln!("{l}"));
 
     // 2. Run time against error: the three channels of a material in one walk, profile-only.
     eprintln!(
@@ -81,22 +74,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
         .map(|n| (n.slug.as_str(), &n.material))
         .collect();
     let errors = pool.install(|| mc::bench::time_vs_error(&two, &config, a.max_photons))?;
-    eprintln!(
-        "{:<10} {:>10} {:>9}  {:<3} {:>11} {:>13} {:>13}",
-        "material", "photons", "seconds", "ch", "relSE(Rd)", "relSE Rd(1ℓ)", "relSE Rd(3ℓ)"
-    );
-    for r in &errors {
-        eprintln!(
-            "{:<10} {:>10} {:>9.2}  {:<3} {:>11.2e} {:>13.2e} {:>13.2e}",
-            r.material,
-            r.photons,
-            r.seconds,
-            r.channel,
-            r.rel_se_rd,
-            r.rel_se_rd_r_1mfp,
-            r.rel_se_rd_r_3mfp
-        );
-    }
+    tracer_bench::error_lines(&errors)
+        .iter()
+        .for_each(|l| eprintln!("{l}"));
 
     // 3. The whole library: one batch (walks shared by similarity) against one walk per channel.
     let all = library::all()?;
@@ -107,28 +87,12 @@ pub fn run(args: BenchArgs) -> Result<()> {
     );
     let materials: Vec<&mc::Material> = all.iter().map(|n| &n.material).collect();
     let b = pool.install(|| mc::bench::batching(&materials, &config, a.library_photons))?;
-    eprintln!(
-        "batched ({} walk groups): {:.2} s   channel by channel ({} walks): {:.2} s   speed-up {:.1}×",
-        b.groups,
-        b.batched_seconds,
-        b.channels,
-        b.separate_seconds,
-        b.separate_seconds / b.batched_seconds
-    );
-    eprintln!(
-        "extrapolated to 10⁷ photons per channel: batched {:.0} s",
-        b.batched_seconds * 1e7 / a.library_photons as f64
-    );
+    tracer_bench::batching_lines(&b)
+        .iter()
+        .for_each(|l| eprintln!("{l}"));
     if a.json {
-        let library = json!({ "photons": b.photons, "groups": b.groups, "batched_seconds": b.batched_seconds, "separate_seconds": b.separate_seconds, "threads": pool.current_num_threads() });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&json!({
-                "single_channel_one_thread": throughput,
-                "time_vs_error": errors,
-                "library": library,
-            }))?
-        );
+        let v = tracer_bench::json(&throughput, &errors, &b, pool.current_num_threads());
+        println!("{}", serde_json::to_string_pretty(&v)?);
     }
     Ok(())
 }

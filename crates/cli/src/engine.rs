@@ -7,7 +7,8 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use fit::engine::{BurleyProfileFit, Engine, burley_engine, materialx, openpbr, random_walk};
+use fit::engine::{Engine, materialx};
+use fit::engine_report::EngineReport;
 use fit::export::{OffsetUnit, ShaderFormat, export};
 use fit::select::{Budget, Judge, Scored};
 use serde_json::json;
@@ -45,22 +46,6 @@ impl MaterialArg {
             }
             (None, None) => bail!("give a MATERIAL or --from-artist"),
         }
-    }
-}
-
-fn print_ranking(ranked: &[Scored], budget: Budget) {
-    eprintln!(
-        "models within {budget} (1D passes × taps), image RMS on the test signals (images in [0, 1]):"
-    );
-    for s in ranked {
-        eprintln!(
-            "  {:<34} R {:.2e}  G {:.2e}  B {:.2e}  mean {:.2e}",
-            s.model.to_string(),
-            s.image_rms[0],
-            s.image_rms[1],
-            s.image_rms[2],
-            s.error()
-        );
     }
 }
 
@@ -103,7 +88,11 @@ pub fn kernel(a: KernelArgs) -> Result<()> {
     let p = a.source.profile(&named, &mut files)?;
     let judge = Judge::new(&p);
     let ranked = judge.rank(a.budget, &named.slug)?;
-    print_ranking(&ranked, a.budget);
+    eprintln!(
+        "models within {} (1D passes × taps), image RMS on the test signals (images in [0, 1]):",
+        a.budget
+    );
+    ranked.iter().for_each(|s| eprintln!("{}", s.line()));
     let best = &ranked[0];
     eprintln!(
         "chose {} for {}: mean image RMS {:.2e} ({} 1D passes × {} taps)",
@@ -128,10 +117,7 @@ pub fn kernel(a: KernelArgs) -> Result<()> {
             .context("cannot write to standard output")?;
     }
     if a.json {
-        let rows: Vec<_> = ranked
-            .iter()
-            .map(|s| json!({"model": s.model.to_string(), "passes": 2 * s.kernel.pass.len(), "image_rms": s.image_rms, "mean_image_rms": s.error()}))
-            .collect();
+        let rows: Vec<_> = ranked.iter().map(Scored::json).collect();
         println!(
             "{}",
             serde_json::to_string_pretty(
@@ -181,57 +167,24 @@ pub fn engine_params(a: EngineParamsArgs) -> Result<()> {
     let named = a.material.resolve()?;
     let mut files = Outputs::default();
     let p = a.source.profile(&named, &mut files)?;
-    let judge = Judge::new(&p);
-    let fit = BurleyProfileFit::new(&p, &judge);
-    let best = judge.rank(a.budget, &named.slug)?.swap_remove(0);
-    let params = match a.engine {
-        Engine::OpenPbr => openpbr(&named.material),
-        e => burley_engine(e, &fit).expect("Burley engines map the fit"),
-    };
-    // Blender's random walk traces the medium itself: its fields come from the coefficients.
-    let walk = (a.engine == Engine::Blender).then(|| random_walk(&named.material));
+    let r = EngineReport::new(&p, &named.material, &named.slug, a.engine, a.budget)?;
     let mtlx = a
         .mtlx
         .as_ref()
         .map(|o| out_file(o, &format!("{}.mtlx", named.slug)));
     if let Some(path) = &mtlx {
-        files.add(path, materialx(&params, &named.slug));
+        files.add(path, materialx(&r.params, &named.slug));
     }
     files.commit()?;
-    let ch = mc::CHANNELS;
-    let mut text = params.text(&named.slug);
-    if let Some(w) = &walk {
-        text += &w.text(&named.slug);
-    }
-    text += &format!(
-        "Burley fit to the Monte Carlo profile: albedo {:.4?}, d {:.4e}/{:.4e}/{:.4e} cm\n",
-        fit.albedo, fit.d_cm[0], fit.d_cm[1], fit.d_cm[2]
-    );
-    text += "what the engine's profile costs (images in [0, 1]):\n";
-    for (c, ch) in ch.iter().enumerate() {
-        text += &format!(
-            "  {}: Burley kernel RMS {:.1}% of the MC kernel; image RMS Burley {:.2e}, best separable ({}) {:.2e}\n",
-            ch,
-            100.0 * fit.kernel_rms_rel[c],
-            fit.image_rms[c],
-            best.model,
-            best.image_rms[c]
-        );
-    }
-    if a.engine == Engine::OpenPbr {
-        text += "  (OpenPBR renderers path-trace the medium itself; the Burley line is what a Burley-based real-time approximation of it costs)\n";
-    }
+    let mut text = r.text();
     if let Some(path) = &mtlx {
         text += &format!("wrote {}\n", path.display());
     }
     if a.json {
         eprint!("{text}");
-        println!(
-            "{}",
-            serde_json::to_string_pretty(
-                &json!({"material": named.slug, "params": params, "random_walk": walk, "burley_fit": fit, "best_separable": {"model": best.model.to_string(), "budget": a.budget.to_string(), "image_rms": best.image_rms}, "mtlx": mtlx})
-            )?
-        );
+        let mut v = serde_json::to_value(&r)?;
+        v["mtlx"] = json!(mtlx);
+        println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         print!("{text}");
     }

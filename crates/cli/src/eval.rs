@@ -5,9 +5,8 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
-use fit::evaluate::{Row, evaluate};
-use fit::pareto::{Pareto, Point};
-use fit::signals::Signal;
+use fit::evaluate::evaluate;
+use fit::pareto::Pareto;
 use serde_json::json;
 
 use crate::cache::ProfileSource;
@@ -56,14 +55,11 @@ pub fn run(a: EvalArgs) -> Result<()> {
             );
         }
         if !a.json {
-            print_table(&n.slug, &ev.rows);
-            print_pareto(&n.slug, &pareto);
+            let table = report::evaluation::table_lines(&n.slug, &ev.rows);
+            let front = report::evaluation::pareto_lines(&n.slug, &pareto);
+            table.iter().chain(&front).for_each(|l| println!("{l}"));
         }
-        materials.push(json!({
-            "name": n.slug,
-            "models": ev.rows.iter().map(Row::json).collect::<Vec<_>>(),
-            "pareto": pareto,
-        }));
+        materials.push(report::evaluation::json(&n.slug, &ev, &pareto));
     }
     out.commit()?;
     if let Some(dir) = &a.plots {
@@ -76,79 +72,4 @@ pub fn run(a: EvalArgs) -> Result<()> {
         );
     }
     Ok(())
-}
-
-fn print_table(slug: &str, rows: &[Row]) {
-    println!("{slug}: kernel-space RMS (raw / L1-normalized), image RMS (edge, shaded), fit time");
-    println!(
-        "  {:<24} {:>3} {:>11} {:>11} {:>9} {:>10} {:>10} {:>8}",
-        "model", "ch", "kernel", "kernel(N)", "L1 err", "edge", "shaded", "fit [s]"
-    );
-    for r in rows {
-        let img = |s: Signal| {
-            r.image_rms
-                .iter()
-                .find(|(x, _)| *x == s)
-                .map(|(_, e)| *e)
-                .unwrap_or(f64::NAN)
-        };
-        println!(
-            "  {:<24} {:>3} {:>11.3e} {:>11.3e} {:>9.2e} {:>10.3e} {:>10.3e} {:>8.3}",
-            r.label(),
-            ["R", "G", "B"][r.channel],
-            r.kernel_rms,
-            r.kernel_rms_normalized,
-            r.l1_error,
-            img(Signal::Edge),
-            img(Signal::Shaded),
-            r.fit_seconds
-        );
-    }
-}
-
-/// The Pareto front of GPU cost against mean image RMS and the best separable model per pass
-/// budget; dense kernels on a line of their own.
-fn print_pareto(slug: &str, p: &Pareto) {
-    let t = p.taps_per_pass;
-    println!(
-        "{slug}: Pareto front of GPU cost (T = {t} taps per 1D pass) against image RMS (mean over \
-         signals and channels; worst channel)"
-    );
-    println!(
-        "  {:<24} {:>6} {:>8} {:>10} {:>10}",
-        "model", "passes", "taps/px", "mean RMS", "worst ch."
-    );
-    for q in &p.front {
-        println!(
-            "  {:<24} {:>6} {:>8} {:>10.3e} {:>10.3e}",
-            q.label, q.cost.passes, q.cost.taps, q.mean_image_rms, q.worst_channel_rms
-        );
-    }
-    let error = |q: &Point| {
-        format!(
-            "mean image RMS {:.3e}, worst channel {:.3e}",
-            q.mean_image_rms, q.worst_channel_rms
-        )
-    };
-    for r in &p.recommended {
-        match &r.best {
-            Some(q) => println!(
-                "  recommended for {} passes: {} ({} passes, {} taps/px; {})",
-                r.budget,
-                q.label,
-                q.cost.passes,
-                q.cost.taps,
-                error(q)
-            ),
-            None => println!("  recommended for {} passes: none fits", r.budget),
-        }
-    }
-    for q in &p.dense {
-        println!(
-            "  dense: {} (1 pass of {t}×{t} = {} taps/px; {})",
-            q.label,
-            q.cost.taps,
-            error(q)
-        );
-    }
 }

@@ -2,11 +2,10 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::Args;
-use fit::skin::Skin;
 use fit::taps::{ShaderKernel, TapSpec};
-use fit::{FittedKernel, KernelModel, Manual, ManualParams, Profile, SkinParams};
+use fit::{FittedKernel, KernelModel, Profile};
 use serde_json::json;
 
 use crate::files::{Outputs, out_file};
@@ -66,63 +65,32 @@ pub struct ModelArgs {
 }
 
 impl ModelArgs {
-    /// The model with the modifiers applied; a modifier that does not belong to the model is an
-    /// error naming it. Manual knobs that are left unset need the ground truths (`truths`).
+    /// The model with the knobs applied (`fit::knobs`); a refusal names the flag.
     pub fn resolve(&self, truths: &[fit::Kernel2], material: &str) -> Result<KernelModel> {
-        let m = self.model;
-        let manual_knobs = self.w.is_some() || self.tau_near.is_some() || self.tau_far.is_some();
-        let skin_knobs = self.strength.is_some() || self.falloff.is_some() || self.width.is_some();
-        let wrong = |flag: &str, family: &str| -> Result<KernelModel> {
-            bail!("invalid {flag} for --model {m}: it applies to {family} only")
+        let knobs = fit::knobs::Knobs {
+            rank: self.rank,
+            k: self.k,
+            b: self.b,
+            renormalize: self.renormalize,
+            w: self.w,
+            tau_near: self.tau_near,
+            tau_far: self.tau_far,
+            strength: self.strength,
+            falloff: self.falloff,
+            width: self.width,
         };
-        let model = match m {
-            KernelModel::Svd { rank, renormalize } => KernelModel::Svd {
-                rank: self.rank.unwrap_or(rank),
-                renormalize: renormalize || self.renormalize,
-            },
-            KernelModel::Deon { n } => KernelModel::Deon {
-                n: self.rank.unwrap_or(n),
-            },
-            KernelModel::Guided { k, b } => KernelModel::Guided {
-                k: self.k.unwrap_or(k),
-                b: self.b.unwrap_or(b),
-            },
-            _ if self.rank.is_some() => return wrong("--rank", "svd and deon"),
-            _ if self.k.is_some() || self.b.is_some() => return wrong("--k/--b", "guided"),
-            KernelModel::Manual(p) if manual_knobs => {
-                let base = match p {
-                    ManualParams::Given(g) => g,
-                    ManualParams::Auto => match m.fit_truths(truths, material)?.model {
-                        KernelModel::Manual(ManualParams::Given(g)) => g,
-                        _ => unreachable!("manual resolves to manual"),
-                    },
-                };
-                KernelModel::Manual(ManualParams::Given([0, 1, 2].map(|c| Manual {
-                    w: self.w.map_or(base[c].w, |w| w[c]),
-                    tau_near: self.tau_near.map_or(base[c].tau_near, |t| t[c] / 100.0),
-                    tau_far: self.tau_far.map_or(base[c].tau_far, |t| t[c] / 100.0),
-                })))
-            }
-            KernelModel::Skin(SkinParams::Given(s)) if skin_knobs => {
-                KernelModel::Skin(SkinParams::Given(Skin {
-                    strength: self.strength.unwrap_or(s.strength),
-                    falloff: self.falloff.unwrap_or(s.falloff),
-                    width: self.width.unwrap_or(s.width),
-                }))
-            }
-            m => m,
-        };
-        if self.renormalize && !matches!(model, KernelModel::Svd { .. }) {
-            return wrong("--renormalize", "svd");
-        }
-        if manual_knobs && !matches!(model, KernelModel::Manual(_)) {
-            return wrong("--w/--tau-near/--tau-far", "manual");
-        }
-        if skin_knobs && !matches!(model, KernelModel::Skin(SkinParams::Given(_))) {
-            return wrong("--strength/--falloff/--width", "skin");
-        }
-        model.validate()?;
-        Ok(model)
+        knobs
+            .apply(self.model, truths, material)
+            .map_err(|e| match e {
+                fit::FitError::Invalid {
+                    field,
+                    value,
+                    reason,
+                } if fit::knobs::NAMES.contains(&field.as_str()) => {
+                    anyhow::anyhow!("invalid --{} {value}: {reason}", field.replace('_', "-"))
+                }
+                e => e.into(),
+            })
     }
 }
 

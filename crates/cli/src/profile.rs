@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use anyhow::{Result, bail};
 use clap::Args;
 use fit::analytic::{Medium, Model};
-use fit::profile_compare::{BANDS, compare};
-use serde_json::{Value, json};
+use fit::profile_compare::compare;
+use serde_json::json;
 
 use crate::cache::ProfileSource;
 use crate::files::{Outputs, out_file};
@@ -121,10 +121,6 @@ pub struct CompareArgs {
     json: bool,
 }
 
-fn band_name(b: usize) -> String {
-    format!("{}-{}", BANDS[b].0, BANDS[b].1)
-}
-
 /// Tabulates and plots every analytic model against each material's MC profile.
 pub fn compare_profiles(a: CompareArgs) -> Result<()> {
     let named = library::materials(&a.materials)?;
@@ -145,49 +141,14 @@ pub fn compare_profiles(a: CompareArgs) -> Result<()> {
             report::plot::profile_comparison(&mc, &labelled, mfp, &n.slug)?,
         );
         if !a.json {
-            println!(
-                "{}: analytic models against Monte Carlo (r in transport MFP ℓ = 1/σt′)",
-                n.slug
-            );
-            println!(
-                "  {:<19} {:>2} {:>8} {:>8} {:>8} {:>9} {:>9} {:>9} {:>9}",
-                "model", "ch", "Rd MC", "Rd", "ΔRd/Rd", "rms rRd", "max|e|<½ℓ", "½–3ℓ", "3–10ℓ"
-            );
-            for m in &models {
-                for (c, ch) in m.channels.iter().enumerate() {
-                    let band = |b: usize| {
-                        ch.band_max_rel_err[b]
-                            .map_or("-".to_string(), |e| format!("{:.1}%", 100.0 * e))
-                    };
-                    println!(
-                        "  {:<19} {:>2} {:>8.4} {:>8.4} {:>7.1}% {:>8.1}% {:>9} {:>9} {:>9}",
-                        m.model.name(),
-                        mc::CHANNELS[c],
-                        ch.total_mc,
-                        ch.total_model,
-                        100.0 * ch.total_rel_err,
-                        100.0 * ch.rms_r_rd_3mfp,
-                        band(0),
-                        band(1),
-                        band(2)
-                    );
-                }
-            }
+            report::profile_comparison::lines(&n.slug, &models)
+                .iter()
+                .for_each(|l| println!("{l}"));
         }
-        let models_json: Vec<Value> = models
-            .iter()
-            .map(|m| {
-                json!({
-                    "model": m.model.name(),
-                    "channels": m.channels.iter().enumerate().map(|(c, ch)| (mc::CHANNELS[c].to_string(), json!({
-                        "total_mc": ch.total_mc, "total_mc_se": ch.total_mc_se, "total_model": ch.total_model,
-                        "total_rel_err": ch.total_rel_err, "rms_r_rd_3mfp": ch.rms_r_rd_3mfp,
-                        "max_rel_err_by_band_mfp": (0..3).map(|b| (band_name(b), json!(ch.band_max_rel_err[b]))).collect::<serde_json::Map<_, _>>(),
-                    }))).collect::<serde_json::Map<_, _>>(),
-                })
-            })
-            .collect();
-        out.push(json!({ "material": n.slug, "plot": plot.display().to_string(), "models": models_json }));
+        let plot_name = plot.display().to_string();
+        out.push(report::profile_comparison::json(
+            &n.slug, &plot_name, &models,
+        ));
     }
     files.commit()?;
     eprintln!("plots → {}", a.plots.display());

@@ -7,12 +7,12 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use mc::CHANNELS;
 use mc::shard::{self, Shard};
 use report::simulation::{self, Finished};
+use report::simulation_run::Simulation;
 use serde_json::json;
 
-use crate::common::{self, parse_count};
+use crate::common::{Bars, parse_count};
 use crate::files::Outputs;
 use crate::library::{self, Named};
 
@@ -106,99 +106,48 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
             .collect::<Result<_>>()?
     };
     let config = library::config(args.config.as_deref())?;
-    let photons = args.photons.unwrap_or(config.photons);
-    let seed = args.seed.unwrap_or(config.seed);
-    let materials: Vec<&mc::Material> = named.iter().map(|n| &n.material).collect();
-    let spec = config.batch(&materials, photons, seed, !args.full)?;
-    let labels: Vec<String> = named
-        .iter()
-        .flat_map(|n| CHANNELS.iter().map(move |c| format!("{}:{c}", n.slug)))
-        .collect();
-    let groups = spec.groups().len() as u64;
-    // Rd(θ): one profile-only batch per material, so its table does not depend on which other
-    // materials share the command line.
-    let incidence_specs = if args.incidence_angles.is_empty() {
-        Vec::new()
-    } else {
-        named
+    let sim = Simulation {
+        materials: named
             .iter()
-            .map(|n| config.batch(&[&n.material], args.incidence_photons, seed, true))
-            .collect::<mc::Result<Vec<_>>>()?
-    };
-
-    let start = Instant::now();
-    if let Some(s) = &args.shard {
-        let (i, n) = mc::job_array::slice(s, &|k| std::env::var(k).ok())?;
-        let chunks = shard::shard_chunks(photons, i - 1, n);
-        let bar = common::photons(
-            shard::chunk_photons(photons, &chunks) * groups,
-            &format!("shard {i}/{n}"),
-        );
-        let accs = pool.install(|| mc::accumulate_batch(&spec, chunks.clone(), &|k| bar.inc(k)))?;
-        bar.finish_and_clear();
-        let path = args.out.join(format!("shard-{i}-of-{n}.json"));
-        let sh = Shard {
-            spec,
-            labels,
-            chunks,
-            groups: accs,
-        };
-        let mut files = Outputs::default();
-        files.add(&path, sh.to_json());
-        files.commit()?;
-        if args.json {
-            println!(
-                "{}",
-                json!({ "shard": path, "index": i, "of": n, "seconds": start.elapsed().as_secs_f64() })
-            );
-        } else {
-            eprintln!(
-                "wrote {} ({:.1} s); combine all {n} shards with `sss merge`",
-                path.display(),
-                start.elapsed().as_secs_f64()
-            );
-        }
-        return Ok(());
-    }
-
-    let bar = common::photons(
-        photons * groups,
-        &format!(
-            "{} channel(s) in {groups} walk group(s)",
-            spec.channels.len()
-        ),
-    );
-    let outputs = pool.install(|| match args.target_error {
-        Some(e) => mc::run_batch_to_error(&spec, e, &spec.error_radii(), &|k| bar.inc(k)),
-        None => mc::run_batch(&spec, &|k| bar.inc(k)),
-    })?;
-    bar.finish_and_clear();
-    // The summaries' and .mco files' run time is the profile run's, with or without Rd(θ).
-    let seconds = start.elapsed().as_secs_f64();
-    let incidence = incidence_specs
-        .iter()
-        .zip(&named)
-        .map(|(s, n)| {
-            let angles = &args.incidence_angles;
-            let bar = common::photons(
-                s.photons * s.groups().len() as u64 * angles.len() as u64,
-                &format!("{}: Rd(θ) at {} angle(s)", n.slug, angles.len()),
-            );
-            let rows = pool.install(|| mc::incidence::rd_table(s, angles, &|k| bar.inc(k)))?;
-            bar.finish_and_clear();
-            Ok(rows)
-        })
-        .collect::<Result<Vec<_>>>()?;
-    let run = Finished {
-        spec: &spec,
-        labels: &labels,
-        outputs: &outputs,
-        incidence: &incidence,
-        seconds,
-        threads: pool.current_num_threads(),
+            .map(|n| (n.slug.as_str(), &n.material))
+            .collect(),
+        config: &config,
+        photons: args.photons.unwrap_or(config.photons),
+        seed: args.seed.unwrap_or(config.seed),
+        full: args.full,
         target_error: args.target_error,
+        incidence_angles: args.incidence_angles.clone(),
+        incidence_photons: args.incidence_photons,
     };
-    finish(&run, &args.out, args.json)
+    let bars = Bars::default();
+    let Some(s) = &args.shard else {
+        let run = pool.install(|| sim.run(&bars))?;
+        return finish(
+            &run.finished(pool.current_num_threads()),
+            &args.out,
+            args.json,
+        );
+    };
+    let start = Instant::now();
+    let (i, n) = mc::job_array::slice(s, &|k| std::env::var(k).ok())?;
+    let sh = pool.install(|| sim.shard(i, n, &bars))?;
+    let path = args.out.join(format!("shard-{i}-of-{n}.json"));
+    let mut files = Outputs::default();
+    files.add(&path, sh.to_json());
+    files.commit()?;
+    let seconds = start.elapsed().as_secs_f64();
+    if args.json {
+        println!(
+            "{}",
+            json!({ "shard": path, "index": i, "of": n, "seconds": seconds })
+        );
+    } else {
+        eprintln!(
+            "wrote {} ({seconds:.1} s); combine all {n} shards with `sss merge`",
+            path.display()
+        );
+    }
+    Ok(())
 }
 
 pub fn merge(texts: &[(String, String)], out: &Path, json: bool) -> Result<()> {
@@ -258,28 +207,7 @@ fn run_mci(path: &Path, args: &SimulateArgs) -> Result<()> {
         }
         r.spec.tallies.absorption_rz = true;
     }
-    let mut files = Outputs::default();
-    let mut report = Vec::new();
-    for (k, r) in runs.iter().enumerate() {
-        let start = Instant::now();
-        let bar = common::photons(r.spec.photons, &format!("run {}/{}", k + 1, runs.len()));
-        let out = mc::run(&r.spec, &|n| bar.inc(n))?;
-        bar.finish_and_clear();
-        let seconds = start.elapsed().as_secs_f64();
-        let name = Path::new(&r.out_name)
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_else(|| format!("run{}.mco", k + 1));
-        files.add(
-            args.out.join(&name),
-            mc::mco::write(&r.out_name, &r.spec, &out, seconds)?,
-        );
-        report.push(simulation::mci_run_json(
-            &args.out.join(&name),
-            &out,
-            seconds,
-        ));
-    }
+    let (files, report) = simulation::run_mci(&runs, &args.out, &Bars::default())?;
     files.commit()?;
     if args.json {
         println!(

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use anyhow::Result;
 use clap::Args;
 use mc::table::{self, Table, TableShard, TableSpec};
 use serde_json::json;
@@ -70,36 +70,17 @@ pub fn file_name(g: f64, eta: f64) -> String {
 }
 
 fn specs(a: &TableArgs) -> Result<Vec<TableSpec>> {
-    if a.albedos < 4 {
-        bail!("invalid --albedos {}: a table needs at least 4", a.albedos);
-    }
-    if !(a.max_albedo > 0.0 && a.max_albedo < 1.0) {
-        bail!(
-            "invalid --max-albedo {}: must lie in (0, 1); at 1 a half-space walk has no finite mean length",
-            a.max_albedo
-        );
-    }
-    let albedos = table::default_albedos(a.albedos, a.max_albedo);
-    let mut out = Vec::new();
-    for &g in &a.g {
-        for &eta in &a.eta {
-            let s = TableSpec {
-                g,
-                eta,
-                albedos: albedos.clone(),
-                photons: a.photons,
-                seed: a.seed,
-                white: a.white,
-            };
-            s.validate()
-                .with_context(|| format!("table g = {g}, η = {eta}"))?;
-            if out.iter().any(|o: &TableSpec| o.g == g && o.eta == eta) {
-                bail!("table g = {g}, η = {eta} is asked twice");
-            }
-            out.push(s);
+    let albedos = (a.albedos, a.max_albedo);
+    TableSpec::grid(&a.g, &a.eta, albedos, a.photons, a.seed, a.white).map_err(|e| match e {
+        mc::McError::InvalidValue {
+            field,
+            value,
+            reason,
+        } if ["g", "eta", "albedos", "max_albedo", "photons"].contains(&field.as_str()) => {
+            anyhow::anyhow!("invalid --{} {value}: {reason}", field.replace('_', "-"))
         }
-    }
-    Ok(out)
+        e => e.into(),
+    })
 }
 
 pub fn run(a: TableArgs) -> Result<()> {
@@ -166,32 +147,11 @@ fn write(
     for t in tables {
         let path = out.join(file_name(t.g, t.eta));
         files.add(&path, t.to_json());
-        let last = t.albedo.len() - 1;
-        rows.push(json!({
-            "g": t.g, "eta": t.eta, "file": path, "albedos": t.albedo.len(),
-            "photons_per_albedo": t.photons, "seed": t.seed, "white": t.white,
-            "max_albedo": t.albedo[last], "rd_at_max_albedo": t.rd[last],
-            "rd_at_max_albedo_se": t.rd_node(last).se, "reach_mfp": t.reach(),
-        }));
+        let (line, row) = t.summary(&path);
         if !json {
-            eprintln!(
-                "table g = {}, η = {}: {} albedos up to {} × {} photons ({}); Rd at the largest {:.5} ± {:.5}; radii to {:.0} mean free paths → {}",
-                t.g,
-                t.eta,
-                t.albedo.len(),
-                t.albedo[last],
-                t.photons,
-                if t.white {
-                    "one walk for all"
-                } else {
-                    "one walk each"
-                },
-                t.rd[last],
-                t.rd_node(last).se,
-                t.reach(),
-                path.display()
-            );
+            eprintln!("{line}");
         }
+        rows.push(row);
     }
     files.commit()?;
     if json {

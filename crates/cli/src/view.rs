@@ -66,39 +66,14 @@ pub fn run(mut a: ViewArgs) -> Result<()> {
     a.source
         .profiles
         .get_or_insert_with(crate::common::default_out);
-    let scenes: Vec<render::SiteScene> = if a.scenes.is_empty() {
-        vec!["sphere".to_string(), "fin".to_string()]
-    } else {
-        a.scenes.clone()
-    }
-    .into_iter()
-    .map(|scene| render::SiteScene {
-        name: std::path::Path::new(&scene)
-            .file_stem()
-            .and_then(|s| s.to_str())
-            .unwrap_or("scene")
-            .to_string(),
-        scene,
-        reference: None,
-    })
-    .collect();
-    let mut scenes = scenes;
+    let mut scenes = render::SiteScene::list(&a.scenes);
     for r in &a.references {
         let Some((name, file)) = r.split_once('=') else {
             bail!("invalid --reference {r:?}: expected NAME=FILE.png");
         };
-        let names: Vec<String> = scenes.iter().map(|s| s.name.clone()).collect();
-        let Some(s) = scenes.iter_mut().find(|s| s.name == name) else {
-            bail!(
-                "invalid --reference {r:?}: no scene {name} (the page has {})",
-                names.join(", ")
-            );
-        };
         let png = std::fs::read(file).with_context(|| format!("cannot read --reference {file}"))?;
-        if !png.starts_with(b"\x89PNG") {
-            bail!("invalid --reference {file}: not a PNG");
-        }
-        s.reference = Some(png);
+        render::SiteScene::set_reference(&mut scenes, name, png)
+            .with_context(|| format!("--reference {r}"))?;
     }
     let mut request = a
         .source

@@ -236,6 +236,49 @@ impl AreaTable {
         t
     }
 
+    /// The texels as a GPU uploads them: little-endian f32, RGB interleaved, row-major (row j =
+    /// disc radius, column i = distance).
+    pub fn f32_bytes(&self) -> Vec<u8> {
+        (0..self.n_a * self.n_r)
+            .flat_map(|k| {
+                self.values
+                    .iter()
+                    .flat_map(move |v| (v[k] as f32).to_le_bytes())
+            })
+            .collect()
+    }
+
+    /// The header that describes [`AreaTable::f32_bytes`]: layout, units, extent, the profile's
+    /// `source` and the zoom effect `curves` ([`zoom_effect`]) per channel.
+    pub fn header(
+        &self,
+        material: &str,
+        source: &str,
+        q_min: f64,
+        curves: &[Vec<(f64, f64, f64)>],
+    ) -> serde_json::Value {
+        use serde_json::json;
+        let effect: serde_json::Map<String, serde_json::Value> = curves
+            .iter()
+            .enumerate()
+            .map(|(c, v)| {
+                let points = v.iter().map(|&(p, point, area)| {
+                    json!({"pitch_cm": p, "point_sampled": point, "area_preintegrated": area})
+                });
+                (
+                    mc::CHANNELS[c].to_string(),
+                    json!(points.collect::<Vec<_>>()),
+                )
+            })
+            .collect();
+        json!({
+            "material": material, "source": source, "unit": "1/cm^2",
+            "layout": "little-endian f32, RGB interleaved, row-major: row j = disc radius r_A = (j+0.5)*r_max/rows, column i = distance r = (i+0.5)*r_max/columns",
+            "columns": self.n_r, "rows": self.n_a, "r_max_cm": self.r_max, "a_max_cm2": self.a_max(),
+            "q_min_per_cm": q_min, "zoom_effect": effect,
+        })
+    }
+
     /// Bilinear lookup of channel `c` at distance `r` [cm] and area `a` [cm²], clamped to the
     /// texel centres as a GPU sampler with clamp-to-edge does.
     pub fn lookup(&self, c: usize, r: f64, a: f64) -> f64 {

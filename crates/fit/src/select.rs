@@ -144,6 +144,27 @@ impl Scored {
     pub fn error(&self) -> f64 {
         self.image_rms.iter().sum::<f64>() / 3.0
     }
+
+    /// One line of a ranking: the model and its image RMS per channel and mean.
+    pub fn line(&self) -> String {
+        let e = self.image_rms;
+        format!(
+            "  {:<34} R {:.2e}  G {:.2e}  B {:.2e}  mean {:.2e}",
+            self.model.to_string(),
+            e[0],
+            e[1],
+            e[2],
+            self.error()
+        )
+    }
+
+    /// As JSON: `{"model", "passes" (1D passes), "image_rms", "mean_image_rms"}`.
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "model": self.model.to_string(), "passes": 2 * self.kernel.pass.len(),
+            "image_rms": self.image_rms, "mean_image_rms": self.error(),
+        })
+    }
 }
 
 /// Ground-truth samples per pixel (per axis) on which [`Judge`] fits and scores the models.

@@ -153,6 +153,44 @@ impl TableSpec {
         self.batch().validate()
     }
 
+    /// One table per (g, η) of `gs` × `etas`, each with `albedos` albedos spaced as
+    /// [`default_albedos`] up to `max_albedo`, all validated; errors name the field (`albedos`,
+    /// `max_albedo`, `g`, `eta`, …) and the table.
+    pub fn grid(
+        gs: &[f64],
+        etas: &[f64],
+        (albedos, max_albedo): (usize, f64),
+        photons: u64,
+        seed: u64,
+        white: bool,
+    ) -> Result<Vec<TableSpec>> {
+        if !(max_albedo > 0.0 && max_albedo < 1.0) {
+            let reason = "must lie in (0, 1); at 1 a half-space walk has no finite mean length";
+            return Err(McError::invalid("max_albedo", max_albedo, reason));
+        }
+        let albedos = default_albedos(albedos, max_albedo);
+        let mut out: Vec<TableSpec> = Vec::new();
+        for &g in gs {
+            for &eta in etas {
+                let s = TableSpec {
+                    g,
+                    eta,
+                    albedos: albedos.clone(),
+                    photons,
+                    seed,
+                    white,
+                };
+                s.validate()?;
+                if out.iter().any(|o| o.g == g && o.eta == eta) {
+                    let what = format!("g = {g}, η = {eta}");
+                    return Err(McError::invalid("table", what, "is asked twice"));
+                }
+                out.push(s);
+            }
+        }
+        Ok(out)
+    }
+
     /// The batch that builds the table: per albedo (in order), [`LEVELS`] channels with the same
     /// layer (σt = 1 [cm⁻¹], so cm are mean free paths) and one radial grid each. Each albedo is
     /// one walk group, in albedo order.
@@ -300,6 +338,36 @@ fn se_of(mean: f64, mean_sq: f64, n: u64) -> f64 {
 }
 
 impl Table {
+    /// What a build reports of the table written to `file`, as a line for the user and as JSON:
+    /// its albedos and photons, total Rd at the largest albedo with its standard error, and the
+    /// radii it reaches [mean free paths].
+    pub fn summary(&self, file: &std::path::Path) -> (String, serde_json::Value) {
+        let last = self.albedo.len() - 1;
+        let (rd, se) = (self.rd[last], self.rd_node(last).se);
+        let walks = if self.white {
+            "one walk for all"
+        } else {
+            "one walk each"
+        };
+        let line = format!(
+            "table g = {}, η = {}: {} albedos up to {} × {} photons ({walks}); Rd at the largest {rd:.5} ± {se:.5}; radii to {:.0} mean free paths → {}",
+            self.g,
+            self.eta,
+            self.albedo.len(),
+            self.albedo[last],
+            self.photons,
+            self.reach(),
+            file.display()
+        );
+        let json = serde_json::json!({
+            "g": self.g, "eta": self.eta, "file": file, "albedos": self.albedo.len(),
+            "photons_per_albedo": self.photons, "seed": self.seed, "white": self.white,
+            "max_albedo": self.albedo[last], "rd_at_max_albedo": rd,
+            "rd_at_max_albedo_se": se, "reach_mfp": self.reach(),
+        });
+        (line, json)
+    }
+
     /// The table as JSON (exact: every f64 is written so it reads back to the same bits).
     pub fn to_json(&self) -> String {
         serde_json::to_string(self).expect("a table serializes")

@@ -4,7 +4,8 @@
 
 use fit::KernelModel;
 use fit::analytic::Model;
-use fit::engine::{BurleyProfileFit, Engine, burley_engine, openpbr, random_walk};
+use fit::engine::Engine;
+use fit::engine_report::EngineReport;
 use fit::export::{OffsetUnit, ShaderFormat};
 use fit::select::{Budget, Judge};
 use fit::taps::ShaderKernel;
@@ -259,24 +260,10 @@ pub fn engine_params<'py>(
     let (p, _) = source_profile(py, profile.unwrap_or(material), Some(&m.name), photons)?;
     let engine: Engine = parse("engine", engine)?;
     let budget: Budget = parse("budget", budget)?;
-    let (params, burley, best) = py
-        .detach(|| {
-            let judge = Judge::new(&p);
-            let burley = BurleyProfileFit::new(&p, &judge);
-            let best = judge.rank(budget, &m.name)?.swap_remove(0);
-            let params = match engine {
-                Engine::OpenPbr => Some(openpbr(&m)),
-                e => burley_engine(e, &burley),
-            };
-            Ok::<_, fit::FitError>((params, burley, best))
-        })
+    let report = py
+        .detach(|| EngineReport::new(&p, &m, &m.name, engine, budget))
         .map_err(error)?;
-    let params = params.ok_or_else(|| error(format!("engine {engine}: no parameters")))?;
-    let v = serde_json::json!({
-        "material": m.name, "engine": engine.to_string(), "params": params,
-        "random_walk": (engine == Engine::Blender).then(|| random_walk(&m)), "burley_fit": burley,
-        "best_separable": {"model": best.model.to_string(), "budget": budget.to_string(), "image_rms": best.image_rms},
-    });
+    let v = serde_json::to_value(&report).map_err(error)?;
     from_json(py, &v)
 }
 

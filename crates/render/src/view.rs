@@ -38,6 +38,50 @@ pub struct SiteScene {
     pub reference: Option<Vec<u8>>,
 }
 
+impl SiteScene {
+    /// The page's scenes from their names or .obj paths (each named after its file stem), the
+    /// first being the default; none given: the sphere and the fin.
+    pub fn list(scenes: &[String]) -> Vec<SiteScene> {
+        let default = ["sphere".to_string(), "fin".to_string()];
+        let scenes = if scenes.is_empty() {
+            &default[..]
+        } else {
+            scenes
+        };
+        scenes
+            .iter()
+            .map(|scene| SiteScene {
+                name: std::path::Path::new(scene)
+                    .file_stem()
+                    .and_then(|s| s.to_str())
+                    .unwrap_or("scene")
+                    .to_string(),
+                scene: scene.clone(),
+                reference: None,
+            })
+            .collect()
+    }
+
+    /// Sets the reference image (PNG bytes) of the scene named `name` in `scenes`; a scene the
+    /// page does not have, or bytes that are not a PNG, are refused (field `reference`).
+    pub fn set_reference(scenes: &mut [SiteScene], name: &str, png: Vec<u8>) -> Result<()> {
+        if !png.starts_with(b"\x89PNG") {
+            return Err(RenderError::invalid("reference", name, "not a PNG"));
+        }
+        let names: Vec<String> = scenes.iter().map(|s| s.name.clone()).collect();
+        match scenes.iter_mut().find(|s| s.name == name) {
+            Some(s) => {
+                s.reference = Some(png);
+                Ok(())
+            }
+            None => {
+                let reason = format!("no such scene (the page has {})", names.join(", "));
+                Err(RenderError::invalid("reference", name, reason))
+            }
+        }
+    }
+}
+
 impl Site {
     /// Plans `request` (one SSS material, the separable method at full resolution) on each of
     /// `scenes`, the first being the page's default, with profiles and tables from `profiles`.

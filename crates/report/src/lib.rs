@@ -15,15 +15,19 @@
 #![allow(clippy::needless_range_loop)]
 
 mod error;
+pub mod evaluation;
 pub mod image;
 pub mod incidence;
 pub mod pareto;
 pub mod plot;
+pub mod profile_comparison;
 pub mod render_checks;
 pub mod rendered;
 pub mod reproduce;
 pub mod reproduction;
 pub mod sheet;
 pub mod simulation;
+pub mod simulation_run;
+pub mod tracer_bench;
 
 pub use error::{ReportError, Result};

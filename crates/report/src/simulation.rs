@@ -225,3 +225,34 @@ pub fn mci_run_text(r: &Value) -> String {
         f("tt_se")
     )
 }
+
+/// Runs every run of an MCML input (A(r, z) tallied, as MCML does) and returns its `.mco` files
+/// in `out` (each named as the `.mci` names it, without its folder) and each run as
+/// [`mci_run_json`]. Progress per run goes to `progress`.
+pub fn run_mci(
+    runs: &[mc::mci::MciRun],
+    out: &Path,
+    progress: &dyn mc::progress::Progress,
+) -> Result<(Outputs, Vec<Value>)> {
+    let mut files = Outputs::default();
+    let mut report = Vec::new();
+    for (k, r) in runs.iter().enumerate() {
+        let start = std::time::Instant::now();
+        progress.begin(&format!("run {}/{}", k + 1, runs.len()), r.spec.photons);
+        let result = mc::run(&r.spec, &|n| progress.advance(n));
+        progress.end();
+        let result = result?;
+        let seconds = start.elapsed().as_secs_f64();
+        let name = Path::new(&r.out_name)
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| format!("run{}.mco", k + 1));
+        let path = out.join(&name);
+        files.add(
+            &path,
+            mc::mco::write(&r.out_name, &r.spec, &result, seconds)?,
+        );
+        report.push(mci_run_json(&path, &result, seconds));
+    }
+    Ok((files, report))
+}
