@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Result, bail};
+use anyhow::Result;
 use clap::Args;
 use fit::Profile;
 
@@ -88,6 +88,20 @@ impl ProfileSource {
         })
     }
 
+    /// `build(profiles, progress)` with profiles and tables from this cache (simulated ones join
+    /// `files`) and bars on stderr: a plan, a package or a site.
+    pub fn build<T>(
+        &self,
+        files: &mut Outputs,
+        build: impl FnOnce(&mut dyn render::Profiles, &Bars) -> render::Result<T>,
+    ) -> render::Result<T> {
+        let mut profiles = Cached {
+            source: self,
+            files,
+        };
+        build(&mut profiles, &Bars::default())
+    }
+
     /// The cache these flags describe.
     pub fn cache(&self) -> render::ProfileCache {
         render::ProfileCache {
@@ -103,14 +117,10 @@ impl ProfileSource {
     /// The profile of a material (`render::ProfileCache::profile`), a simulated one added to
     /// `out`; bars and notes on stderr.
     pub fn profile(&self, n: &Named, out: &mut Outputs) -> Result<Profile> {
-        if self.threads == Some(0) {
-            bail!("{THREADS_0}");
-        }
-        Ok(self.cache().profile(n, out, &Bars::default())?)
+        let p = self.cache().profile(n, out, &Bars::default());
+        Ok(p.map_err(|e| e.renamed(|f| (f == "threads").then(|| "--threads".into())))?)
     }
 }
-
-const THREADS_0: &str = "invalid --threads 0: must be at least 1";
 
 /// Profiles and tables from the cache (`render::Cached`), simulated ones added to the command's
 /// outputs; bars and notes on stderr.
@@ -121,20 +131,26 @@ pub struct Cached<'a> {
     pub files: &'a mut Outputs,
 }
 
-impl render::Profiles for Cached<'_> {
-    fn profile(&mut self, m: &Named) -> render::Result<Profile> {
-        if self.source.threads == Some(0) {
-            let (material, reason) = (m.slug.clone(), THREADS_0.into());
-            return Err(render::RenderError::Profile { material, reason });
-        }
+impl Cached<'_> {
+    /// `f` on the library's cache with these flags, outputs and bars.
+    fn with<T>(
+        &mut self,
+        f: impl FnOnce(&mut render::Cached) -> render::Result<T>,
+    ) -> render::Result<T> {
         let cache = self.source.cache();
         let progress = &Bars::default();
-        render::Cached {
+        let files = &mut *self.files;
+        f(&mut render::Cached {
             cache: &cache,
-            files: self.files,
+            files,
             progress,
-        }
-        .profile(m)
+        })
+    }
+}
+
+impl render::Profiles for Cached<'_> {
+    fn profile(&mut self, m: &Named) -> render::Result<Profile> {
+        self.with(|c| c.profile(m))
     }
 
     fn tables(
@@ -143,13 +159,6 @@ impl render::Profiles for Cached<'_> {
         key: &str,
         build: &mut dyn FnMut() -> render::Result<render::MaterialTables>,
     ) -> render::Result<render::MaterialTables> {
-        let cache = self.source.cache();
-        let progress = &Bars::default();
-        render::Cached {
-            cache: &cache,
-            files: self.files,
-            progress,
-        }
-        .tables(m, key, build)
+        self.with(|c| c.tables(m, key, build))
     }
 }

@@ -114,3 +114,17 @@ impl render::Progress for Bars {
         eprintln!("{line}");
     }
 }
+
+/// Prints `v` as indented JSON on stdout (`--json`).
+pub fn print_json(v: &serde_json::Value) -> Result<()> {
+    println!("{}", serde_json::to_string_pretty(v)?);
+    Ok(())
+}
+
+/// Writes `text` to stdout as it is (a shader snippet when no --out is given).
+pub fn print_raw(text: &str) -> Result<()> {
+    use anyhow::Context;
+    use std::io::Write;
+    let out = std::io::stdout().write_all(text.as_bytes());
+    out.context("cannot write to standard output")
+}

@@ -2,10 +2,9 @@
 //! for a budget) and `sss engine-params` (material → Unreal, Unity, Blender or OpenPBR fields),
 //! and `--from-artist` (an artist's colour and radius → a material).
 
-use std::io::Write;
 use std::path::PathBuf;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use clap::Args;
 use fit::engine::{Engine, materialx};
 use fit::engine_report::EngineReport;
@@ -112,18 +111,13 @@ pub fn kernel(a: KernelArgs) -> Result<()> {
     }
     files.commit()?;
     if out.is_none() {
-        std::io::stdout()
-            .write_all(snippet.as_bytes())
-            .context("cannot write to standard output")?;
+        crate::common::print_raw(&snippet)?;
     }
     if a.json {
         let rows: Vec<_> = ranked.iter().map(Scored::json).collect();
-        println!(
-            "{}",
-            serde_json::to_string_pretty(
-                &json!({"material": named.slug, "budget": a.budget.to_string(), "format": a.format.to_string(), "chosen": best.model.to_string(), "out": out, "candidates": rows})
-            )?
-        );
+        crate::common::print_json(
+            &json!({"material": named.slug, "budget": a.budget.to_string(), "format": a.format.to_string(), "chosen": best.model.to_string(), "out": out, "candidates": rows}),
+        )?;
     }
     Ok(())
 }
@@ -184,7 +178,7 @@ pub fn engine_params(a: EngineParamsArgs) -> Result<()> {
         eprint!("{text}");
         let mut v = serde_json::to_value(&r)?;
         v["mtlx"] = json!(mtlx);
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        crate::common::print_json(&v)?;
     } else {
         print!("{text}");
     }

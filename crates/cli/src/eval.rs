@@ -66,10 +66,7 @@ pub fn run(a: EvalArgs) -> Result<()> {
         eprintln!("plots → {}", dir.display());
     }
     if a.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&json!({ "materials": materials }))?
-        );
+        crate::common::print_json(&json!({ "materials": materials }))?;
     }
     Ok(())
 }

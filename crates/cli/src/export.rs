@@ -2,7 +2,6 @@
 //! layout (see `fit::export`); or, with `--format package`, a material's whole shading model as
 //! a folder an engine loads (`render::Package`).
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::str::FromStr;
 
@@ -11,8 +10,8 @@ use clap::Args;
 use fit::export::{OffsetUnit, ShaderFormat, export};
 use fit::taps::ShaderKernel;
 
-use crate::cache::{Cached, ProfileSource};
-use crate::common::{Bars, parse_count};
+use crate::cache::ProfileSource;
+use crate::common::parse_count;
 use crate::files::{Outputs, out_file};
 use crate::library;
 
@@ -109,14 +108,12 @@ fn kernel(a: &ExportArgs, format: ShaderFormat) -> Result<()> {
                 a.unit
             );
         }
-        None => std::io::stdout()
-            .write_all(source.as_bytes())
-            .context("cannot write to standard output")?,
+        None => crate::common::print_raw(&source)?,
     }
     Ok(())
 }
 
-fn package(mut a: ExportArgs) -> Result<()> {
+fn package(a: ExportArgs) -> Result<()> {
     if a.unit != OffsetUnit::Cm {
         bail!("invalid --unit {}: a package's lengths are cm", a.unit);
     }
@@ -125,20 +122,14 @@ fn package(mut a: ExportArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| crate::common::default_out().join(format!("{}.package", named.slug)));
-    a.source
-        .profiles
-        .get_or_insert_with(crate::common::default_out);
     let mut request = a
         .source
         .request(named, a.incidence_photons, a.translucency_photons)?;
     request.frame.taps = a.taps;
     let mut files = Outputs::default();
-    let bars = Bars::default();
-    let mut profiles = Cached {
-        source: &a.source,
-        files: &mut files,
-    };
-    let package = render::Package::build(&request, &mut profiles, &bars)?;
+    let package = (a.source).build(&mut files, |p, bars| {
+        render::Package::build(&request, p, bars)
+    })?;
     for note in &package.notes {
         eprintln!("{note}");
     }

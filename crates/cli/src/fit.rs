@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use fit::taps::{ShaderKernel, TapSpec};
-use fit::{FittedKernel, KernelModel, Profile};
+use fit::{KernelModel, Profile};
 use serde_json::json;
 
 use crate::files::{Outputs, out_file};
@@ -145,21 +145,6 @@ pub struct FitArgs {
     json: bool,
 }
 
-/// A model fitted to a profile and sampled into taps.
-pub fn build_kernel(
-    p: &Profile,
-    model: &ModelArgs,
-    material: &str,
-    spec: TapSpec,
-) -> Result<(ShaderKernel, FittedKernel)> {
-    spec.validate()?;
-    let truths: Vec<fit::Kernel2> = fit::ground_truths(p);
-    let fitted = model
-        .resolve(&truths, material)?
-        .fit_truths(&truths, material)?;
-    Ok((ShaderKernel::from_fitted(&fitted, material, spec)?, fitted))
-}
-
 pub fn run(a: FitArgs) -> Result<()> {
     let text = crate::files::read_text(&a.profile)
         .with_context(|| format!("cannot read profile {}", a.profile.display()))?;
@@ -173,24 +158,24 @@ pub fn run(a: FitArgs) -> Result<()> {
             .to_string()
     });
     let start = std::time::Instant::now();
-    let (kernel, fitted) = build_kernel(&p, &a.model, &material, a.taps.spec())?;
+    let spec = a.taps.spec();
+    spec.validate()?;
+    let truths = fit::ground_truths(&p);
+    let fitted = (a.model.resolve(&truths, &material)?).fit_truths(&truths, &material)?;
+    let kernel = ShaderKernel::from_fitted(&fitted, &material, spec)?;
     let tap_rms = kernel.tap_error(&p, &fitted);
     eprintln!(
         "taps vs full-resolution kernel, worst image RMS over the test signals: R {:.2e}  G {:.2e}  B {:.2e} (images in [0, 1])",
         tap_rms[0], tap_rms[1], tap_rms[2]
     );
     let name = kernel.model;
-    let header = format!(
-        "# sss fit: model {name}, material {material}, profile {}\n# offsets in cm; each [[pass]] is one horizontal + one vertical 1D convolution; sum the passes' results\n",
-        a.profile.display()
-    );
     let out = out_file(&a.out, &format!("{material}.kernel.toml"));
     let mut files = Outputs::default();
-    files.add(&out, header + &kernel.to_toml());
+    files.add(&out, kernel.file_text(&a.profile.display().to_string()));
     files.commit()?;
     let summary = json!({ "model": name.to_string(), "material": material, "out": out, "taps": kernel.taps, "passes": kernel.pass.len(), "range_cm": kernel.range, "taps_vs_full_image_rms": tap_rms, "seconds": start.elapsed().as_secs_f64() });
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&summary)?);
+        crate::common::print_json(&summary)?;
     } else {
         eprintln!(
             "wrote {} ({name}: {} pass(es) × {} taps, range {:.4} cm) in {:.2} s",

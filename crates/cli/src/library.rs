@@ -3,8 +3,8 @@
 
 use std::path::Path;
 
-use anyhow::{Context, Result, bail};
-use mc::{Material, SimConfig};
+use anyhow::{Result, bail};
+use mc::SimConfig;
 
 /// A material with the short name used for file names.
 pub use render::NamedMaterial as Named;
@@ -12,27 +12,14 @@ pub use render::NamedMaterial as Named;
 /// Resolves a material argument: a path to a TOML file (contains a path separator or ends in
 /// `.toml`), else a built-in name (case-insensitive).
 pub fn material(arg: &str) -> Result<Named> {
-    if mc::builtin::is_path(arg) {
-        let text = crate::files::read_text(arg)
-            .with_context(|| format!("cannot read material file {arg}"))?;
-        let material = Material::from_toml(&text, arg)?;
-        let slug = Path::new(arg)
-            .file_stem()
-            .and_then(|s| s.to_str())
-            .unwrap_or("material")
-            .to_lowercase();
-        return Ok(Named { slug, material });
-    }
-    if !mc::builtin::names().contains(&arg.to_lowercase().as_str()) {
+    if !mc::builtin::is_path(arg) && !mc::builtin::names().contains(&arg.to_lowercase().as_str()) {
         bail!(
             "unknown material {arg:?} (built-in: {}; or give a path to a .toml file)",
             mc::builtin::names().join(", ")
         );
     }
-    Ok(Named {
-        slug: arg.to_lowercase(),
-        material: Material::builtin(arg)?,
-    })
+    let (slug, material) = mc::builtin::resolve(arg)?;
+    Ok(Named { slug, material })
 }
 
 /// Resolves every material argument (see [`material`]).

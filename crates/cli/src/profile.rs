@@ -3,40 +3,16 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Result, bail};
+use anyhow::Result;
 use clap::Args;
-use fit::analytic::{Medium, Model};
+use fit::analytic::Medium;
 use fit::profile_compare::compare;
+use render::profile_cache::ProfileModel;
 use serde_json::json;
 
 use crate::cache::ProfileSource;
 use crate::files::{Outputs, out_file};
 use crate::library;
-
-/// An analytic model, or Monte Carlo tables.
-#[derive(Clone, Copy)]
-enum Source {
-    Analytic(Model),
-    Table,
-}
-
-impl Source {
-    fn name(&self) -> &'static str {
-        match self {
-            Source::Analytic(m) => m.name(),
-            Source::Table => "table",
-        }
-    }
-}
-
-fn parse_model(s: &str) -> Result<Source, String> {
-    if s.trim().eq_ignore_ascii_case("table") {
-        return Ok(Source::Table);
-    }
-    Model::parse(s)
-        .map(Source::Analytic)
-        .map_err(|e| format!("{e} (or `table`, with --table)"))
-}
 
 #[derive(Args)]
 pub struct ProfileArgs {
@@ -46,8 +22,8 @@ pub struct ProfileArgs {
     /// Analytic model: dipole, better-dipole, directional-dipole, pbd, burley; or `table`, the
     /// Monte Carlo profile interpolated from --table (standard errors: the table's noise and
     /// the interpolation error estimate)
-    #[arg(long, value_parser = parse_model)]
-    model: Source,
+    #[arg(long)]
+    model: ProfileModel,
 
     /// With --model table: a table file, or a folder of *.table.json, from `sss table`
     #[arg(long, value_name = "FILE|DIR")]
@@ -67,22 +43,10 @@ pub struct ProfileArgs {
 pub fn profile(a: ProfileArgs) -> Result<()> {
     let n = library::material(&a.material)?;
     let config = library::config(a.config.as_deref())?;
+    let bars = crate::common::Bars::default();
     let grid = config.grid_for(&n.material)?;
-    let nr = grid.nr - 1;
-    let csv = match (a.model, &a.table) {
-        (Source::Table, Some(t)) => {
-            render::profile_cache::table_profile(t, &n, &config, &crate::common::Bars::default())?
-                .to_csv()
-        }
-        (Source::Table, None) => bail!("--model table needs --table FILE|DIR (from `sss table`)"),
-        (Source::Analytic(_), Some(_)) => bail!("--table is read only with --model table"),
-        (Source::Analytic(model), None) => {
-            let p = fit::analytic::profile(model, &n.material, grid.dr, nr)?;
-            let overflow =
-                fit::analytic::overflow(model, &n.material, grid.dr, nr)?.map(|v| (v, 0.0));
-            p.to_csv(overflow)
-        }
-    };
+    let csv = (a.model.csv(&n, &config, a.table.as_deref(), &bars))
+        .map_err(|e| e.renamed(|f| (f == "table").then(|| "--table".into())))?;
     let name = format!("{}.{}.profile.csv", n.slug, a.model.name());
     let out = match &a.out {
         Some(o) => out_file(o, &name),
@@ -95,7 +59,7 @@ pub fn profile(a: ProfileArgs) -> Result<()> {
         "{} profile of {} ({} bins of {:.4e} cm) → {}",
         a.model.name(),
         n.slug,
-        nr + 1,
+        grid.nr,
         grid.dr,
         out.display()
     );
@@ -153,10 +117,7 @@ pub fn compare_profiles(a: CompareArgs) -> Result<()> {
     files.commit()?;
     eprintln!("plots → {}", a.plots.display());
     if a.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&json!({ "materials": out }))?
-        );
+        crate::common::print_json(&json!({ "materials": out }))?;
     }
     Ok(())
 }

@@ -11,8 +11,6 @@ use render::{Gather, Plan};
 use report::render_checks::{self, compare_models};
 use serde_json::{Value, json};
 
-use crate::cache::Cached;
-use crate::common::Bars;
 use crate::files::Outputs;
 use crate::library;
 
@@ -45,12 +43,9 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     let request = request(&a, materials)?;
     request.check().map_err(flagged)?;
     let mut files = Outputs::default();
-    let bars = Bars::default();
-    let mut profiles = Cached {
-        source: &a.source,
-        files: &mut files,
-    };
-    let plan = Plan::build(&request, &mut profiles, &bars).map_err(flagged)?;
+    let plan = (a.source)
+        .build(&mut files, |p, bars| Plan::build(&request, p, bars))
+        .map_err(flagged)?;
     for line in render::summary::plan_lines(&plan) {
         eprintln!("{line}");
     }
@@ -58,8 +53,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     eprintln!("GPU: {}", gpu.adapter_name);
     let named = &request.materials[0];
     if a.bench {
-        let p = render::Profiles::profile(&mut profiles, named)?;
-        bench(&gpu, &plan, &p, &a)?;
+        bench(&gpu, &plan, &a.source.profile(named, &mut files)?, &a)?;
         return Ok(files.commit()?);
     }
     let start = std::time::Instant::now();
@@ -87,11 +81,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         m.extend(extra);
     }
     if a.compare_models {
-        let mut profiles = Cached {
-            source: &a.source,
-            files: &mut files,
-        };
-        let p = render::Profiles::profile(&mut profiles, named)?;
+        let p = a.source.profile(named, &mut files)?;
         summary["compare"] = compare(&gpu, &plan, &p, &a, &mut files)?;
     }
     files.commit()?;
@@ -109,7 +99,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         );
     }
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&summary)?);
+        crate::common::print_json(&summary)?;
     }
     Ok(())
 }
@@ -141,11 +131,7 @@ fn compare(
 /// --json) and with --json as JSON on stdout.
 fn bench(gpu: &Gpu, plan: &Plan, p: &fit::Profile, a: &RenderArgs) -> Result<()> {
     let slug = &plan.materials[0].slug;
-    let gathers = match &plan.gather {
-        Some(Gather::Dipole(setup)) => (Some(setup.as_ref()), None),
-        Some(Gather::Area(s)) => (None, Some(s.as_ref())),
-        _ => (None, None),
-    };
+    let gathers = Gather::timed(&plan.gather);
     let scene = (&plan.scene, a.scene.as_str(), a.width, a.height);
     let b = render_checks::bench(gpu, scene, (p, slug), &plan.params, gathers)?;
     b.warnings.iter().for_each(|w| eprintln!("{w}"));
@@ -157,7 +143,7 @@ fn bench(gpu: &Gpu, plan: &Plan, p: &fit::Profile, a: &RenderArgs) -> Result<()>
         }
     }
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&b.json)?);
+        crate::common::print_json(&b.json)?;
     }
     Ok(())
 }

@@ -7,9 +7,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use mc::shard::{self, Shard};
 use report::simulation::{self, Finished};
-use report::simulation_run::Simulation;
+use report::simulation_run::{Simulated, Simulation};
 use serde_json::json;
 
 use crate::common::{Bars, parse_count};
@@ -151,24 +150,7 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
 }
 
 pub fn merge(texts: &[(String, String)], out: &Path, json: bool) -> Result<()> {
-    let start = Instant::now();
-    let shards = texts
-        .iter()
-        .map(|(name, text)| Ok((name.clone(), Shard::from_json(text, name)?)))
-        .collect::<Result<Vec<_>>>()?;
-    let (spec, labels, accs) = shard::merge(&shards)?;
-    shard::check_labels(&labels)?;
-    let outputs = mc::batch_outputs(&spec, &accs);
-    let run = Finished {
-        spec: &spec,
-        labels: &labels,
-        outputs: &outputs,
-        incidence: &[],
-        seconds: start.elapsed().as_secs_f64(),
-        threads: 1,
-        target_error: None,
-    };
-    finish(&run, out, json)
+    finish(&Simulated::merge(texts)?.finished(1), out, json)
 }
 
 /// Writes each material's files (`report::simulation`) and reports.
@@ -182,7 +164,7 @@ fn finish(run: &Finished, out: &Path, json_out: bool) -> Result<()> {
         } else {
             json!({ "materials": summaries, "seconds": run.seconds })
         };
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        crate::common::print_json(&v)?;
     } else {
         for s in &summaries {
             print!("{}", simulation::summary_text(s));
@@ -200,20 +182,12 @@ fn finish(run: &Finished, out: &Path, json_out: bool) -> Result<()> {
 fn run_mci(path: &Path, args: &SimulateArgs) -> Result<()> {
     let text =
         crate::files::read_text(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let mut runs = mc::mci::parse(&text, &path.display().to_string(), args.seed.unwrap_or(1))?;
-    for r in &mut runs {
-        if let Some(n) = args.photons {
-            r.spec.photons = n;
-        }
-        r.spec.tallies.absorption_rz = true;
-    }
-    let (files, report) = simulation::run_mci(&runs, &args.out, &Bars::default())?;
+    let runs = mc::mci::parse(&text, &path.display().to_string(), args.seed.unwrap_or(1))?;
+    let bars = Bars::default();
+    let (files, report) = simulation::run_mci(runs, args.photons, &args.out, &bars)?;
     files.commit()?;
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&json!({ "runs": report }))?
-        );
+        crate::common::print_json(&json!({ "runs": report }))?;
     } else {
         for r in &report {
             println!("{}", simulation::mci_run_text(r));

@@ -155,13 +155,10 @@ fn write(
     }
     files.commit()?;
     if json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&json!({
-                "tables": rows, "seconds": seconds, "events": events,
-                "events_per_second": events.map(|e| e as f64 / seconds),
-            }))?
-        );
+        crate::common::print_json(&json!({
+            "tables": rows, "seconds": seconds, "events": events,
+            "events_per_second": events.map(|e| e as f64 / seconds),
+        }))?;
     } else if let Some(e) = events {
         eprintln!(
             "{} table(s) in {seconds:.1} s ({:.3e} events/s)",

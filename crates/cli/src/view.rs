@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 
-use crate::cache::{Cached, ProfileSource};
-use crate::common::{Bars, parse_count};
+use crate::cache::ProfileSource;
+use crate::common::parse_count;
 use crate::files::Outputs;
 use crate::library;
 
@@ -57,15 +57,12 @@ pub struct ViewArgs {
     pub source: ProfileSource,
 }
 
-pub fn run(mut a: ViewArgs) -> Result<()> {
+pub fn run(a: ViewArgs) -> Result<()> {
     let named = library::material(&a.material)?;
     let out = a
         .out
         .clone()
         .unwrap_or_else(|| crate::common::default_out().join("view"));
-    a.source
-        .profiles
-        .get_or_insert_with(crate::common::default_out);
     let mut scenes = render::SiteScene::list(&a.scenes);
     for r in &a.references {
         let Some((name, file)) = r.split_once('=') else {
@@ -82,12 +79,9 @@ pub fn run(mut a: ViewArgs) -> Result<()> {
     request.frame.height = a.height;
     request.frame.taps = a.taps;
     let mut files = Outputs::default();
-    let bars = Bars::default();
-    let mut profiles = Cached {
-        source: &a.source,
-        files: &mut files,
-    };
-    let site = render::Site::build(&request, &scenes, &mut profiles, &bars)?;
+    let site = (a.source).build(&mut files, |p, bars| {
+        render::Site::build(&request, &scenes, p, bars)
+    })?;
     files.add_in(&out, site.files().to_vec());
     files.commit()?;
     let names: Vec<&str> = scenes.iter().map(|s| s.name.as_str()).collect();

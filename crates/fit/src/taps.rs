@@ -326,6 +326,16 @@ impl ShaderKernel {
         toml::to_string(self).expect("kernel serializes")
     }
 
+    /// The kernel file `sss fit` writes: comments naming its model, material and the profile
+    /// it was fitted to (`profile`) and how to apply it, then [`ShaderKernel::to_toml`].
+    pub fn file_text(&self, profile: &str) -> String {
+        let (model, material) = (self.model, &self.material);
+        format!(
+            "# sss fit: model {model}, material {material}, profile {profile}\n# offsets in cm; each [[pass]] is one horizontal + one vertical 1D convolution; sum the passes' results\n{}",
+            self.to_toml()
+        )
+    }
+
     /// Parses and validates a kernel file: offsets in cm (a file in mm is converted), at least one
     /// pass, `taps` taps (1..=1025) in every pass, jitter in [0, 1], numbers finite as f32, signs
     /// of ±1.

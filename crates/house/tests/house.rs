@@ -631,6 +631,11 @@ fn dependency_packages(manifest: &toml::Table) -> BTreeSet<String> {
 
 /// What every module of `member` names, read from its `src/`.
 fn member_names(member: &Member) -> BTreeMap<Module, Names> {
+    parse_crate(&source_files(member))
+}
+
+/// Every `.rs` file below `member`'s `src/`, by its path there, with its text.
+fn source_files(member: &Member) -> Vec<(PathBuf, String)> {
     let src = root().join(&member.dir).join("src");
     let mut files = Vec::new();
     let mut dirs = vec![src.clone()];
@@ -645,7 +650,7 @@ fn member_names(member: &Member) -> BTreeMap<Module, Names> {
             }
         }
     }
-    parse_crate(&files)
+    files
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -817,6 +822,26 @@ fn no_command_imports_another() {
         ),
     ]);
     assert_eq!(command_imports(&g), ["render uses fit (crate::fit::build)"]);
+}
+
+/// The CLI is glue: flags, their mapping onto library requests, and printing (ARCHITECTURE.md,
+/// Known exceptions). What a command computes, runs or formats belongs in a library, and this
+/// bound keeps it there.
+#[test]
+fn the_cli_is_at_most_2500_lines() {
+    let cli = member("crates/cli");
+    let lines: usize = source_files(&cli)
+        .iter()
+        .map(|(_, t)| t.lines().count())
+        .sum();
+    assert!(
+        lines > 1000,
+        "the CLI's sources were not read ({lines} lines)"
+    );
+    assert!(
+        lines <= 2500,
+        "crates/cli/src has {lines} lines (at most 2,500)"
+    );
 }
 
 #[test]

@@ -188,11 +188,7 @@ pub fn material(v: &Bound<'_, PyAny>) -> PyResult<Material> {
             "give a built-in name, a .toml path or a dict of coefficients",
         );
     };
-    if mc::builtin::is_path(&s) {
-        let text = read_text(&s)?;
-        return Material::from_toml(&text, &s).map_err(error);
-    }
-    Material::builtin(&s).map_err(error)
+    mc::builtin::resolve(&s).map(|(_, m)| m).map_err(error)
 }
 
 fn material_of_dict(d: &Bound<'_, PyDict>) -> PyResult<Material> {

@@ -68,6 +68,19 @@ pub enum Gather {
     Surface(Box<gpu::SurfaceGatherSetup>),
 }
 
+impl Gather {
+    /// The directional dipole's and the area gather's set-ups of `gather` (what `--bench` times).
+    pub fn timed(
+        gather: &Option<Gather>,
+    ) -> (Option<&gpu::DipoleSetup>, Option<&gpu::AreaGatherSetup>) {
+        match gather {
+            Some(Gather::Dipole(s)) => (Some(s.as_ref()), None),
+            Some(Gather::Area(s)) => (None, Some(s.as_ref())),
+            _ => (None, None),
+        }
+    }
+}
+
 /// How one kernel was chosen, for the caller to report.
 #[derive(Clone, Debug)]
 pub enum KernelChoice {

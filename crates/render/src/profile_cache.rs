@@ -65,6 +65,9 @@ impl ProfileCache {
         out: &mut Outputs,
         progress: &dyn Progress,
     ) -> Result<Profile> {
+        if self.threads == Some(0) {
+            return Err(RenderError::invalid("threads", 0, "must be at least 1"));
+        }
         if let Some(path) = &self.table {
             let config = SimConfig::read(self.config.as_deref())?;
             return table_profile(path, n, &config, progress).map(|t| t.profile);
@@ -235,4 +238,69 @@ fn kept_tables(path: &Path, key: &str) -> Option<MaterialTables> {
         return None;
     }
     serde_json::from_value(v.get("tables")?.clone()).ok()
+}
+
+/// The profile `sss profile` writes: an analytic model's, or the Monte Carlo profile
+/// interpolated from tables (`sss table`).
+#[derive(Clone, Copy, Debug)]
+pub enum ProfileModel {
+    /// An analytic model's Rd(r).
+    Analytic(fit::analytic::Model),
+    /// The Monte Carlo profile interpolated from tables ([`table_profile`]).
+    Table,
+}
+
+impl std::str::FromStr for ProfileModel {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        if s.trim().eq_ignore_ascii_case("table") {
+            return Ok(ProfileModel::Table);
+        }
+        fit::analytic::Model::parse(s)
+            .map(ProfileModel::Analytic)
+            .map_err(|e| format!("{e} (or `table`, with tables)"))
+    }
+}
+
+impl ProfileModel {
+    /// The model's name in file names: `pbd`, `table`, …
+    pub fn name(&self) -> &'static str {
+        match self {
+            ProfileModel::Analytic(m) => m.name(),
+            ProfileModel::Table => "table",
+        }
+    }
+
+    /// The profile of `n` on its grid under `config`, as the CSV `sss simulate` writes (an
+    /// analytic model's last bin holds everything beyond the grid, with a standard error of 0);
+    /// `tables` (a file or a folder of them) is read for [`ProfileModel::Table`] and refused
+    /// with an analytic model.
+    pub fn csv(
+        &self,
+        n: &NamedMaterial,
+        config: &SimConfig,
+        tables: Option<&Path>,
+        progress: &dyn Progress,
+    ) -> Result<String> {
+        let grid = config.grid_for(&n.material)?;
+        let nr = grid.nr - 1;
+        match (self, tables) {
+            (ProfileModel::Table, Some(t)) => Ok(table_profile(t, n, config, progress)?.to_csv()),
+            (ProfileModel::Table, None) => Err(RenderError::invalid(
+                "table",
+                "none",
+                "model table interpolates tables: name a file or folder from `sss table`",
+            )),
+            (ProfileModel::Analytic(m), Some(t)) => Err(RenderError::invalid(
+                "table",
+                t.display(),
+                format!("is read only with model table, not {}", m.name()),
+            )),
+            (ProfileModel::Analytic(model), None) => {
+                let p = fit::analytic::profile(*model, &n.material, grid.dr, nr)?;
+                let overflow = fit::analytic::overflow(*model, &n.material, grid.dr, nr)?;
+                Ok(p.to_csv(overflow.map(|v| (v, 0.0))))
+            }
+        }
+    }
 }

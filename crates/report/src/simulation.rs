@@ -226,16 +226,21 @@ pub fn mci_run_text(r: &Value) -> String {
     )
 }
 
-/// Runs every run of an MCML input (A(r, z) tallied, as MCML does) and returns its `.mco` files
-/// in `out` (each named as the `.mci` names it, without its folder) and each run as
-/// [`mci_run_json`]. Progress per run goes to `progress`.
+/// Runs every run of an MCML input (A(r, z) tallied, as MCML does; `photons` packets each where
+/// given, else the file's) and returns its `.mco` files in `out` (each named as the `.mci` names
+/// it, without its folder) and each run as [`mci_run_json`]. Progress per run goes to `progress`.
 pub fn run_mci(
-    runs: &[mc::mci::MciRun],
+    mut runs: Vec<mc::mci::MciRun>,
+    photons: Option<u64>,
     out: &Path,
     progress: &dyn mc::progress::Progress,
 ) -> Result<(Outputs, Vec<Value>)> {
     let mut files = Outputs::default();
     let mut report = Vec::new();
+    for r in &mut runs {
+        r.spec.photons = photons.unwrap_or(r.spec.photons);
+        r.spec.tallies.absorption_rz = true;
+    }
     for (k, r) in runs.iter().enumerate() {
         let start = std::time::Instant::now();
         progress.begin(&format!("run {}/{}", k + 1, runs.len()), r.spec.photons);

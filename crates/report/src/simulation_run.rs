@@ -51,6 +51,25 @@ pub struct Simulated {
 }
 
 impl Simulated {
+    /// The run that shard files of `sss simulate --shard` make up (`sss merge`), given each
+    /// file's name and text; its time is the merge's.
+    pub fn merge(texts: &[(String, String)]) -> Result<Simulated> {
+        let start = Instant::now();
+        let shards = (texts.iter())
+            .map(|(name, text)| Ok((name.clone(), Shard::from_json(text, name)?)))
+            .collect::<mc::Result<Vec<_>>>()?;
+        let (spec, labels, accs) = shard::merge(&shards)?;
+        shard::check_labels(&labels)?;
+        Ok(Simulated {
+            outputs: mc::batch_outputs(&spec, &accs),
+            spec,
+            labels,
+            incidence: Vec::new(),
+            seconds: start.elapsed().as_secs_f64(),
+            target_error: None,
+        })
+    }
+
     /// The run as [`Finished`], with the pool's `threads`.
     pub fn finished(&self, threads: usize) -> Finished<'_> {
         Finished {

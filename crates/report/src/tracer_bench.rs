@@ -2,7 +2,72 @@
 //! against error and batched against channel-by-channel tracing, as lines and as JSON.
 
 use mc::bench::{Batching, Throughput, TimeVsError};
+use mc::progress::Progress;
+use mc::{Material, SimConfig};
 use serde_json::{Value, json};
+
+use crate::error::Result;
+
+/// The three measurements of `sss bench mc`, at the thesis's settings, each section's lines
+/// passed to `progress.note` as it finishes; returns them as JSON.
+///
+/// 1. One channel on one core: the MCML yardstick (full tallies, summed as `.mci` runs keep
+///    them, with per-photon standard errors of A(r, z)) and profile-only, for Skin1 (2·10⁵
+///    photons), whole milk and marble (2·10⁴).
+/// 2. Run time against error on `threads` workers (all cores: `None`): the three channels of
+///    Skin1 and whole milk in one walk, profile-only, 10⁴ … `max_photons` photons.
+/// 3. The whole library at `library_photons` per channel: one batch (walks shared by
+///    similarity) against one walk per channel.
+pub fn run(
+    max_photons: u64,
+    library_photons: u64,
+    threads: Option<usize>,
+    progress: &dyn Progress,
+) -> Result<Value> {
+    let config = SimConfig::thesis()?;
+    let pool = |n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| crate::ReportError::Invalid {
+                field: "threads".into(),
+                value: format!("{threads:?}"),
+                reason: e.to_string(),
+            })
+    };
+    let (single, pool) = (pool(1)?, pool(threads.unwrap_or(0))?);
+    let note = |lines: Vec<String>| lines.iter().for_each(|l| progress.note(l));
+    let named: Vec<(&str, Material)> = ["skin1", "wholemilk", "marble"]
+        .into_iter()
+        .map(|n| Ok((n, Material::builtin(n)?)))
+        .collect::<Result<_>>()?;
+    let cases: Vec<(&str, &Material, u64)> = (named.iter().zip([200_000, 20_000, 20_000]))
+        .map(|((n, m), photons)| (*n, m, photons))
+        .collect();
+    progress.note("== single channel, 1 thread, thesis grid ==");
+    let throughput = single.install(|| mc::bench::throughput(&cases, &config))?;
+    note(throughput_lines(&throughput));
+
+    let threads = pool.current_num_threads();
+    progress.note(&format!(
+        "\n== run time against error ({threads} threads, profile-only, thesis grid) =="
+    ));
+    let two: Vec<(&str, &Material)> = named[..2].iter().map(|(n, m)| (*n, m)).collect();
+    let errors = pool.install(|| mc::bench::time_vs_error(&two, &config, max_photons))?;
+    note(error_lines(&errors));
+
+    let all: Vec<Material> = (mc::builtin::names().into_iter())
+        .map(Material::builtin)
+        .collect::<mc::Result<_>>()?;
+    progress.note(&format!(
+        "\n== whole library ({} materials × 3 channels, {library_photons} photons each, profile-only) ==",
+        all.len()
+    ));
+    let materials: Vec<&Material> = all.iter().collect();
+    let b = pool.install(|| mc::bench::batching(&materials, &config, library_photons))?;
+    note(batching_lines(&b));
+    Ok(json(&throughput, &errors, &b, threads))
+}
 
 /// One line per material and tally set: photons/s, events/s and events per photon.
 pub fn throughput_lines(rows: &[Throughput]) -> Vec<String> {

@@ -262,38 +262,18 @@ pub struct RenderArgs {
     pub json: bool,
 }
 
-/// The request's fields by the flags that set them, so that a refusal names the flag.
-const FLAGS: [(&str, &str); 31] = [
-    ("width", "--width"),
-    ("height", "--height"),
-    ("taps", "--taps"),
-    ("error_target", "--error-target"),
-    ("jitter", "--jitter"),
-    ("sss_width", "--sss-width"),
-    ("exposure", "--exposure"),
+/// The request's fields whose flag is not `--` and the field's name with dashes (those are
+/// found among the flags), so that a refusal names the flag.
+const FLAGS: [(&str, &str); 10] = [
     ("tolerance_cm", "--tolerance"),
-    ("specular", "--specular"),
-    ("ambient", "--ambient"),
     ("fov_deg", "--fov"),
-    ("object_albedo", "--object-albedo"),
-    ("floor_albedo", "--floor-albedo"),
     ("lights", "--light"),
     ("materials", "--material"),
     ("fast_blur", "--blur fast"),
-    ("method", "--method"),
     ("camera", "--camera/--target"),
-    ("scene", "--scene"),
-    ("kernel", "--kernel"),
-    ("no_sss", "--no-sss"),
     ("incidence", "--incidence-aware"),
     ("exit", "--exit-aware"),
-    ("entry_shift", "--entry-shift"),
-    ("translucency", "--translucency"),
-    ("incidence_photons", "--incidence-photons"),
-    ("translucency_photons", "--translucency-photons"),
     ("gather_pattern", "--gather-inner/--gather-layers"),
-    ("samples", "--samples"),
-    ("frames", "--frames"),
     ("disc radius", "--dipole-radius"),
 ];
 
@@ -368,11 +348,14 @@ pub fn request(a: &RenderArgs, materials: Vec<render::NamedMaterial>) -> Result<
 
 /// A library refusal with the request's field replaced by the flag that set it.
 pub fn flagged(e: RenderError) -> anyhow::Error {
-    let flag = |field: &str| {
-        FLAGS
-            .iter()
-            .find(|(f, _)| *f == field)
-            .map(|(_, flag)| flag.to_string())
+    let flag = |field: &str| match FLAGS.iter().find(|(f, _)| *f == field) {
+        Some((_, flag)) => Some(flag.to_string()),
+        None => {
+            let long = field.replace('_', "-");
+            let command = RenderArgs::augment_args(clap::Command::new("render"));
+            let known = command.get_arguments().any(|a| a.get_long() == Some(&long));
+            known.then(|| format!("--{long}"))
+        }
     };
     match e.renamed(flag) {
         RenderError::Invalid {
