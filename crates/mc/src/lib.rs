@@ -35,6 +35,7 @@
 pub mod artist;
 mod batch;
 pub mod bench;
+pub mod body;
 pub mod builtin;
 mod cfmt;
 mod channel;
