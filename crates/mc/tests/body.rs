@@ -189,6 +189,31 @@ fn energy_is_conserved_in_every_body() {
                 "{body:?} at {theta}°: Rs + R + T + A = {sum} (se {se})"
             );
             assert!(o.transmitted.is_some() == body.has_far_face(), "{body:?}");
+            // The profiles are per unit area of the body's surface: over the bands (a sphere's,
+            // clamped at its antipode πR = 0.94 cm, inside the grid; a plane's annuli) they sum
+            // to the totals.
+            let band = |i: usize| {
+                let (s0, s1) = (i as f64 * GRID.dr, (i + 1) as f64 * GRID.dr);
+                match body {
+                    Body::Slab { .. } => std::f64::consts::PI * (s1 * s1 - s0 * s0),
+                    _ => {
+                        let r = body.size_cm();
+                        let cap = |s: f64| (s / r).min(std::f64::consts::PI).cos();
+                        2.0 * std::f64::consts::PI * r * r * (cap(s0) - cap(s1))
+                    }
+                }
+            };
+            let integral = |e: &[Estimate]| -> f64 {
+                e.iter().enumerate().map(|(i, x)| x.value * band(i)).sum()
+            };
+            let sides = [(o.r, Some(&o.reflected)), (o.t, o.transmitted.as_ref())];
+            for (total, exits) in sides.into_iter().filter_map(|(t, e)| Some((t, e?))) {
+                let i = integral(&exits.radial);
+                assert!(
+                    (i - total.value).abs() < 1e-9,
+                    "{body:?}: ∫ Rd dA = {i} vs {total:?}"
+                );
+            }
             if !body.has_far_face() {
                 assert_eq!(
                     o.t,
@@ -519,4 +544,41 @@ fn bad_input_is_refused_naming_the_field() {
         "0",
     );
     refused(grid(SurfaceGrid { n_exit: 0, ..GRID }), "n_exit", "0");
+}
+
+/// The standard errors are the scatter between independent runs: over 16 seeds, the variance of
+/// each number (R, A, the shift and the mean radius, the last two ratio estimators with the delta
+/// method's error) against its mean squared standard error. For 15 degrees of freedom the ratio
+/// is χ²₁₅/15, inside [0.3, 2.5] with probability above 0.998.
+#[test]
+fn standard_errors_are_the_scatter_between_seeds() {
+    let runs: Vec<BodyOutput> = (0..16)
+        .map(|seed| {
+            let s = BodySpec {
+                seed,
+                ..spec(Body::Sphere { radius_cm: 0.3 }, SKIN, 45.0, 8_000)
+            };
+            run_body(&s, &|_| {}).unwrap()
+        })
+        .collect();
+    let numbers = [
+        ("R", runs.iter().map(|o| o.r).collect::<Vec<_>>()),
+        ("A", runs.iter().map(|o| o.a).collect()),
+        ("shift", runs.iter().map(|o| o.reflected.shift).collect()),
+        (
+            "mean radius",
+            runs.iter().map(|o| o.reflected.mean_radius).collect(),
+        ),
+    ];
+    for (what, e) in numbers {
+        let k = e.len() as f64;
+        let mean = e.iter().map(|x| x.value).sum::<f64>() / k;
+        let scatter = e.iter().map(|x| (x.value - mean).powi(2)).sum::<f64>() / (k - 1.0);
+        let claimed = e.iter().map(|x| x.se * x.se).sum::<f64>() / k;
+        let ratio = scatter / claimed;
+        assert!(
+            (0.3..2.5).contains(&ratio),
+            "{what}: variance / se² = {ratio:.2}"
+        );
+    }
 }
