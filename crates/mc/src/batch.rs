@@ -175,6 +175,7 @@ impl BatchSpec {
             rz_se: self.tallies.absorption_rz_se,
             channels: group.len(),
             xy: self.tallies.surface_xy,
+            scores: 0,
         }
     }
 

@@ -92,6 +92,7 @@ impl Job for CyclesJob<'_> {
             rz_se: self.spec.tallies.absorption_rz_se,
             channels: 1,
             xy: self.spec.tallies.surface_xy,
+            scores: 0,
         }
     }
 

@@ -11,7 +11,8 @@
 //!
 //! Main types: [`Sample`] and [`Layer`] (the medium), [`Grid`] (MCML's tally grid), [`RunSpec`]
 //! (one run), [`Output`] (normalized results), [`Material`] (RGB coefficients of a named
-//! material); [`mci`] and [`mco`] read and write MCML's files.
+//! material); [`mci`] and [`mco`] read and write MCML's files; [`body`] traces a sphere, a
+//! spherical cavity and a slab entered at an angle, tallied on the body's own surface.
 //!
 //! ```
 //! use mc::{Grid, Layer, RunSpec, Sample, TallySet};
@@ -35,6 +36,7 @@
 pub mod artist;
 mod batch;
 pub mod bench;
+pub mod body;
 pub mod builtin;
 mod cfmt;
 mod channel;

@@ -69,7 +69,7 @@ pub struct Output {
 }
 
 /// Mean and standard error of per-photon scores from Σx, Σx², N, times `scale`.
-fn estimate(s: f64, s2: f64, n: u64, scale: f64) -> Estimate {
+pub(crate) fn estimate(s: f64, s2: f64, n: u64, scale: f64) -> Estimate {
     let nf = n as f64;
     let mean = s / nf;
     let var = if n > 1 {

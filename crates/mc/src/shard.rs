@@ -75,6 +75,7 @@ fn layout_difference(got: &Layout, want: &Layout) -> Option<(&'static str, Strin
         ("layers", got.layers, want.layers),
         ("channels", got.channels, want.channels),
         ("xy", got.xy, want.xy),
+        ("scores", got.scores, want.scores),
     ];
     sizes
         .into_iter()

@@ -87,6 +87,7 @@ impl Job for McmlJob<'_> {
             rz_se: self.spec.tallies.absorption_rz_se,
             channels: 1,
             xy: self.spec.tallies.surface_xy,
+            scores: 0,
         }
     }
 

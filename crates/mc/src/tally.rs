@@ -71,10 +71,16 @@ pub struct Layout {
     /// Half-width n of the surface grid Rd(x, y), (2n + 1)² cells; 0 = not recorded.
     #[serde(default)]
     pub xy: usize,
+    /// Entries a job lays out itself after the channel's MCML tallies, each a sum of per-photon
+    /// scores and of their squares (a body run's surface tallies, [`crate::body`]); 0 for MCML
+    /// runs.
+    #[serde(default)]
+    pub scores: usize,
 }
 
 impl Layout {
-    /// Entries per channel: Rd(r,α), Tt(r,α), A_l, A, then A(r,z) and A(z) if recorded.
+    /// Entries per channel: Rd(r,α), Tt(r,α), A_l, A, then A(r,z) and A(z) if recorded, the
+    /// surface grid and the job's own scores.
     pub fn per_channel(&self) -> usize {
         2 * self.nr * self.na
             + self.layers
@@ -85,6 +91,7 @@ impl Layout {
                 0
             }
             + self.xy_cells()
+            + self.scores
     }
     /// Cells of the surface grid (0 when not recorded).
     pub fn xy_cells(&self) -> usize {
@@ -131,6 +138,10 @@ impl Layout {
             } else {
                 0
             }
+    }
+    /// Offset of channel `c`'s own scores; only when `scores` > 0.
+    pub fn scores_offset(&self, c: usize) -> usize {
+        self.rd_xy(c) + self.xy_cells()
     }
 }
 
