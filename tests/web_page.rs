@@ -87,8 +87,14 @@ fn answer(stream: TcpStream, root: &Path, tx: &mpsc::Sender<Vec<u8>>) {
     let _ = out.write_all(&reply);
 }
 
-/// The page's capture of `scene`: (width, height, RGB).
-fn capture(port: u16, rx: &mpsc::Receiver<Vec<u8>>, scene: &str) -> (usize, usize, Vec<f32>) {
+/// The page's capture of `scene`: (width, height, RGB); the page's shadow projection of a
+/// `directional` first light is checked against the renderer's.
+fn capture(
+    port: u16,
+    rx: &mpsc::Receiver<Vec<u8>>,
+    scene: &str,
+    directional: bool,
+) -> (usize, usize, Vec<f32>) {
     let url = format!("http://127.0.0.1:{port}/index.html?capture&scene={scene}&post=/capture");
     let mut browser = std::process::Command::new("chromium")
         .args([
@@ -128,11 +134,13 @@ fn capture(port: u16, rx: &mpsc::Receiver<Vec<u8>>, scene: &str) -> (usize, usiz
     eprintln!("{scene}: captured on {}", json["adapter"]);
     // The page's own shadow projection of the default light (what the mouse moves) against the
     // renderer's matrices.
-    let light = json["light_error"].as_f64().expect("a directional light");
-    assert!(
-        light < 1e-5,
-        "{scene}: the page's light matrices differ by {light}"
-    );
+    if directional {
+        let light = json["light_error"].as_f64().expect("a directional light");
+        assert!(
+            light < 1e-5,
+            "{scene}: the page's light matrices differ by {light}"
+        );
+    }
     (w, h, rgb)
 }
 
@@ -296,7 +304,7 @@ fn the_page_draws_what_sss_render_draws() {
         let o = sss(&args, path);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let name = scene.trim_end_matches(".obj");
-        let (w, h, page) = capture(port, &rx, name);
+        let (w, h, page) = capture(port, &rx, name, true);
         let (rw, rh, reference) = read_pfm(&path.join(&out).join("render.pfm"));
         assert_eq!((w, h), (rw, rh), "{name}");
         let (plain, slack, mean) = errors(w, h, &page, &reference);
@@ -315,4 +323,124 @@ fn the_page_draws_what_sss_render_draws() {
             "{name}: means {page_mean} and {mean}"
         );
     }
+}
+
+/// Skin1 behind an index-matched boundary, as `images.py` writes the material of its scenes.
+const SKIN1_ETA1: &str = "name = \"skin1 (eta 1.0)\"\nunit = \"cm\"\nsigma_a = [0.32, 1.7, 4.8]\nsigma_s = [7.4, 8.8, 10.1]\ng = [0.0, 0.0, 0.0]\neta = 1.0\n";
+
+/// A reference folder as `scripts/references/images.py --arrays` leaves one (the references'
+/// sphere scene: its camera, bar, point light, black floor and albedo; its image from NumPy's
+/// `savez_compressed`, as images.py writes it): the page draws that scene in the reference's view
+/// and material, equal to `sss render` with the same flags, and shows the image beside it.
+#[test]
+fn the_page_draws_a_reference_in_its_view() {
+    if !available(
+        "chromium",
+        "chromium (Debian's chromium, for WebGPU headless)",
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path();
+    let bar = "-5.2,10.4,-2:-4.2,11.4,12";
+    let box_flag = format!("--box={bar}");
+    let (light, albedo) = ("point:-12,20,14:500", "0.566,0.325,0.195");
+    std::fs::create_dir(path.join("ref")).unwrap();
+    let view = serde_json::json!({
+        "name": "sphere", "scene": "sphere", "width": WIDTH, "height": HEIGHT,
+        "camera": [0.0, 9.0, 24.0], "target": [-1.5, 6.5, 3.0], "fov_deg": 16.0,
+        "boxes": [bar], "lights": [light], "floor_albedo": [0.0, 0.0, 0.0], "specular": 0.0,
+        "ambient": 0.0, "object_albedo": [0.566, 0.325, 0.195], "material_toml": SKIN1_ETA1,
+    });
+    std::fs::write(path.join("ref/view.json"), view.to_string()).unwrap();
+    let npz = std::process::Command::new("python3")
+        .arg("-c")
+        .arg(format!(
+            "import numpy as np; np.savez_compressed('ref/arrays.npz', reference=np.full(({HEIGHT}, {WIDTH}, 3), 0.05))"
+        ))
+        .current_dir(path)
+        .status()
+        .is_ok_and(|s| s.success());
+    if !npz {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "CI=true and python3 with NumPy cannot write arrays.npz"
+        );
+        return report_skip("a reference folder needs python3 with NumPy");
+    }
+    let tables = [
+        "--profiles",
+        "profiles",
+        "--photons",
+        "1e5",
+        "--incidence-photons",
+        "2e4",
+        "--translucency-photons",
+        "5e3",
+    ];
+    let mut args = vec!["view", "--reference", "ref", "--out", "site"];
+    args.extend(tables);
+    let o = sss(&args, path);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let site: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(path.join("site/site.json")).unwrap()).unwrap();
+    assert_eq!(site["material"], "skin1-eta-1-0", "{site}");
+    assert_eq!(
+        site["scenes"][0]["reference"],
+        "frames/sphere/reference.png"
+    );
+    let png = std::fs::read(path.join("site/frames/sphere/reference.png")).unwrap();
+    assert_eq!(&png[..4], b"\x89PNG");
+    std::fs::write(path.join("skin1-eta-1-0.toml"), SKIN1_ETA1).unwrap();
+    let (width, height) = (WIDTH.to_string(), HEIGHT.to_string());
+    let mut args = vec![
+        "render",
+        "--material",
+        "skin1-eta-1-0.toml",
+        "--scene",
+        "sphere",
+        "--width",
+        &width,
+        "--height",
+        &height,
+        "--camera=0,9,24",
+        "--target=-1.5,6.5,3",
+        "--fov",
+        "16",
+        &box_flag,
+        "--light",
+        light,
+        "--floor-albedo",
+        "0,0,0",
+        "--specular",
+        "0",
+        "--ambient",
+        "0",
+        "--object-albedo",
+        albedo,
+        "--out",
+        "render",
+    ];
+    args.extend(tables);
+    let o = sss(&args, path);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (port, rx) = serve(path.join("site"));
+    let (w, h, page) = capture(port, &rx, "sphere", false);
+    let (rw, rh, rendered) = read_pfm(&path.join("render/render.pfm"));
+    assert_eq!((w, h), (rw, rh));
+    let (plain, slack, mean) = errors(w, h, &page, &rendered);
+    let page_mean = page.iter().map(|&v| v as f64).sum::<f64>() / page.len() as f64;
+    eprintln!(
+        "reference view: RMSE {:.2} % of the mean, with one pixel of slack {:.2} %; means {page_mean:.5} (page) and {mean:.5} (sss render)",
+        100.0 * plain,
+        100.0 * slack
+    );
+    assert!(
+        slack <= 0.01,
+        "reference view: RMSE with one pixel of slack {slack}"
+    );
+    assert!(
+        (page_mean / mean - 1.0).abs() <= 0.005,
+        "means {page_mean} and {mean}"
+    );
 }

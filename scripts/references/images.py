@@ -58,7 +58,7 @@ import numpy as np  # noqa: E402
 from references import scenes  # noqa: E402
 from references.budget import budget_lines, error_budget  # noqa: E402
 from references.mitsuba3 import mitsuba, render_references  # noqa: E402
-from references.ours import material, render_ours, simulate_medium, sss_binary  # noqa: E402
+from references.ours import material, render_ours, scene_view, simulate_medium, sss_binary  # noqa: E402
 from references.rankings import incidence_share, rank  # noqa: E402
 from references.scoring import (CAL_ENERGY, CAL_RMSE, calibrate, compare_blocks,  # noqa: E402
                                 print_calibration, score_models)
@@ -84,14 +84,16 @@ def parser():
                     help="also write arrays.npz: every linear image (radiance), the reference, its two halves, "
                          "the reference without light between surfaces, the compared blocks' mask, the "
                          "calibration's two halves, the silhouette pixels and the albedo ρ (what "
-                         "scripts/engines/blender.py scores against)")
+                         "scripts/engines/blender.py scores against), and view.json: the scene as `sss render` "
+                         "drew it, for `sss view --reference OUT/SCENE` to show the reference beside the page")
     return ap
 
 
 def render_all(sss, mi, m, setup):
     """Every render of one comparison, Mitsuba's and ours, in a temporary folder (the generated
     mesh, the material files, the profiles, the kernels): (mitsuba3.References, ours.Renders,
-    the albedo ρ [R, G, B])."""
+    the albedo ρ [R, G, B], the view: `ours.scene_view` with the albedo, the material file's text
+    and the generated mesh's)."""
     with tempfile.TemporaryDirectory() as tmp:
         files = {}
         if any(shape[0] == "obj" for shape in setup.scene["media"]):
@@ -101,7 +103,27 @@ def render_all(sss, mi, m, setup):
         medium = simulate_medium(sss, m, setup.scene.get("eta", 1.0), setup.photons, tmp)
         refs = render_references(mi, m, setup, medium.rho, files)
         renders = render_ours(sss, setup, files, medium, tmp)
-    return refs, renders, medium.rho
+        with open(medium.toml) as f:
+            view = {"name": setup.name, **scene_view(setup, files), "object_albedo": list(medium.rho),
+                    "material_toml": f.read()}
+        if "bust" in files:
+            with open(files["bust"]) as f:
+                view["mesh_obj"] = f.read()
+    return refs, renders, medium.rho, view
+
+
+def write_view(out, view):
+    """view.json (--arrays): the scene as `sss render` drew it and its material, for `sss view
+    --reference OUT` to draw the page's view of it beside the reference; a generated mesh is
+    written beside it (bust.obj) and named relative to the folder."""
+    view = dict(view)
+    mesh = view.pop("mesh_obj", None)
+    if mesh is not None:
+        with open(os.path.join(out, "bust.obj"), "w") as f:
+            f.write(mesh)
+        view["scene"] = "bust.obj"
+    with open(os.path.join(out, "view.json"), "w") as f:
+        json.dump(view, f, indent=2)
 
 
 def write_arrays(path, refs, renders, comparison, rho):
@@ -145,7 +167,7 @@ def main():
     setup = scenes.setup(a.scene, a.material, a.quick, a.models)
     out = os.path.join(a.out, scenes.folder(a.scene, a.material))
     os.makedirs(out, exist_ok=True)
-    refs, renders, rho = render_all(sss, mitsuba(), m, setup)
+    refs, renders, rho, view = render_all(sss, mitsuba(), m, setup)
     comparison = compare_blocks(refs, renders)
     calibration = calibrate(refs, renders, comparison.sil)
     print_calibration(setup, comparison, calibration)
@@ -155,6 +177,7 @@ def main():
                           len(setup.scene["media"]), calibration.interreflection)
     if a.arrays:
         write_arrays(os.path.join(out, "arrays.npz"), refs, renders, comparison, rho)
+        write_view(out, view)
     if budget:
         print("\n".join(budget_lines(budget)))
     shown_k = shown_block_size(comparison.noise)

@@ -103,20 +103,28 @@ def simulate_medium(sss, m, eta, photons, tmp):
     return Medium(mat, cal_mat, rho, profile, tmp)
 
 
-def scene_args(setup, files):
-    """`sss render`'s arguments for a Setup's scene: geometry (a generated mesh from `files`),
-    image size, camera, black occluders, light and black floor, no specular or ambient light."""
+def scene_view(setup, files):
+    """A Setup's scene as `sss render` draws it, field by field (what `images.py --arrays` writes
+    to view.json for `sss view --reference`): geometry (a generated mesh from `files`), image
+    size, camera, black occluders, light and black floor, no specular or ambient light."""
     sc = setup.scene
     eye, target, fov = sc["camera"]
     kind, v, *rest = sc["light"]
     light = (f"area:{','.join(map(str, v))}:{','.join(map(str, rest[0]))}:{rest[1]}:{rest[2]}" if kind == "area"
              else f"{kind}:{v[0]},{v[1]},{v[2]}:{rest[0]}")
-    return ["--scene", files.get("bust", sc.get("geometry", setup.name)), "--width", str(setup.width),
-            "--height", str(setup.height),
-            "--camera=" + ",".join(map(str, eye)), "--target=" + ",".join(map(str, target)),
-            "--fov", str(fov),
-            *["--box=" + ":".join(",".join(map(str, c)) for c in box) for box in sc["boxes"]],
-            "--light=" + light, "--floor-albedo", "0,0,0",
+    return {"scene": files.get("bust", sc.get("geometry", setup.name)), "width": setup.width,
+            "height": setup.height, "camera": list(eye), "target": list(target), "fov_deg": fov,
+            "boxes": [":".join(",".join(map(str, c)) for c in box) for box in sc["boxes"]],
+            "lights": [light], "floor_albedo": [0.0, 0.0, 0.0], "specular": 0.0, "ambient": 0.0}
+
+
+def scene_args(setup, files):
+    """`sss render`'s arguments for a Setup's scene (`scene_view`)."""
+    v = scene_view(setup, files)
+    return ["--scene", v["scene"], "--width", str(v["width"]), "--height", str(v["height"]),
+            "--camera=" + ",".join(map(str, v["camera"])), "--target=" + ",".join(map(str, v["target"])),
+            "--fov", str(v["fov_deg"]), *["--box=" + b for b in v["boxes"]],
+            *["--light=" + x for x in v["lights"]], "--floor-albedo", "0,0,0",
             "--specular", "0", "--ambient", "0", "--albedo", "pre-post"]
 
 

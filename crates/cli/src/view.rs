@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::Args;
 
 use crate::cache::ProfileSource;
@@ -13,19 +13,20 @@ use crate::library;
 
 #[derive(Args)]
 pub struct ViewArgs {
-    /// Material (built-in name or material .toml path)
-    #[arg(default_value = "skin1")]
-    pub material: String,
+    /// Material (built-in name or material .toml path) [default: the references' (--reference
+    /// DIR), else skin1]
+    pub material: Option<String>,
 
     /// Scenes the page offers (repeatable; the first is its default): sphere, fin or an .obj path
     /// (named after its file) [default: sphere and fin]
     #[arg(long = "scene", value_name = "SCENE")]
     pub scenes: Vec<String>,
 
-    /// A path-traced reference to show beside a scene: NAME=FILE.png (repeatable; e.g.
-    /// `mitsuba.png` that scripts/references/images.py wrote for that scene, whose camera and
-    /// light are the reference scene's)
-    #[arg(long = "reference", value_name = "NAME=FILE.png")]
+    /// A path-traced reference beside a scene (repeatable): a folder that
+    /// `scripts/references/images.py --arrays` wrote (OUT/SCENE: its view.json and arrays.npz; the
+    /// page gets that scene in the reference's camera, light and material), or NAME=FILE.png (an
+    /// image shown as it is beside the page's scene NAME)
+    #[arg(long = "reference", value_name = "DIR|NAME=FILE.png")]
     pub references: Vec<String>,
 
     /// Image width [px] (the frames are drawn at this size, as `sss render --width`)
@@ -58,19 +59,19 @@ pub struct ViewArgs {
 }
 
 pub fn run(a: ViewArgs) -> Result<()> {
-    let named = library::material(&a.material)?;
+    let runs = (a.references.iter().filter(|r| !r.contains('=')))
+        .map(|d| render::Reference::read(std::path::Path::new(d)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let given = a.material.as_deref().map(library::material).transpose()?;
+    let (named, mut scenes) = render::Reference::page(given, &a.scenes, runs)?;
     let out = a
         .out
         .clone()
         .unwrap_or_else(|| crate::common::default_out().join("view"));
-    let mut scenes = render::SiteScene::list(&a.scenes);
-    for r in &a.references {
-        let Some((name, file)) = r.split_once('=') else {
-            bail!("invalid --reference {r:?}: expected NAME=FILE.png");
-        };
+    for (name, file) in a.references.iter().filter_map(|r| r.split_once('=')) {
         let png = std::fs::read(file).with_context(|| format!("cannot read --reference {file}"))?;
         render::SiteScene::set_reference(&mut scenes, name, png)
-            .with_context(|| format!("--reference {r}"))?;
+            .with_context(|| format!("--reference {name}={file}"))?;
     }
     let mut request = a
         .source

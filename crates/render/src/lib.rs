@@ -22,6 +22,7 @@ pub mod parse;
 pub mod plan;
 pub mod profile_cache;
 pub mod progress;
+pub mod reference;
 pub mod request;
 pub mod summary;
 pub mod tables;
@@ -33,6 +34,7 @@ pub use package::Package;
 pub use plan::{Gather, KernelChoice, Plan, Profiles, Simulated, describe};
 pub use profile_cache::{Cached, ProfileCache};
 pub use progress::Progress;
+pub use reference::{Reference, SceneView};
 pub use request::{
     GatherOptions, NamedMaterial, Request, ResolvedShading, ShadingOptions, TableSettings,
 };

@@ -36,6 +36,9 @@ pub struct SiteScene {
     /// A path-traced reference image to show beside it (PNG bytes), e.g. `mitsuba.png` of
     /// `scripts/references/images.py` (its view is the reference scene's).
     pub reference: Option<Vec<u8>>,
+    /// The reference's view (camera, lights, image size, albedos), replacing the request's for
+    /// this scene ([`crate::Reference`]); `None`: the request's.
+    pub view: Option<crate::SceneView>,
 }
 
 impl SiteScene {
@@ -58,6 +61,7 @@ impl SiteScene {
                     .to_string(),
                 scene: scene.clone(),
                 reference: None,
+                view: None,
             })
             .collect()
     }
@@ -102,6 +106,9 @@ impl Site {
         for s in scenes {
             let mut r = request.clone();
             r.frame.scene = s.scene.clone();
+            if let Some(v) = &s.view {
+                v.apply(&mut r.frame);
+            }
             if r.half_res || r.frame.fast_blur {
                 return Err(RenderError::invalid(
                     "resolution",
