@@ -1,5 +1,6 @@
-//! The Python module (`crates/python`): builds its wheel with maturin (the `ci` profile, in
-//! `target/python` so that it does not wait on this test run's own build lock), installs it into
+//! The Python module (`crates/python`): builds its wheel with maturin (the `ci` profile, in the
+//! workspace's `target`, so that the crates this test run built are reused: cargo holds its build
+//! lock while it compiles, not while the tests run), installs it into
 //! a virtual environment that sees the machine's NumPy, Matplotlib and pytest, and runs
 //! `crates/python/tests` there (with the example of `examples/python`). Needs maturin and pytest
 //! (`.ci/run` installs them); outside CI a machine without them skips, under CI=true it fails.
@@ -19,7 +20,7 @@ fn python_module_passes_its_tests() {
     ) {
         return;
     }
-    let target = root.join("target/python");
+    let target = root.join("target");
     let wheels = tempfile::tempdir().unwrap();
     let run = |cmd: &mut Command, what: &str| {
         let o = cmd.output().unwrap();
@@ -40,7 +41,7 @@ fn python_module_passes_its_tests() {
             .env("CARGO_TARGET_DIR", &target),
         "maturin build",
     );
-    let venv = target.join("venv");
+    let venv = target.join("python-venv");
     run(
         Command::new("python3")
             .args(["-m", "venv", "--system-site-packages", "--clear"])
