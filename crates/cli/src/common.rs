@@ -128,3 +128,28 @@ pub fn print_raw(text: &str) -> Result<()> {
     let out = std::io::stdout().write_all(text.as_bytes());
     out.context("cannot write to standard output")
 }
+
+/// Writes the shard file of slice `i` of `n` and reports it (one JSON line with --json);
+/// `events`: the interactions traced, where counted.
+pub fn write_shard(
+    path: &std::path::Path,
+    text: String,
+    (i, n): (u64, u64),
+    (seconds, events): (f64, Option<u64>),
+    json: bool,
+) -> Result<()> {
+    let mut files = mc::outputs::Outputs::default();
+    files.add(path, text);
+    files.commit()?;
+    if json {
+        let v = serde_json::json!({ "shard": path, "index": i, "of": n, "seconds": seconds, "events": events });
+        println!("{v}");
+    } else {
+        let rate = events.map_or(String::new(), |e| {
+            format!(", {:.3e} events/s", e as f64 / seconds)
+        });
+        let path = path.display();
+        eprintln!("wrote {path} ({seconds:.1} s{rate}); combine all {n} shards with `sss merge`");
+    }
+    Ok(())
+}

@@ -12,7 +12,6 @@ use report::simulation_run::{Simulated, Simulation};
 use serde_json::json;
 
 use crate::common::{Bars, parse_count};
-use crate::files::Outputs;
 use crate::library::{self, Named};
 
 #[derive(Args)]
@@ -131,22 +130,8 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
     let (i, n) = mc::job_array::slice(s, &|k| std::env::var(k).ok())?;
     let sh = pool.install(|| sim.shard(i, n, &bars))?;
     let path = args.out.join(format!("shard-{i}-of-{n}.json"));
-    let mut files = Outputs::default();
-    files.add(&path, sh.to_json());
-    files.commit()?;
     let seconds = start.elapsed().as_secs_f64();
-    if args.json {
-        println!(
-            "{}",
-            json!({ "shard": path, "index": i, "of": n, "seconds": seconds })
-        );
-    } else {
-        eprintln!(
-            "wrote {} ({seconds:.1} s); combine all {n} shards with `sss merge`",
-            path.display()
-        );
-    }
-    Ok(())
+    crate::common::write_shard(&path, sh.to_json(), (i, n), (seconds, None), args.json)
 }
 
 pub fn merge(texts: &[(String, String)], out: &Path, json: bool) -> Result<()> {

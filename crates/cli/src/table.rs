@@ -101,24 +101,10 @@ pub fn run(a: TableArgs) -> Result<()> {
     bar.finish_and_clear();
     let seconds = start.elapsed().as_secs_f64();
     let events = shard.interactions();
-    let mut files = Outputs::default();
     if a.shard.is_some() {
         let path = a.out.join(format!("table-shard-{i}-of-{n}.json"));
-        files.add(&path, shard.to_json());
-        files.commit()?;
-        if a.json {
-            println!(
-                "{}",
-                json!({ "shard": path, "index": i, "of": n, "seconds": seconds, "events": events })
-            );
-        } else {
-            eprintln!(
-                "wrote {} ({seconds:.1} s, {:.3e} events/s); combine all {n} shards with `sss merge`",
-                path.display(),
-                events as f64 / seconds
-            );
-        }
-        return Ok(());
+        let timing = (seconds, Some(events));
+        return common::write_shard(&path, shard.to_json(), (i, n), timing, a.json);
     }
     let tables = table::merge_tables(&[(String::new(), shard)])?;
     write(&tables, &a.out, a.json, seconds, Some(events))
