@@ -1,0 +1,279 @@
+// One photon packet's random walk through the layered sample, MCML's steps (Wang, Jacques & Zheng
+// 1995, §3-4) in f32: launch, step size, boundary hit, hop, drop, spin, cross or not, roulette;
+// with mc's path-length roulette and, for runs that tally nothing below the surfaces, its
+// importance roulette (crates/mc/src/photon.rs). Units: the run's lengths (cm, or mean free paths
+// for a batch channel's walk; the tally grid is scaled to match on the host). +z into the sample.
+//
+// Each invocation traces photons one after another, taking the next index of the dispatch from
+// an atomic counter as soon as its photon ends, so the invocations of a workgroup stay busy while
+// histories differ in length. A photon's random stream depends on its index alone.
+
+const MAX_LAYERS: u32 = 16u;
+// MCML's WEIGHT and CHANCE (mc::ROULETTE_THRESHOLD, mc::ROULETTE_SURVIVAL).
+const ROULETTE_THRESHOLD: f32 = 1.0e-4;
+const ROULETTE_SURVIVAL: f32 = 0.1;
+// mc::PATH_ROULETTE_INTERVAL: a survival-½ roulette every this many interactions.
+const PATH_ROULETTE_INTERVAL: u32 = 100000u;
+// mc::IMPORTANCE_INTERVAL, mc::IMPORTANCE_THRESHOLD, mc::IMPORTANCE_TARGET.
+const IMPORTANCE_INTERVAL: u32 = 16u;
+const IMPORTANCE_THRESHOLD: f32 = 0.1;
+const IMPORTANCE_TARGET: f32 = 0.2;
+
+// The run and this dispatch (tracer.rs's Params).
+struct Params {
+    seed_lo: u32,
+    seed_hi: u32,
+    // Index of the dispatch's first photon in the run (64 bits).
+    base_lo: u32,
+    base_hi: u32,
+    // Photons in this dispatch.
+    count: u32,
+    layers: u32,
+    // Layer photons are launched into (1 under a glass top layer, as MCML does).
+    first: u32,
+    // 1: play the importance roulette.
+    importance: u32,
+    nr: u32,
+    na: u32,
+    // Radial bins per length unit of the walk, 1/dr [1/unit].
+    inv_dr: f32,
+    // Exit-angle bins per radian, 1/da.
+    inv_da: f32,
+    // Launched weight 1 − Rsp.
+    w0: f32,
+    // ∫ μ_eff dz over the whole sample [-].
+    tau_total: f32,
+    pad0: f32,
+    pad1: f32,
+}
+
+// A layer prepared for transport (medium.rs's Slab).
+struct Slab {
+    z0: f32,
+    z1: f32,
+    n: f32,
+    mu_t: f32,
+    // μa/μt: the fraction of the weight deposited at each interaction.
+    absorb: f32,
+    g: f32,
+    cos_crit_up: f32,
+    cos_crit_down: f32,
+    n_up: f32,
+    n_down: f32,
+    // Diffusion's effective attenuation μ_eff and ∫ μ_eff dz down to z0 (importance roulette).
+    mu_eff: f32,
+    tau0: f32,
+}
+
+struct Photon {
+    pos: vec3<f32>,
+    u: vec3<f32>,
+    w: f32,
+    layer: u32,
+    // Optical depth left over from a step cut at a boundary.
+    s_left: f32,
+    interactions: u32,
+    alive: bool,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> slabs: array<Slab>;
+
+// Per-history deposits, per layer (private to the invocation).
+var<private> absorbed: array<f32, MAX_LAYERS>;
+
+// Pencil beam at the origin along +z, weight 1 − Rsp (MCML's LaunchPhoton).
+fn launch() -> Photon {
+    for (var l = 0u; l < MAX_LAYERS; l++) {
+        absorbed[l] = 0.0;
+    }
+    return Photon(
+        vec3<f32>(0.0, 0.0, slabs[params.first].z0),
+        vec3<f32>(0.0, 0.0, 1.0),
+        params.w0,
+        params.first,
+        0.0,
+        0u,
+        true,
+    );
+}
+
+// Free path s = −ln ξ / μt (eq. 3.6), or the optical depth left over from the last boundary.
+fn step_size(p: ptr<function, Photon>, mu_t: f32, rng: ptr<function, Rng>) -> f32 {
+    if ((*p).s_left == 0.0) {
+        return -log(rand01_open(rng)) / mu_t;
+    }
+    let s = (*p).s_left / mu_t;
+    (*p).s_left = 0.0;
+    return s;
+}
+
+// Moves the photon to the boundary it reaches within s (eq. 3.14-3.15) and returns true, or
+// returns false. The photon is put exactly on the boundary, so that f32's rounding never leaves
+// it outside its layer.
+fn hit_boundary(p: ptr<function, Photon>, slab: Slab, s: f32) -> bool {
+    let z_end = (*p).pos.z + s * (*p).u.z;
+    var z_b: f32;
+    if (z_end > slab.z1) {
+        z_b = slab.z1;
+    } else if (z_end < slab.z0) {
+        z_b = slab.z0;
+    } else {
+        return false;
+    }
+    let d = (z_b - (*p).pos.z) / (*p).u.z;
+    (*p).s_left = (s - d) * slab.mu_t;
+    (*p).pos = vec3<f32>((*p).pos.xy + d * (*p).u.xy, z_b);
+    return true;
+}
+
+// Implicit capture: deposit w·μa/μt, keep the rest (MCML's Drop, eq. 3.23).
+fn drop(p: ptr<function, Photon>, absorb: f32) {
+    let dw = (*p).w * absorb;
+    (*p).w -= dw;
+    (*p).interactions += 1u;
+    absorbed[(*p).layer] += dw;
+}
+
+// Russian roulette: survive with probability `survival` and weight / survival (eq. 3.44).
+fn roulette(p: ptr<function, Photon>, rng: ptr<function, Rng>, survival: f32) {
+    if (rand01(rng) < survival) {
+        (*p).w /= survival;
+    } else {
+        (*p).w = 0.0;
+        (*p).alive = false;
+    }
+}
+
+// mc's importance roulette (photon.rs `importance`): a photon whose weight times its diffusion
+// importance I(z) = max(e^−τ(z), e^−(τ_T − τ(z))) is below IMPORTANCE_THRESHOLD survives with
+// p = max(w·I / IMPORTANCE_TARGET, w) (when below 1) and weight w/p. Unbiased.
+fn importance(p: ptr<function, Photon>, slab: Slab, rng: ptr<function, Rng>) {
+    let tau = slab.tau0 + slab.mu_eff * clamp((*p).pos.z - slab.z0, 0.0, slab.z1 - slab.z0);
+    let weighted = (*p).w * exp(max(-tau, tau - params.tau_total));
+    let survival = max(weighted / IMPORTANCE_TARGET, (*p).w);
+    if (weighted < IMPORTANCE_THRESHOLD && survival < 1.0) {
+        roulette(p, rng, survival);
+    }
+}
+
+// The photon leaves through the top (Rd) or the bottom (Tt) with weight w; cos_exit is |cos| of
+// its direction outside. Bins as mc's GridIndex: truncated, the last one collecting the rest.
+fn escape(p: Photon, top: bool, cos_exit: f32) {
+    let r = length(p.pos.xy);
+    let ir = min(u32(r * params.inv_dr), params.nr - 1u);
+    let ia = min(u32(acos(min(cos_exit, 1.0)) * params.inv_da), params.na - 1u);
+    let off = select(params.nr * params.na, 0u, top);
+    score(off + ir * params.na + ia, p.w);
+}
+
+// At a boundary: reflect with the Fresnel probability (total internal reflection beyond the
+// critical angle), else refract into the next layer (Snell, eq. 3.17) or escape (MCML's
+// CrossUpOrNot / CrossDnOrNot, statistical mode).
+fn cross_or_not(p: ptr<function, Photon>, rng: ptr<function, Rng>) {
+    let slab = slabs[(*p).layer];
+    let up = (*p).u.z < 0.0;
+    let n_t = select(slab.n_down, slab.n_up, up);
+    let cos_crit = select(slab.cos_crit_down, slab.cos_crit_up, up);
+    let cos_i = abs((*p).u.z);
+    var rt = vec2<f32>(1.0, 0.0);
+    if (cos_i > cos_crit) {
+        rt = fresnel(slab.n, n_t, cos_i);
+    }
+    if (rand01(rng) > rt.x) {
+        let last = select((*p).layer + 1u == params.layers, (*p).layer == 0u, up);
+        if (last) {
+            escape(*p, up, rt.y);
+            (*p).alive = false;
+        } else {
+            (*p).layer = select((*p).layer + 1u, (*p).layer - 1u, up);
+            let ratio = slab.n / n_t;
+            (*p).u = vec3<f32>((*p).u.xy * ratio, select(rt.y, -rt.y, up));
+        }
+    } else {
+        (*p).u.z = -(*p).u.z;
+    }
+}
+
+// One step in a scattering/absorbing layer (MCML's HopDropSpinInTissue).
+fn hop_drop_spin(p: ptr<function, Photon>, slab: Slab, rng: ptr<function, Rng>) {
+    let s = step_size(p, slab.mu_t, rng);
+    if (hit_boundary(p, slab, s)) {
+        cross_or_not(p, rng);
+        return;
+    }
+    (*p).pos += s * (*p).u;
+    drop(p, slab.absorb);
+    spin(p, slab.g, rng);
+    if ((*p).interactions % PATH_ROULETTE_INTERVAL == 0u) {
+        roulette(p, rng, 0.5);
+    }
+    if (params.importance != 0u && (*p).alive && (*p).interactions % IMPORTANCE_INTERVAL == 0u) {
+        importance(p, slab, rng);
+    }
+}
+
+// A straight flight through a non-interacting layer to its boundary (MCML's HopInGlass).
+fn hop_in_glass(p: ptr<function, Photon>, slab: Slab, rng: ptr<function, Rng>) {
+    if ((*p).u.z == 0.0) {
+        // Parallel to the boundaries it would never leave: MCML kills it.
+        (*p).alive = false;
+        return;
+    }
+    let z_b = select(slab.z0, slab.z1, (*p).u.z > 0.0);
+    let d = (z_b - (*p).pos.z) / (*p).u.z;
+    (*p).pos = vec3<f32>((*p).pos.xy + d * (*p).u.xy, z_b);
+    cross_or_not(p, rng);
+}
+
+// The history is over: each layer's deposits and their sum, as one score each.
+fn finish() {
+    let a_l = 2u * params.nr * params.na;
+    var total = 0.0;
+    for (var l = 0u; l < params.layers; l++) {
+        if (absorbed[l] > 0.0) {
+            score(a_l + l, absorbed[l]);
+            total += absorbed[l];
+        }
+    }
+    if (total > 0.0) {
+        score(a_l + params.layers, total);
+    }
+}
+
+@compute @workgroup_size(64)
+fn main() {
+    var p: Photon;
+    p.alive = false;
+    var rng: Rng;
+    // This invocation's interactions, 64 bits.
+    var inter_lo = 0u;
+    var inter_hi = 0u;
+    loop {
+        if (!p.alive) {
+            let i = atomicAdd(&work[0], 1u);
+            if (i >= params.count) {
+                break;
+            }
+            let lo = params.base_lo + i;
+            rng = rng_for(params.seed_lo, params.seed_hi, lo, params.base_hi + select(0u, 1u, lo < i));
+            p = launch();
+        }
+        let slab = slabs[p.layer];
+        if (slab.mu_t == 0.0) {
+            hop_in_glass(&p, slab, &rng);
+        } else {
+            hop_drop_spin(&p, slab, &rng);
+        }
+        if (p.alive && p.w < ROULETTE_THRESHOLD) {
+            roulette(&p, &rng, ROULETTE_SURVIVAL);
+        }
+        if (!p.alive) {
+            finish();
+            let lo = inter_lo + p.interactions;
+            inter_hi += select(0u, 1u, lo < inter_lo);
+            inter_lo = lo;
+        }
+    }
+    add_u64(4u * (2u * params.nr * params.na + params.layers + 1u), inter_lo, inter_hi);
+}
