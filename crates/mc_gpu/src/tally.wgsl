@@ -9,8 +9,9 @@
 
 @group(0) @binding(2) var<storage, read_write> tally: array<atomic<u32>>;
 
-// work[0]: the next photon of the dispatch to launch; work[1]: the overflow flag.
-@group(0) @binding(3) var<storage, read_write> work: array<atomic<u32>, 2>;
+// work[0]: the round's next photon to launch; work[1]: the overflow flag; work[2]: slots holding
+// a photon after this dispatch; work[3]: photons finished in this dispatch.
+@group(0) @binding(3) var<storage, read_write> work: array<atomic<u32>, 4>;
 
 // Adds the 64-bit number (lo, hi) to the words at `word` and `word + 1`.
 fn add_u64(word: u32, lo: u32, hi: u32) {

@@ -1,12 +1,15 @@
-//! The compute pass: [`Tracer`] compiles the walk once and traces runs of any size in dispatches
-//! and rounds.
+//! The compute pass: [`Tracer`] compiles the walk once and traces runs of any size in rounds
+//! of dispatches.
 //!
-//! A run of N photons is cut into dispatches of at most [`MAX_DISPATCH_PHOTONS`] (by default
-//! sized on the fly to take about [`TARGET_DISPATCH_SECONDS`] each, so that no dispatch runs for
-//! seconds on a software rasterizer or trips a desktop GPU's watchdog), grouped in rounds of
-//! [`ROUND_PHOTONS`] after which the tallies are read back into the host's exact accumulator.
-//! Photon k of the run draws from its own stream of (seed, k), and every sum is an integer, so
-//! the dispatch size changes nothing in the result.
+//! A run of N photons is cut into rounds of at most [`ROUND_PHOTONS`], after each of which the
+//! tallies are read back into the host's exact accumulator. In a round, each of [`Dispatch::slots`]
+//! invocations holds one photon in flight in a storage buffer and takes at most
+//! [`Dispatch::steps`] steps per dispatch (by default sized on the fly so that a dispatch takes
+//! about [`TARGET_DISPATCH_SECONDS`]: no dispatch runs for seconds on a software rasterizer or
+//! trips a desktop GPU's watchdog, and none exceeds lavapipe's loop limit, see `tracer.wgsl`);
+//! dispatches follow until the round's photons are all finished. Photon k of the run draws from
+//! its own stream of (seed, k), its state is kept bit for bit between dispatches and every sum is
+//! an integer, so neither the slots nor the steps change the result.
 
 use std::time::Instant;
 
@@ -15,7 +18,7 @@ use gpu::Gpu;
 use mc::{Accumulator, Grid, Layout};
 
 use crate::error::{McGpuError, Result};
-use crate::medium::Walk;
+use crate::medium::{MAX_LAYERS, Walk};
 use crate::tally::{ROUND_PHOTONS, add_round, words};
 
 /// The walk's WGSL, its parts in order.
@@ -29,15 +32,38 @@ pub const TRACER_WGSL: &str = concat!(
 
 /// Invocations per workgroup (`tracer.wgsl`'s `@workgroup_size`).
 const WORKGROUP: u32 = 64;
-/// Most invocations of one dispatch: each traces photons one after another until the dispatch's
-/// are done.
-const MAX_INVOCATIONS: u32 = 1 << 16;
-/// Most photons of one dispatch.
-pub const MAX_DISPATCH_PHOTONS: u32 = 1 << 20;
-/// Photons of the first dispatch when the size adapts.
-const FIRST_DISPATCH_PHOTONS: u32 = 1 << 12;
-/// The time one dispatch aims at when its size adapts [s].
+/// Photons in flight by default: enough invocations to fill a large GPU.
+pub const DEFAULT_SLOTS: u32 = 1 << 16;
+/// Loop iterations one invocation may run per dispatch, all loops together: below the 65,535 after
+/// which Mesa 22's lavapipe silently ends a shader's loops. A step costs one, and a finished
+/// photon one more per layer (the loop over its deposits).
+const LOOP_BUDGET: u32 = 60_000;
+/// Steps per slot of the first dispatch when the steps adapt.
+const FIRST_STEPS: u32 = 32;
+/// The time one dispatch aims at when its steps adapt [s].
 pub const TARGET_DISPATCH_SECONDS: f64 = 0.1;
+/// Bytes of one slot (`tracer.wgsl`'s `Slot`): 16 words of photon state, then the deposits.
+const SLOT_BYTES: u64 = 4 * (16 + MAX_LAYERS as u64);
+
+/// How a round is cut into dispatches: photons in flight and steps per dispatch. Neither changes
+/// the result.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Dispatch {
+    /// Photons in flight, one per invocation (at least 1; at most [`DEFAULT_SLOTS`] are useful).
+    pub slots: u32,
+    /// Steps per slot and dispatch; `None`: adapted to take about [`TARGET_DISPATCH_SECONDS`].
+    /// Capped by the loop budget a driver allows (about 60,000 over the layers + 1).
+    pub steps: Option<u32>,
+}
+
+impl Default for Dispatch {
+    fn default() -> Self {
+        Dispatch {
+            slots: DEFAULT_SLOTS,
+            steps: None,
+        }
+    }
+}
 
 /// The run and one dispatch; `tracer.wgsl`'s `Params`.
 #[repr(C)]
@@ -59,14 +85,14 @@ struct Params {
     inv_da: f32,
     w0: f32,
     tau_total: f32,
-    pad: [f32; 2],
+    slots: u32,
+    steps: u32,
 }
 
 /// The photon tracer's compute pipeline on one device, built once and used for many runs.
 pub struct Tracer {
     pipeline: wgpu::ComputePipeline,
-    /// Photons per dispatch; `None`: adapted to [`TARGET_DISPATCH_SECONDS`].
-    dispatch: Option<u32>,
+    dispatch: Dispatch,
 }
 
 /// The device's buffers of one run.
@@ -76,6 +102,18 @@ struct Buffers {
     work: wgpu::Buffer,
     bind: wgpu::BindGroup,
     tally_bytes: u64,
+}
+
+/// `work` as read back after a dispatch (`tally.wgsl`).
+struct Work {
+    /// The round's next photon index (at least the round's photons once all are taken).
+    next: u32,
+    /// The overflow flag.
+    overflow: bool,
+    /// Slots still holding a photon.
+    busy: u32,
+    /// Photons finished in the dispatch.
+    finished: u32,
 }
 
 impl Tracer {
@@ -103,14 +141,14 @@ impl Tracer {
         device_result(scope)?;
         Ok(Tracer {
             pipeline,
-            dispatch: None,
+            dispatch: Dispatch::default(),
         })
     }
 
-    /// The same tracer with `photons` per dispatch (clamped to 1..=[`MAX_DISPATCH_PHOTONS`]), or
-    /// adapted to the device's speed (`None`, the default). The result does not depend on it.
-    pub fn with_dispatch(mut self, photons: Option<u32>) -> Tracer {
-        self.dispatch = photons.map(|n| n.clamp(1, MAX_DISPATCH_PHOTONS));
+    /// The same tracer cutting rounds into dispatches as `dispatch` says (the default:
+    /// [`Dispatch::default`]). The result does not depend on it.
+    pub fn with_dispatch(mut self, dispatch: Dispatch) -> Tracer {
+        self.dispatch = dispatch;
         self
     }
 
@@ -136,7 +174,13 @@ impl Tracer {
             xy: 0,
         };
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let b = self.buffers(gpu, walk, &layout)?;
+        let slots = self
+            .dispatch
+            .slots
+            .max(1)
+            .min(photons.min(ROUND_PHOTONS) as u32);
+        let b = self.buffers(gpu, walk, &layout, slots)?;
+        let max_steps = LOOP_BUDGET / (1 + walk.slabs.len() as u32);
         let mut params = Params {
             seed_lo: seed as u32,
             seed_hi: (seed >> 32) as u32,
@@ -152,39 +196,45 @@ impl Tracer {
             inv_da: (1.0 / grid.da()) as f32,
             w0: (1.0 - walk.rsp) as f32,
             tau_total: walk.tau_total as f32,
-            pad: [0.0; 2],
+            slots,
+            steps: self
+                .dispatch
+                .steps
+                .unwrap_or(FIRST_STEPS)
+                .clamp(1, max_steps),
         };
         let mut acc = Accumulator::new(layout);
-        let (mut done, mut in_round) = (0u64, 0u64);
-        let mut size = self.dispatch.unwrap_or(FIRST_DISPATCH_PHOTONS);
+        let mut done = 0u64;
         while done < photons {
-            let n = u64::from(size)
-                .min(photons - done)
-                .min(ROUND_PHOTONS - in_round);
+            let n = ROUND_PHOTONS.min(photons - done);
             (params.base_lo, params.base_hi) = (done as u32, (done >> 32) as u32);
             params.count = n as u32;
-            let start = Instant::now();
-            self.dispatch(gpu, &b, &params)?;
-            progress(n);
-            if self.dispatch.is_none() {
-                size = adapt(size, n, start.elapsed().as_secs_f64());
+            // The round's photon counter restarts; the overflow flag stays raised.
+            gpu.queue.write_buffer(&b.work, 0, &[0; 4]);
+            loop {
+                let start = Instant::now();
+                let work = self.dispatch(gpu, &b, &params)?;
+                progress(u64::from(work.finished));
+                if self.dispatch.steps.is_none() {
+                    params.steps = adapt(params.steps, max_steps, start.elapsed().as_secs_f64());
+                }
+                if u64::from(work.next) >= n && work.busy == 0 {
+                    read_round(gpu, &b, &mut acc, n, work.overflow)?;
+                    break;
+                }
             }
             done += n;
-            in_round += n;
-            if in_round == ROUND_PHOTONS || done == photons {
-                read_round(gpu, &b, &mut acc, in_round)?;
-                in_round = 0;
-            }
         }
         device_result(scope)?;
         Ok(acc)
     }
 
     /// The run's buffers, after checking that the tallies fit the adapter's storage buffers.
-    fn buffers(&self, gpu: &Gpu, walk: &Walk, layout: &Layout) -> Result<Buffers> {
+    fn buffers(&self, gpu: &Gpu, walk: &Walk, layout: &Layout, slots: u32) -> Result<Buffers> {
         let tally_bytes = 4 * words(layout) as u64;
+        let slot_bytes = SLOT_BYTES * u64::from(slots);
         let limits = gpu.device.limits();
-        check_storage(&limits, tally_bytes)?;
+        check_storage(&limits, tally_bytes.max(slot_bytes))?;
         let dev = &gpu.device;
         let buffer = |label: &str, size: u64, usage: wgpu::BufferUsages| {
             dev.create_buffer(&wgpu::BufferDescriptor {
@@ -212,8 +262,10 @@ impl Tracer {
             tally_bytes,
             U::STORAGE | U::COPY_SRC | U::COPY_DST,
         );
-        let work = buffer("mc_gpu work", 8, U::STORAGE | U::COPY_SRC | U::COPY_DST);
-        gpu.queue.write_buffer(&work, 0, &[0; 8]);
+        let work = buffer("mc_gpu work", 16, U::STORAGE | U::COPY_SRC | U::COPY_DST);
+        gpu.queue.write_buffer(&work, 0, &[0; 16]);
+        // Zero: every slot starts without a photon.
+        let slots = buffer("mc_gpu slots", slot_bytes, U::STORAGE);
         fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
             wgpu::BindGroupEntry {
                 binding,
@@ -228,6 +280,7 @@ impl Tracer {
                 entry(1, &slabs),
                 entry(2, &tally),
                 entry(3, &work),
+                entry(4, &slots),
             ],
         });
         Ok(Buffers {
@@ -239,51 +292,55 @@ impl Tracer {
         })
     }
 
-    /// Runs one dispatch of `params.count` photons and waits for it.
-    fn dispatch(&self, gpu: &Gpu, b: &Buffers, params: &Params) -> Result<()> {
+    /// Runs one dispatch of `params.steps` steps per slot, waits for it and reads `work`.
+    fn dispatch(&self, gpu: &Gpu, b: &Buffers, params: &Params) -> Result<Work> {
         gpu.queue
             .write_buffer(&b.params, 0, bytemuck::bytes_of(params));
-        // The next photon's counter restarts; the overflow flag (word 1) stays raised.
-        gpu.queue.write_buffer(&b.work, 0, &[0; 4]);
-        let invocations = params.count.min(MAX_INVOCATIONS);
+        // Busy slots and finished photons are counted per dispatch.
+        gpu.queue.write_buffer(&b.work, 8, &[0; 8]);
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &b.bind, &[]);
-            pass.dispatch_workgroups(invocations.div_ceil(WORKGROUP), 1, 1);
+            pass.dispatch_workgroups(params.slots.div_ceil(WORKGROUP), 1, 1);
         }
         gpu.queue.submit([enc.finish()]);
-        gpu.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| McGpuError::Device(e.to_string()))?;
-        Ok(())
+        let w: Vec<u32> = bytemuck::pod_collect_to_vec(&gpu.read_buffer(&b.work, 16)?);
+        Ok(Work {
+            next: w[0],
+            overflow: w[1] != 0,
+            busy: w[2],
+            finished: w[3],
+        })
     }
 }
 
-/// Reads a round's tallies and the overflow flag into `acc` and clears the tallies.
-fn read_round(gpu: &Gpu, b: &Buffers, acc: &mut Accumulator, photons: u64) -> Result<()> {
-    let bytes = gpu.read_buffer(&b.tally, b.tally_bytes)?;
-    let flag = gpu.read_buffer(&b.work, 8)?;
-    let words: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
-    add_round(acc, &words, photons, flag[4..8] != [0; 4])?;
+/// Reads a round's tallies of `photons` into `acc` and clears them.
+fn read_round(
+    gpu: &Gpu,
+    b: &Buffers,
+    acc: &mut Accumulator,
+    photons: u64,
+    overflow: bool,
+) -> Result<()> {
+    let words: Vec<u32> = bytemuck::pod_collect_to_vec(&gpu.read_buffer(&b.tally, b.tally_bytes)?);
+    add_round(acc, &words, photons, overflow)?;
     let mut enc = gpu.device.create_command_encoder(&Default::default());
     enc.clear_buffer(&b.tally, 0, None);
     gpu.queue.submit([enc.finish()]);
     Ok(())
 }
 
-/// The next dispatch's size after one of `n` photons took `seconds`: doubled while it takes
-/// under half the target, halved while it takes over twice (never below a workgroup's worth).
-fn adapt(size: u32, n: u64, seconds: f64) -> u32 {
-    if n < u64::from(size) {
-        size
-    } else if seconds < 0.5 * TARGET_DISPATCH_SECONDS {
-        (size * 2).min(MAX_DISPATCH_PHOTONS)
+/// The next dispatch's steps after one took `seconds`: doubled while it takes under half the
+/// target, halved while it takes over twice, within 1..=`max`.
+fn adapt(steps: u32, max: u32, seconds: f64) -> u32 {
+    if seconds < 0.5 * TARGET_DISPATCH_SECONDS {
+        (steps * 2).min(max)
     } else if seconds > 2.0 * TARGET_DISPATCH_SECONDS {
-        (size / 2).max(WORKGROUP)
+        (steps / 2).max(1)
     } else {
-        size
+        steps
     }
 }
 
@@ -357,6 +414,12 @@ mod tests {
             slab.1.inner.size(module.to_ctx()) as usize,
             size_of::<crate::medium::Slab>()
         );
+        let slot = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("Slot"))
+            .expect("Slot");
+        assert_eq!(slot.1.inner.size(module.to_ctx()) as u64, SLOT_BYTES);
     }
 
     #[test]
@@ -374,14 +437,11 @@ mod tests {
     }
 
     #[test]
-    fn dispatches_grow_on_a_fast_device_and_shrink_on_a_slow_one() {
-        assert_eq!(adapt(4096, 4096, 0.001), 8192);
-        assert_eq!(adapt(4096, 4096, 1.0), 2048);
-        assert_eq!(adapt(4096, 4096, 0.1), 4096);
-        assert_eq!(adapt(4096, 100, 0.0), 4096);
-        assert_eq!(
-            adapt(MAX_DISPATCH_PHOTONS, 1 << 20, 0.0),
-            MAX_DISPATCH_PHOTONS
-        );
+    fn steps_grow_on_a_fast_device_and_shrink_on_a_slow_one() {
+        assert_eq!(adapt(32, 1000, 0.001), 64);
+        assert_eq!(adapt(32, 1000, 1.0), 16);
+        assert_eq!(adapt(32, 1000, 0.1), 32);
+        assert_eq!(adapt(800, 1000, 0.0), 1000);
+        assert_eq!(adapt(1, 1000, 9.0), 1);
     }
 }

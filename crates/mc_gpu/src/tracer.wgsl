@@ -4,9 +4,14 @@
 // importance roulette (crates/mc/src/photon.rs). Units: the run's lengths (cm, or mean free paths
 // for a batch channel's walk; the tally grid is scaled to match on the host). +z into the sample.
 //
-// Each invocation traces photons one after another, taking the next index of the dispatch from
-// an atomic counter as soon as its photon ends, so the invocations of a workgroup stay busy while
-// histories differ in length. A photon's random stream depends on its index alone.
+// Each invocation owns a slot: a photon in flight, kept in a storage buffer between dispatches.
+// A dispatch takes at most `params.steps` steps per slot, and a slot whose photon ends takes the
+// round's next photon index from an atomic counter, so the invocations of a SIMD group stay busy
+// while histories differ in length, and no dispatch runs long however long a history is (Mesa's
+// lavapipe of Debian 12 silently ends a shader's loops after 65,535 iterations in all, and desktop
+// drivers reset a GPU whose dispatch runs for seconds). A photon's random stream depends on its
+// index alone, and its state is saved bit for bit, so neither the slots nor the steps per
+// dispatch change any result.
 
 const MAX_LAYERS: u32 = 16u;
 // MCML's WEIGHT and CHANCE (mc::ROULETTE_THRESHOLD, mc::ROULETTE_SURVIVAL).
@@ -23,10 +28,10 @@ const IMPORTANCE_TARGET: f32 = 0.2;
 struct Params {
     seed_lo: u32,
     seed_hi: u32,
-    // Index of the dispatch's first photon in the run (64 bits).
+    // Index of the round's first photon in the run (64 bits).
     base_lo: u32,
     base_hi: u32,
-    // Photons in this dispatch.
+    // Photons in the round.
     count: u32,
     layers: u32,
     // Layer photons are launched into (1 under a glass top layer, as MCML does).
@@ -43,8 +48,9 @@ struct Params {
     w0: f32,
     // ∫ μ_eff dz over the whole sample [-].
     tau_total: f32,
-    pad0: f32,
-    pad1: f32,
+    // Slots (invocations that hold a photon) and steps per slot in this dispatch.
+    slots: u32,
+    steps: u32,
 }
 
 // A layer prepared for transport (medium.rs's Slab).
@@ -76,17 +82,46 @@ struct Photon {
     alive: bool,
 }
 
+// A photon in flight between dispatches, with its stream and its history's deposits so far.
+struct Slot {
+    x: f32,
+    y: f32,
+    z: f32,
+    ux: f32,
+    uy: f32,
+    uz: f32,
+    w: f32,
+    s_left: f32,
+    layer: u32,
+    interactions: u32,
+    alive: u32,
+    absorbed_here: f32,
+    rng: vec4<u32>,
+    absorbed: array<f32, MAX_LAYERS>,
+}
+
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> slabs: array<Slab>;
+@group(0) @binding(4) var<storage, read_write> slots: array<Slot>;
 
-// Per-history deposits, per layer (private to the invocation).
+// The current history's deposits in the layers it has left, per layer, and in the layer it is
+// in; and that layer (loaded when the photon enters it, not at every step).
 var<private> absorbed: array<f32, MAX_LAYERS>;
+var<private> absorbed_here: f32;
+var<private> slab: Slab;
+
+// The photon enters `layer`: what it deposited in the one it leaves is put by, the new one loaded.
+fn enter(from_layer: u32, layer: u32) {
+    absorbed[from_layer] += absorbed_here;
+    absorbed_here = 0.0;
+    slab = slabs[layer];
+}
 
 // Pencil beam at the origin along +z, weight 1 − Rsp (MCML's LaunchPhoton).
 fn launch() -> Photon {
-    for (var l = 0u; l < MAX_LAYERS; l++) {
-        absorbed[l] = 0.0;
-    }
+    absorbed = array<f32, MAX_LAYERS>();
+    absorbed_here = 0.0;
+    slab = slabs[params.first];
     return Photon(
         vec3<f32>(0.0, 0.0, slabs[params.first].z0),
         vec3<f32>(0.0, 0.0, 1.0),
@@ -111,7 +146,7 @@ fn step_size(p: ptr<function, Photon>, mu_t: f32, rng: ptr<function, Rng>) -> f3
 // Moves the photon to the boundary it reaches within s (eq. 3.14-3.15) and returns true, or
 // returns false. The photon is put exactly on the boundary, so that f32's rounding never leaves
 // it outside its layer.
-fn hit_boundary(p: ptr<function, Photon>, slab: Slab, s: f32) -> bool {
+fn hit_boundary(p: ptr<function, Photon>, s: f32) -> bool {
     let z_end = (*p).pos.z + s * (*p).u.z;
     var z_b: f32;
     if (z_end > slab.z1) {
@@ -132,7 +167,7 @@ fn drop(p: ptr<function, Photon>, absorb: f32) {
     let dw = (*p).w * absorb;
     (*p).w -= dw;
     (*p).interactions += 1u;
-    absorbed[(*p).layer] += dw;
+    absorbed_here += dw;
 }
 
 // Russian roulette: survive with probability `survival` and weight / survival (eq. 3.44).
@@ -148,7 +183,7 @@ fn roulette(p: ptr<function, Photon>, rng: ptr<function, Rng>, survival: f32) {
 // mc's importance roulette (photon.rs `importance`): a photon whose weight times its diffusion
 // importance I(z) = max(e^−τ(z), e^−(τ_T − τ(z))) is below IMPORTANCE_THRESHOLD survives with
 // p = max(w·I / IMPORTANCE_TARGET, w) (when below 1) and weight w/p. Unbiased.
-fn importance(p: ptr<function, Photon>, slab: Slab, rng: ptr<function, Rng>) {
+fn importance(p: ptr<function, Photon>, rng: ptr<function, Rng>) {
     let tau = slab.tau0 + slab.mu_eff * clamp((*p).pos.z - slab.z0, 0.0, slab.z1 - slab.z0);
     let weighted = (*p).w * exp(max(-tau, tau - params.tau_total));
     let survival = max(weighted / IMPORTANCE_TARGET, (*p).w);
@@ -171,7 +206,6 @@ fn escape(p: Photon, top: bool, cos_exit: f32) {
 // critical angle), else refract into the next layer (Snell, eq. 3.17) or escape (MCML's
 // CrossUpOrNot / CrossDnOrNot, statistical mode).
 fn cross_or_not(p: ptr<function, Photon>, rng: ptr<function, Rng>) {
-    let slab = slabs[(*p).layer];
     let up = (*p).u.z < 0.0;
     let n_t = select(slab.n_down, slab.n_up, up);
     let cos_crit = select(slab.cos_crit_down, slab.cos_crit_up, up);
@@ -186,8 +220,10 @@ fn cross_or_not(p: ptr<function, Photon>, rng: ptr<function, Rng>) {
             escape(*p, up, rt.y);
             (*p).alive = false;
         } else {
-            (*p).layer = select((*p).layer + 1u, (*p).layer - 1u, up);
             let ratio = slab.n / n_t;
+            let next = select((*p).layer + 1u, (*p).layer - 1u, up);
+            enter((*p).layer, next);
+            (*p).layer = next;
             (*p).u = vec3<f32>((*p).u.xy * ratio, select(rt.y, -rt.y, up));
         }
     } else {
@@ -196,9 +232,9 @@ fn cross_or_not(p: ptr<function, Photon>, rng: ptr<function, Rng>) {
 }
 
 // One step in a scattering/absorbing layer (MCML's HopDropSpinInTissue).
-fn hop_drop_spin(p: ptr<function, Photon>, slab: Slab, rng: ptr<function, Rng>) {
+fn hop_drop_spin(p: ptr<function, Photon>, rng: ptr<function, Rng>) {
     let s = step_size(p, slab.mu_t, rng);
-    if (hit_boundary(p, slab, s)) {
+    if (hit_boundary(p, s)) {
         cross_or_not(p, rng);
         return;
     }
@@ -209,12 +245,12 @@ fn hop_drop_spin(p: ptr<function, Photon>, slab: Slab, rng: ptr<function, Rng>) 
         roulette(p, rng, 0.5);
     }
     if (params.importance != 0u && (*p).alive && (*p).interactions % IMPORTANCE_INTERVAL == 0u) {
-        importance(p, slab, rng);
+        importance(p, rng);
     }
 }
 
 // A straight flight through a non-interacting layer to its boundary (MCML's HopInGlass).
-fn hop_in_glass(p: ptr<function, Photon>, slab: Slab, rng: ptr<function, Rng>) {
+fn hop_in_glass(p: ptr<function, Photon>, rng: ptr<function, Rng>) {
     if ((*p).u.z == 0.0) {
         // Parallel to the boundaries it would never leave: MCML kills it.
         (*p).alive = false;
@@ -227,7 +263,8 @@ fn hop_in_glass(p: ptr<function, Photon>, slab: Slab, rng: ptr<function, Rng>) {
 }
 
 // The history is over: each layer's deposits and their sum, as one score each.
-fn finish() {
+fn finish(layer: u32) {
+    enter(layer, layer);
     let a_l = 2u * params.nr * params.na;
     var total = 0.0;
     for (var l = 0u; l < params.layers; l++) {
@@ -241,15 +278,55 @@ fn finish() {
     }
 }
 
+// The slot's photon, its stream and deposits (into the private variables), from the buffer.
+fn load(i: u32, rng: ptr<function, Rng>) -> Photon {
+    let q = slots[i];
+    *rng = Rng(q.rng.x, q.rng.y, q.rng.z, q.rng.w);
+    absorbed = q.absorbed;
+    absorbed_here = q.absorbed_here;
+    slab = slabs[q.layer];
+    return Photon(
+        vec3<f32>(q.x, q.y, q.z),
+        vec3<f32>(q.ux, q.uy, q.uz),
+        q.w,
+        q.layer,
+        q.s_left,
+        q.interactions,
+        q.alive != 0u,
+    );
+}
+
+fn save(i: u32, p: Photon, rng: Rng) {
+    slots[i] = Slot(
+        p.pos.x,
+        p.pos.y,
+        p.pos.z,
+        p.u.x,
+        p.u.y,
+        p.u.z,
+        p.w,
+        p.s_left,
+        p.layer,
+        p.interactions,
+        u32(p.alive),
+        absorbed_here,
+        vec4<u32>(rng.s0, rng.s1, rng.s2, rng.s3),
+        absorbed,
+    );
+}
+
 @compute @workgroup_size(64)
-fn main() {
-    var p: Photon;
-    p.alive = false;
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= params.slots) {
+        return;
+    }
     var rng: Rng;
-    // This invocation's interactions, 64 bits.
+    var p = load(id.x, &rng);
+    // This dispatch's finished photons and their interactions (64 bits).
+    var finished = 0u;
     var inter_lo = 0u;
     var inter_hi = 0u;
-    loop {
+    for (var step = 0u; step < params.steps; step++) {
         if (!p.alive) {
             let i = atomicAdd(&work[0], 1u);
             if (i >= params.count) {
@@ -259,21 +336,28 @@ fn main() {
             rng = rng_for(params.seed_lo, params.seed_hi, lo, params.base_hi + select(0u, 1u, lo < i));
             p = launch();
         }
-        let slab = slabs[p.layer];
         if (slab.mu_t == 0.0) {
-            hop_in_glass(&p, slab, &rng);
+            hop_in_glass(&p, &rng);
         } else {
-            hop_drop_spin(&p, slab, &rng);
+            hop_drop_spin(&p, &rng);
         }
         if (p.alive && p.w < ROULETTE_THRESHOLD) {
             roulette(&p, &rng, ROULETTE_SURVIVAL);
         }
         if (!p.alive) {
-            finish();
+            finish(p.layer);
+            finished += 1u;
             let lo = inter_lo + p.interactions;
             inter_hi += select(0u, 1u, lo < inter_lo);
             inter_lo = lo;
         }
     }
-    add_u64(4u * (2u * params.nr * params.na + params.layers + 1u), inter_lo, inter_hi);
+    save(id.x, p, rng);
+    if (p.alive) {
+        atomicAdd(&work[2], 1u);
+    }
+    if (finished > 0u) {
+        atomicAdd(&work[3], finished);
+        add_u64(4u * (2u * params.nr * params.na + params.layers + 1u), inter_lo, inter_hi);
+    }
 }
