@@ -44,7 +44,7 @@ use mc::{BatchSpec, Output, RunSpec, TallySet};
 
 pub use error::{McGpuError, Result};
 pub use medium::MAX_LAYERS;
-pub use tracer::{DEFAULT_SLOTS, Dispatch, TARGET_DISPATCH_SECONDS, TRACER_WGSL, Tracer};
+pub use tracer::{CPU_SLOTS, Dispatch, GPU_SLOTS, TARGET_DISPATCH_SECONDS, TRACER_WGSL, Tracer};
 
 use medium::Walk;
 

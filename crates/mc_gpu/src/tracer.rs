@@ -1,7 +1,8 @@
 //! The compute pass: [`Tracer`] compiles the walk once and traces runs of any size in rounds
 //! of dispatches.
 //!
-//! A run of N photons is cut into rounds of at most [`ROUND_PHOTONS`], after each of which the
+//! A run of N photons is cut into rounds of at most [`ROUND_PHOTONS`] ([`Dispatch::round`]),
+//! after each of which the
 //! tallies are read back into the host's exact accumulator. In a round, each of [`Dispatch::slots`]
 //! invocations holds one photon in flight in a storage buffer and takes at most
 //! [`Dispatch::steps`] steps per dispatch (by default sized on the fly so that a dispatch takes
@@ -9,7 +10,7 @@
 //! trips a desktop GPU's watchdog, and none exceeds lavapipe's loop limit, see `tracer.wgsl`);
 //! dispatches follow until the round's photons are all finished. Photon k of the run draws from
 //! its own stream of (seed, k), its state is kept bit for bit between dispatches and every sum is
-//! an integer, so neither the slots nor the steps change the result.
+//! an integer, so neither the rounds, the slots nor the steps change the result.
 
 use std::time::Instant;
 
@@ -32,8 +33,14 @@ pub const TRACER_WGSL: &str = concat!(
 
 /// Invocations per workgroup (`tracer.wgsl`'s `@workgroup_size`).
 const WORKGROUP: u32 = 64;
-/// Photons in flight by default: enough invocations to fill a large GPU.
-pub const DEFAULT_SLOTS: u32 = 1 << 16;
+/// Photons in flight by default on a GPU: enough invocations to fill a large one.
+pub const GPU_SLOTS: u32 = 1 << 16;
+/// Photons in flight by default on a CPU adapter (lavapipe): a few per SIMD lane of its threads,
+/// so that one step of every slot is short and a dispatch of the target time takes hundreds of
+/// steps (with [`GPU_SLOTS`], measured on lavapipe with two cores, the steps adapted down to a
+/// few per dispatch and the slots' loads and stores and the dispatches' readbacks took 3.3× the
+/// run time).
+pub const CPU_SLOTS: u32 = 1 << 11;
 /// Loop iterations one invocation may run per dispatch, all loops together: below the 65,535 after
 /// which Mesa 22's lavapipe silently ends a shader's loops. A step costs one, and a finished
 /// photon one more per layer (the loop over its deposits).
@@ -45,22 +52,28 @@ pub const TARGET_DISPATCH_SECONDS: f64 = 0.1;
 /// Bytes of one slot (`tracer.wgsl`'s `Slot`): 16 words of photon state, then the deposits.
 const SLOT_BYTES: u64 = 4 * (16 + MAX_LAYERS as u64);
 
-/// How a round is cut into dispatches: photons in flight and steps per dispatch. Neither changes
-/// the result.
+/// How a run is cut into rounds and dispatches: photons per round, photons in flight and steps
+/// per dispatch. None of them changes the result.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Dispatch {
-    /// Photons in flight, one per invocation (at least 1; at most [`DEFAULT_SLOTS`] are useful).
+    /// Photons in flight, one per invocation (at least 1).
     pub slots: u32,
     /// Steps per slot and dispatch; `None`: adapted to take about [`TARGET_DISPATCH_SECONDS`].
     /// Capped by the loop budget a driver allows (about 60,000 over the layers + 1).
     pub steps: Option<u32>,
+    /// Photons per round, between two readbacks of the tallies (1..=[`ROUND_PHOTONS`]).
+    pub round: u64,
 }
 
-impl Default for Dispatch {
-    fn default() -> Self {
+impl Dispatch {
+    /// The default for a device: [`CPU_SLOTS`] on a CPU adapter, else [`GPU_SLOTS`]; steps
+    /// adapted; rounds of [`ROUND_PHOTONS`].
+    pub fn for_device(device: &wgpu::Device) -> Dispatch {
+        let cpu = device.adapter_info().device_type == wgpu::DeviceType::Cpu;
         Dispatch {
-            slots: DEFAULT_SLOTS,
+            slots: if cpu { CPU_SLOTS } else { GPU_SLOTS },
             steps: None,
+            round: ROUND_PHOTONS,
         }
     }
 }
@@ -141,12 +154,12 @@ impl Tracer {
         device_result(scope)?;
         Ok(Tracer {
             pipeline,
-            dispatch: Dispatch::default(),
+            dispatch: Dispatch::for_device(&gpu.device),
         })
     }
 
     /// The same tracer cutting rounds into dispatches as `dispatch` says (the default:
-    /// [`Dispatch::default`]). The result does not depend on it.
+    /// [`Dispatch::for_device`]). The result does not depend on it.
     pub fn with_dispatch(mut self, dispatch: Dispatch) -> Tracer {
         self.dispatch = dispatch;
         self
@@ -174,11 +187,8 @@ impl Tracer {
             xy: 0,
         };
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let slots = self
-            .dispatch
-            .slots
-            .max(1)
-            .min(photons.min(ROUND_PHOTONS) as u32);
+        let round = self.dispatch.round.clamp(1, ROUND_PHOTONS);
+        let slots = self.dispatch.slots.max(1).min(photons.min(round) as u32);
         let b = self.buffers(gpu, walk, &layout, slots)?;
         let max_steps = LOOP_BUDGET / (1 + walk.slabs.len() as u32);
         let mut params = Params {
@@ -206,7 +216,7 @@ impl Tracer {
         let mut acc = Accumulator::new(layout);
         let mut done = 0u64;
         while done < photons {
-            let n = ROUND_PHOTONS.min(photons - done);
+            let n = round.min(photons - done);
             (params.base_lo, params.base_hi) = (done as u32, (done >> 32) as u32);
             params.count = n as u32;
             // The round's photon counter restarts; the overflow flag stays raised.
