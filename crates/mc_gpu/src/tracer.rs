@@ -375,7 +375,9 @@ pub(crate) fn check_compute(limits: &wgpu::Limits, adapter: &str) -> Result<()> 
 
 /// Refuses tallies of `bytes` that exceed a storage binding or a buffer of the device.
 pub(crate) fn check_storage(limits: &wgpu::Limits, bytes: u64) -> Result<()> {
-    let limit = u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+    let limit = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
     if bytes > limit {
         return Err(McGpuError::StorageTooSmall {
             needed: bytes,

@@ -42,9 +42,8 @@ fn an_index_matched_glass_slab_transmits_everything_exactly() {
     assert_eq!((out.tt.value, out.tt.se), (1.0, 0.0));
     assert_eq!((out.rd.value, out.a.value), (0.0, 0.0));
     // Straight down the axis: the first radial and exit-angle bins.
-    assert_eq!(out.tt_ra[0].value * out.tt_ra.len() as f64 > 0.0, true);
-    assert_eq!(out.tt_r.iter().filter(|e| e.value > 0.0).count(), 1);
-    assert_eq!(out.tt_a.iter().filter(|e| e.value > 0.0).count(), 1);
+    assert!(out.tt_ra[0].value > 0.0);
+    assert_eq!(out.tt_ra.iter().filter(|e| e.value > 0.0).count(), 1);
 }
 
 /// A scattering half-space of η = 1 has no specular reflection: Rsp = 0 exactly and the launched
