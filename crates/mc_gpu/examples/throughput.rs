@@ -37,7 +37,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         gpu_rates.push(events(&g) / g_s);
         cpu_rates.push(events(&c) / c_s);
         println!(
-            "run {run}: GPU {g_s:.2} s, {:.2e} interactions/s; CPU {c_s:.2} s, {:.2e} interactions/s",
+            "run {run}: GPU {g_s:.2} s, {:.2e} interactions/s; \
+             CPU {c_s:.2} s, {:.2e} interactions/s",
             gpu_rates[run - 1],
             cpu_rates[run - 1]
         );

@@ -49,7 +49,8 @@ pub use tracer::{CPU_SLOTS, Dispatch, GPU_SLOTS, TARGET_DISPATCH_SECONDS, TRACER
 use medium::Walk;
 
 /// Runs an MCML run on the GPU and normalizes it, as [`mc::run`] does on the CPU (normal
-/// incidence, the run's seed). `progress` is called with the photons of each finished dispatch.
+/// incidence, the run's seed). `progress` is called after each dispatch with the photons it
+/// finished.
 pub fn run(gpu: &Gpu, spec: &RunSpec, progress: &(dyn Fn(u64) + Sync)) -> Result<Output> {
     Tracer::new(gpu)?.run(gpu, spec, progress)
 }

@@ -166,7 +166,7 @@ impl Tracer {
     }
 
     /// Traces `photons` photons of `walk` seeded with `seed`, tallied on `grid` [cm], and returns
-    /// the exact sums. `progress` is called after each dispatch with its photons.
+    /// the exact sums. `progress` is called after each dispatch with the photons it finished.
     pub(crate) fn trace(
         &self,
         gpu: &Gpu,

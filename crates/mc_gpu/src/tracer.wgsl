@@ -332,8 +332,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if (i >= params.count) {
                 break;
             }
+            // The photon's index in the run: the round's base + i, in 64 bits.
             let lo = params.base_lo + i;
-            rng = rng_for(params.seed_lo, params.seed_hi, lo, params.base_hi + select(0u, 1u, lo < i));
+            let hi = params.base_hi + select(0u, 1u, lo < i);
+            rng = rng_for(params.seed_lo, params.seed_hi, lo, hi);
             p = launch();
         }
         if (slab.mu_t == 0.0) {
