@@ -38,6 +38,13 @@ pub(crate) struct Slab {
     tau0: f32,
 }
 
+impl Slab {
+    /// Whether the layer neither absorbs nor scatters (MCML's glass).
+    pub fn is_glass(&self) -> bool {
+        self.mu_t == 0.0
+    }
+}
+
 /// What one walk needs: the layers, where photons start and with what weight, and the length of
 /// one walk unit.
 #[derive(Clone, Debug)]

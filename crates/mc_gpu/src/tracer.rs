@@ -12,6 +12,7 @@
 //! its own stream of (seed, k), its state is kept bit for bit between dispatches and every sum is
 //! an integer, so neither the rounds, the slots nor the steps change the result.
 
+use std::sync::Mutex;
 use std::time::Instant;
 
 use bytemuck::{Pod, Zeroable};
@@ -89,7 +90,7 @@ struct Params {
     count: u32,
     layers: u32,
     first: u32,
-    importance: u32,
+    pad: u32,
     nr: u32,
     na: u32,
     /// 1/dr in walk units [1/unit].
@@ -104,12 +105,36 @@ struct Params {
 
 /// The photon tracer's compute pipeline on one device, built once and used for many runs.
 pub struct Tracer {
-    pipeline: wgpu::ComputePipeline,
+    module: wgpu::ShaderModule,
+    /// The pipelines built so far, one per variant of the walk.
+    pipelines: Mutex<Vec<(Variant, wgpu::ComputePipeline)>>,
     dispatch: Dispatch,
+}
+
+/// What a walk needs of the shader: its pipeline-overridable constants (`tracer.wgsl`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Variant {
+    /// Some layer is glass.
+    glass: bool,
+    /// More than one layer.
+    layered: bool,
+    /// The importance roulette is played.
+    importance: bool,
+}
+
+impl Variant {
+    fn of(walk: &Walk) -> Variant {
+        Variant {
+            glass: walk.slabs.iter().any(|s| s.is_glass()),
+            layered: walk.slabs.len() > 1,
+            importance: walk.importance,
+        }
+    }
 }
 
 /// The device's buffers of one run.
 struct Buffers {
+    pipeline: wgpu::ComputePipeline,
     params: wgpu::Buffer,
     tally: wgpu::Buffer,
     work: wgpu::Buffer,
@@ -141,21 +166,41 @@ impl Tracer {
                 label: Some("mc_gpu tracer"),
                 source: wgpu::ShaderSource::Wgsl(TRACER_WGSL.into()),
             });
-        let pipeline = gpu
+        device_result(scope)?;
+        Ok(Tracer {
+            module,
+            pipelines: Mutex::new(Vec::new()),
+            dispatch: Dispatch::for_device(&gpu.device),
+        })
+    }
+
+    /// The pipeline of `variant`, built on first use.
+    fn pipeline(&self, gpu: &Gpu, variant: Variant) -> wgpu::ComputePipeline {
+        let mut built = self.pipelines.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((_, p)) = built.iter().find(|(v, _)| *v == variant) {
+            return p.clone();
+        }
+        let flag = |b: bool| if b { 1.0 } else { 0.0 };
+        let constants = [
+            ("GLASS", flag(variant.glass)),
+            ("LAYERED", flag(variant.layered)),
+            ("IMPORTANCE", flag(variant.importance)),
+        ];
+        let p = gpu
             .device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("mc_gpu tracer"),
                 layout: None,
-                module: &module,
+                module: &self.module,
                 entry_point: Some("main"),
-                compilation_options: Default::default(),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    ..Default::default()
+                },
                 cache: None,
             });
-        device_result(scope)?;
-        Ok(Tracer {
-            pipeline,
-            dispatch: Dispatch::for_device(&gpu.device),
-        })
+        built.push((variant, p.clone()));
+        p
     }
 
     /// The same tracer cutting rounds into dispatches as `dispatch` says (the default:
@@ -189,7 +234,8 @@ impl Tracer {
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let round = self.dispatch.round.clamp(1, ROUND_PHOTONS);
         let slots = self.dispatch.slots.max(1).min(photons.min(round) as u32);
-        let b = self.buffers(gpu, walk, &layout, slots)?;
+        let pipeline = self.pipeline(gpu, Variant::of(walk));
+        let b = self.buffers(gpu, pipeline, walk, &layout, slots)?;
         let max_steps = LOOP_BUDGET / (1 + walk.slabs.len() as u32);
         let mut params = Params {
             seed_lo: seed as u32,
@@ -199,7 +245,7 @@ impl Tracer {
             count: 0,
             layers: walk.slabs.len() as u32,
             first: walk.first,
-            importance: u32::from(walk.importance),
+            pad: 0,
             nr: grid.nr as u32,
             na: grid.na as u32,
             inv_dr: (walk.scale / grid.dr) as f32,
@@ -240,7 +286,14 @@ impl Tracer {
     }
 
     /// The run's buffers, after checking that the tallies fit the adapter's storage buffers.
-    fn buffers(&self, gpu: &Gpu, walk: &Walk, layout: &Layout, slots: u32) -> Result<Buffers> {
+    fn buffers(
+        &self,
+        gpu: &Gpu,
+        pipeline: wgpu::ComputePipeline,
+        walk: &Walk,
+        layout: &Layout,
+        slots: u32,
+    ) -> Result<Buffers> {
         let tally_bytes = 4 * words(layout) as u64;
         let slot_bytes = SLOT_BYTES * u64::from(slots);
         let limits = gpu.device.limits();
@@ -284,7 +337,7 @@ impl Tracer {
         }
         let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("mc_gpu"),
-            layout: &self.pipeline.get_bind_group_layout(0),
+            layout: &pipeline.get_bind_group_layout(0),
             entries: &[
                 entry(0, &params),
                 entry(1, &slabs),
@@ -294,6 +347,7 @@ impl Tracer {
             ],
         });
         Ok(Buffers {
+            pipeline,
             params,
             tally,
             work,
@@ -311,7 +365,7 @@ impl Tracer {
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(&b.pipeline);
             pass.set_bind_group(0, &b.bind, &[]);
             pass.dispatch_workgroups(params.slots.div_ceil(WORKGROUP), 1, 1);
         }

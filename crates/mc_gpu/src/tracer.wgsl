@@ -14,6 +14,16 @@
 // dispatch change any result.
 
 const MAX_LAYERS: u32 = 16u;
+
+// The walk's features, fixed when its pipeline is built (tracer.rs's Variant): lavapipe executes
+// every branch of the loop under a mask, so code a walk never needs costs it time (measured: the
+// glass branch alone, never taken in a half-space, cost 23 % of skin1's run).
+// Some layer neither absorbs nor scatters (MCML's glass).
+override GLASS: bool = true;
+// More than one layer.
+override LAYERED: bool = true;
+// Photons play mc's importance roulette (runs that tally nothing below the surfaces).
+override IMPORTANCE: bool = true;
 // MCML's WEIGHT and CHANCE (mc::ROULETTE_THRESHOLD, mc::ROULETTE_SURVIVAL).
 const ROULETTE_THRESHOLD: f32 = 1.0e-4;
 const ROULETTE_SURVIVAL: f32 = 0.1;
@@ -36,8 +46,8 @@ struct Params {
     layers: u32,
     // Layer photons are launched into (1 under a glass top layer, as MCML does).
     first: u32,
-    // 1: play the importance roulette.
-    importance: u32,
+    // Padding: the block is a multiple of 16 bytes.
+    pad: u32,
     nr: u32,
     na: u32,
     // Radial bins per length unit of the walk, 1/dr [1/unit].
@@ -215,7 +225,7 @@ fn cross_or_not(p: ptr<function, Photon>, rng: ptr<function, Rng>) {
         rt = fresnel(slab.n, n_t, cos_i);
     }
     if (rand01(rng) > rt.x) {
-        let last = select((*p).layer + 1u == params.layers, (*p).layer == 0u, up);
+        let last = !LAYERED || select((*p).layer + 1u == params.layers, (*p).layer == 0u, up);
         if (last) {
             escape(*p, up, rt.y);
             (*p).alive = false;
@@ -244,7 +254,7 @@ fn hop_drop_spin(p: ptr<function, Photon>, rng: ptr<function, Rng>) {
     if ((*p).interactions % PATH_ROULETTE_INTERVAL == 0u) {
         roulette(p, rng, 0.5);
     }
-    if (params.importance != 0u && (*p).alive && (*p).interactions % IMPORTANCE_INTERVAL == 0u) {
+    if (IMPORTANCE && (*p).alive && (*p).interactions % IMPORTANCE_INTERVAL == 0u) {
         importance(p, rng);
     }
 }
@@ -264,8 +274,15 @@ fn hop_in_glass(p: ptr<function, Photon>, rng: ptr<function, Rng>) {
 
 // The history is over: each layer's deposits and their sum, as one score each.
 fn finish(layer: u32) {
-    enter(layer, layer);
     let a_l = 2u * params.nr * params.na;
+    if (!LAYERED) {
+        if (absorbed_here > 0.0) {
+            score(a_l, absorbed_here);
+            score(a_l + 1u, absorbed_here);
+        }
+        return;
+    }
+    enter(layer, layer);
     var total = 0.0;
     for (var l = 0u; l < params.layers; l++) {
         if (absorbed[l] > 0.0) {
@@ -338,7 +355,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             rng = rng_for(params.seed_lo, params.seed_hi, lo, hi);
             p = launch();
         }
-        if (slab.mu_t == 0.0) {
+        if (GLASS && slab.mu_t == 0.0) {
             hop_in_glass(&p, &rng);
         } else {
             hop_drop_spin(&p, &rng);
