@@ -53,10 +53,19 @@ pub(crate) fn add_round(
             round_photons: ROUND_PHOTONS,
         });
     }
-    let entries = acc.layout.entries();
+    let l = acc.layout;
+    let entries = l.entries();
+    // One layer's absorption is the photon's whole absorption: the shader scores it once, as A.
+    let source = |e: usize| {
+        if l.layers == 1 && e == l.a_l(0) {
+            l.a_total(0)
+        } else {
+            e
+        }
+    };
     for e in 0..entries {
-        acc.sum[e] += i128::from(u64_at(words, 4 * e)) << GPU_ONE;
-        acc.sum_sq[e] += i128::from(u64_at(words, 4 * e + 2)) << GPU_ONE;
+        acc.sum[e] += i128::from(u64_at(words, 4 * source(e))) << GPU_ONE;
+        acc.sum_sq[e] += i128::from(u64_at(words, 4 * source(e) + 2)) << GPU_ONE;
     }
     acc.interactions += u64_at(words, 4 * entries);
     acc.photons += photons;
@@ -96,6 +105,13 @@ mod tests {
         assert_eq!(acc.s(1), 3.0);
         assert_eq!(acc.sum_sq[1], 2 << 32);
         assert_eq!((acc.photons, acc.interactions), (20, 2 * ((1 << 32) + 7)));
+        // A single layer's A_l is the A the shader scored.
+        let mut a = vec![0u32; words(&l)];
+        a[4 * l.a_total(0)] = 5;
+        let mut acc = Accumulator::new(l);
+        add_round(&mut acc, &a, 1, false).unwrap();
+        assert_eq!(acc.sum[l.a_l(0)], 5 << 32);
+        assert_eq!(acc.sum[l.a_total(0)], 5 << 32);
         assert!(matches!(
             add_round(&mut acc, &w, 10, true),
             Err(McGpuError::TallyOverflow { .. })

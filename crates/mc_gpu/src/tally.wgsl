@@ -36,9 +36,3 @@ fn add_fixed(word: u32, x: f32) {
     // to at most 2^32 − 256: the low word never carries here.
     add_u64(word, u32(round((x - hi) * 4294967296.0)), u32(hi));
 }
-
-// One photon's score x in entry `entry`: Σx and Σx².
-fn score(entry: u32, x: f32) {
-    add_fixed(4u * entry, x);
-    add_fixed(4u * entry + 2u, x * x);
-}

@@ -43,8 +43,9 @@ pub const GPU_SLOTS: u32 = 1 << 16;
 /// run time).
 pub const CPU_SLOTS: u32 = 1 << 11;
 /// Loop iterations one invocation may run per dispatch, all loops together: below the 65,535 after
-/// which Mesa 22's lavapipe silently ends a shader's loops. A step costs one, and a finished
-/// photon one more per layer (the loop over its deposits).
+/// which Mesa 22's lavapipe silently ends a shader's loops. A step costs one, and a photon that
+/// ends in it at most 4 + 3 per layer more (its deposits summed and its scores made,
+/// `tracer.wgsl`'s `finish`).
 const LOOP_BUDGET: u32 = 60_000;
 /// Steps per slot of the first dispatch when the steps adapt.
 const FIRST_STEPS: u32 = 32;
@@ -60,7 +61,7 @@ pub struct Dispatch {
     /// Photons in flight, one per invocation (at least 1).
     pub slots: u32,
     /// Steps per slot and dispatch; `None`: adapted to take about [`TARGET_DISPATCH_SECONDS`].
-    /// Capped by the loop budget a driver allows (about 60,000 over the layers + 1).
+    /// Capped by the loop budget a driver allows (60,000 over 5 + 3 per layer).
     pub steps: Option<u32>,
     /// Photons per round, between two readbacks of the tallies (1..=[`ROUND_PHOTONS`]).
     pub round: u64,
@@ -236,7 +237,7 @@ impl Tracer {
         let slots = self.dispatch.slots.max(1).min(photons.min(round) as u32);
         let pipeline = self.pipeline(gpu, Variant::of(walk));
         let b = self.buffers(gpu, pipeline, walk, &layout, slots)?;
-        let max_steps = LOOP_BUDGET / (1 + walk.slabs.len() as u32);
+        let max_steps = LOOP_BUDGET / (5 + 3 * walk.slabs.len() as u32);
         let mut params = Params {
             seed_lo: seed as u32,
             seed_hi: (seed >> 32) as u32,

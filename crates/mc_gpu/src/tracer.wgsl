@@ -118,6 +118,9 @@ struct Slot {
 // in; and that layer (loaded when the photon enters it, not at every step).
 var<private> absorbed: array<f32, MAX_LAYERS>;
 var<private> absorbed_here: f32;
+// The history's escape, if any: its tally entry and weight (0: none).
+var<private> escaped_entry: u32;
+var<private> escaped_w: f32;
 var<private> slab: Slab;
 
 // The photon enters `layer`: what it deposited in the one it leaves is put by, the new one loaded.
@@ -131,6 +134,7 @@ fn enter(from_layer: u32, layer: u32) {
 fn launch() -> Photon {
     absorbed = array<f32, MAX_LAYERS>();
     absorbed_here = 0.0;
+    escaped_w = 0.0;
     slab = slabs[params.first];
     return Photon(
         vec3<f32>(0.0, 0.0, slabs[params.first].z0),
@@ -204,12 +208,14 @@ fn importance(p: ptr<function, Photon>, rng: ptr<function, Rng>) {
 
 // The photon leaves through the top (Rd) or the bottom (Tt) with weight w; cos_exit is |cos| of
 // its direction outside. Bins as mc's GridIndex: truncated, the last one collecting the rest.
+// The score is made when the history ends (`finish`).
 fn escape(p: Photon, top: bool, cos_exit: f32) {
     let r = length(p.pos.xy);
     let ir = min(u32(r * params.inv_dr), params.nr - 1u);
     let ia = min(u32(acos(min(cos_exit, 1.0)) * params.inv_da), params.na - 1u);
     let off = select(params.nr * params.na, 0u, top);
-    score(off + ir * params.na + ia, p.w);
+    escaped_entry = off + ir * params.na + ia;
+    escaped_w = p.w;
 }
 
 // At a boundary: reflect with the Fresnel probability (total internal reflection beyond the
@@ -273,25 +279,33 @@ fn hop_in_glass(p: ptr<function, Photon>, rng: ptr<function, Rng>) {
 }
 
 // The history is over: each layer's deposits and their sum, as one score each.
+// Scores j = 0 (the escape, if any), 1 (A), 2, 3, ... (A_l per layer, when LAYERED; a single
+// layer's A_l is its A, copied on the host) are made by one loop over (score, Σx or Σx²), so the
+// shader holds a single copy of the atomics, which lavapipe runs lane by lane at every step.
 fn finish(layer: u32) {
     let a_l = 2u * params.nr * params.na;
-    if (!LAYERED) {
-        if (absorbed_here > 0.0) {
-            score(a_l, absorbed_here);
-            score(a_l + 1u, absorbed_here);
-        }
-        return;
-    }
-    enter(layer, layer);
-    var total = 0.0;
-    for (var l = 0u; l < params.layers; l++) {
-        if (absorbed[l] > 0.0) {
-            score(a_l + l, absorbed[l]);
+    var total = absorbed_here;
+    if (LAYERED) {
+        enter(layer, layer);
+        total = 0.0;
+        for (var l = 0u; l < params.layers; l++) {
             total += absorbed[l];
         }
     }
-    if (total > 0.0) {
-        score(a_l + params.layers, total);
+    let scores = select(2u, 2u + params.layers, LAYERED);
+    for (var k = 2u * select(1u, 0u, escaped_w > 0.0); k < 2u * scores; k++) {
+        let j = k / 2u;
+        var entry = escaped_entry;
+        var x = escaped_w;
+        if (j == 1u) {
+            entry = a_l + params.layers;
+            x = total;
+        } else if (j >= 2u) {
+            entry = a_l + j - 2u;
+            x = absorbed[j - 2u];
+        }
+        let square = k % 2u == 1u;
+        add_fixed(4u * entry + select(0u, 2u, square), select(x, x * x, square));
     }
 }
 
