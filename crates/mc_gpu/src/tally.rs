@@ -2,7 +2,7 @@
 //!
 //! Fixed point: the shader rounds each score x (a photon's escaping weight, its deposits in a
 //! layer or in all, and their squares) once to an unsigned 64-bit integer in units of 2⁻³²
-//! ([`GPU_ONE`]) and adds it atomically as two 32-bit words with a carry (`tally.wgsl`). Integer
+//! (`GPU_ONE`) and adds it atomically as two 32-bit words with a carry (`tally.wgsl`). Integer
 //! sums do not depend on the order of the additions, so a run's result is the same bits whatever
 //! the dispatch size or scheduling. The rounding error is at most 2⁻³³ per score, below 10⁻⁹ of
 //! any tally of a photon's weight (Rd, Tt, A ≥ ~10⁻⁴ per photon where they matter, and unbiased).
