@@ -26,7 +26,8 @@ pub(crate) struct Slab {
     mu_t: f32,
     /// μa/μt [-].
     absorb: f32,
-    g: f32,
+    /// Henyey–Greenstein anisotropy [-].
+    pub g: f32,
     /// Cosines of the critical angles going up and down out of the layer.
     cos_crit_up: f32,
     cos_crit_down: f32,

@@ -3,10 +3,12 @@
 const TWO_PI: f32 = 6.283185307179586;
 
 // cos θ of the Henyey–Greenstein phase function by inversion of its CDF (eq. 3.28), ξ in [0, 1).
-// g = 0 is isotropic (cos θ = 2ξ − 1); |g| = 1 (also a g that rounds to ±1 in f32, within 6e-8 of
-// it) is the delta it tends to. 1 − g² is formed as (1 − g)(1 + g), exact in f32 near |g| = 1.
+// g = 0 is isotropic (cos θ = 2ξ − 1); |g| = 1 (also a g that rounds to ±1 in f32, within 6e-8
+// of it) is the delta it tends to. 1 − g² is formed as (1 − g)(1 + g), exact in f32 near
+// |g| = 1. The branches of g = 0 and g ≠ 0 are compiled only where some layer has them
+// (tracer.wgsl's ISOTROPIC and ANISOTROPIC).
 fn sample_cos_theta(g: f32, xi: f32) -> f32 {
-    if (g == 0.0) {
+    if (ISOTROPIC && (!ANISOTROPIC || g == 0.0)) {
         return 2.0 * xi - 1.0;
     }
     if (abs(g) >= 1.0) {
@@ -28,7 +30,7 @@ fn spin(p: ptr<function, Photon>, g: f32, rng: ptr<function, Rng>) {
     let sin_p = sin(psi);
     let u = (*p).u;
     var v: vec3<f32>;
-    if (g == 0.0) {
+    if (ISOTROPIC && (!ANISOTROPIC || g == 0.0)) {
         v = vec3<f32>(sin_t * cos_p, sin_t * sin_p, cos_t);
     } else if (abs(u.z) > COS_ZERO) {
         v = vec3<f32>(sin_t * cos_p, sin_t * sin_p, select(-cos_t, cos_t, u.z > 0.0));

@@ -121,6 +121,9 @@ struct Variant {
     layered: bool,
     /// The importance roulette is played.
     importance: bool,
+    /// Some scattering layer has g = 0 / g ≠ 0.
+    isotropic: bool,
+    anisotropic: bool,
 }
 
 impl Variant {
@@ -129,6 +132,8 @@ impl Variant {
             glass: walk.slabs.iter().any(|s| s.is_glass()),
             layered: walk.slabs.len() > 1,
             importance: walk.importance,
+            isotropic: walk.slabs.iter().any(|s| !s.is_glass() && s.g == 0.0),
+            anisotropic: walk.slabs.iter().any(|s| !s.is_glass() && s.g != 0.0),
         }
     }
 }
@@ -186,6 +191,8 @@ impl Tracer {
             ("GLASS", flag(variant.glass)),
             ("LAYERED", flag(variant.layered)),
             ("IMPORTANCE", flag(variant.importance)),
+            ("ISOTROPIC", flag(variant.isotropic)),
+            ("ANISOTROPIC", flag(variant.anisotropic)),
         ];
         let p = gpu
             .device

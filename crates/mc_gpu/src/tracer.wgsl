@@ -24,6 +24,9 @@ override GLASS: bool = true;
 override LAYERED: bool = true;
 // Photons play mc's importance roulette (runs that tally nothing below the surfaces).
 override IMPORTANCE: bool = true;
+// Some layer scatters isotropically (g = 0) / some layer does not (phase.wgsl).
+override ISOTROPIC: bool = true;
+override ANISOTROPIC: bool = true;
 // MCML's WEIGHT and CHANCE (mc::ROULETTE_THRESHOLD, mc::ROULETTE_SURVIVAL).
 const ROULETTE_THRESHOLD: f32 = 1.0e-4;
 const ROULETTE_SURVIVAL: f32 = 0.1;
