@@ -35,6 +35,7 @@ const LAYERS: &[(&str, May)] = &[
     ("fit", May::Only(&["mc"])),
     ("shading", May::Only(&["mc", "fit"])),
     ("gpu", May::Only(&["fit", "shading"])),
+    ("mc_gpu", May::Only(&["mc", "fit", "shading", "gpu"])),
     ("render", May::Only(&["mc", "fit", "shading", "gpu"])),
     ("report", May::Only(&["mc", "fit", "shading", "gpu"])),
     (
