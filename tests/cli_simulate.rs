@@ -595,3 +595,41 @@ fn materials_lists_the_library() {
     let coffee = m.iter().find(|x| x["material"] == "coffee").unwrap();
     assert!((coffee["channels"]["R"]["sigma_a_per_cm"].as_f64().unwrap() - 1.669).abs() < 1e-12);
 }
+
+/// `--device gpu` traces the same transport as the CPU with other random numbers: each channel's
+/// total diffuse reflectance within 3 combined standard errors of the CPU's, and the same files.
+#[test]
+fn the_gpu_tracer_gives_the_cpus_totals() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |device: &str| {
+        let args = ["simulate", "skin1", "--photons", "2e5", "--device", device];
+        sss(
+            &[&args[..], &["--out", device, "--json"]].concat(),
+            dir.path(),
+        )
+    };
+    let gpu = run("gpu");
+    if !gpu.status.success() && stderr(&gpu).contains("no GPU adapter") {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "CI=true and no adapter: {}",
+            stderr(&gpu)
+        );
+        return common::report_skip("no GPU adapter (lavapipe)");
+    }
+    assert!(gpu.status.success(), "{}", stderr(&gpu));
+    let cpu = run("cpu");
+    assert!(cpu.status.success(), "{}", stderr(&cpu));
+    let json = |o: &Output| -> serde_json::Value { serde_json::from_slice(&o.stdout).unwrap() };
+    let (g, c) = (json(&gpu), json(&cpu));
+    for ch in ["R", "G", "B"] {
+        let at = |v: &serde_json::Value, k: &str| v["channels"][ch][k].as_f64().unwrap();
+        let (a, b) = (at(&g, "rd"), at(&c, "rd"));
+        let se = at(&g, "rd_se").hypot(at(&c, "rd_se"));
+        assert!((a - b).abs() <= 3.0 * se, "{ch}: GPU {a} CPU {b} ± {se}");
+    }
+    assert_eq!(
+        files_in(&dir.path().join("gpu")).len(),
+        files_in(&dir.path().join("cpu")).len()
+    );
+}

@@ -17,7 +17,7 @@ use crate::library::{self, Named};
 #[derive(Args)]
 pub struct SimulateArgs {
     /// Materials: built-in names (see `sss materials`) or paths to material .toml files
-    #[arg(value_name = "MATERIAL")]
+    #[arg(value_name = "MATERIAL", conflicts_with_all = ["all", "mci"])]
     materials: Vec<String>,
 
     /// Simulate every built-in material (each material's results are the same as when simulated alone)
@@ -77,6 +77,11 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "N", default_value = "1e5", value_parser = parse_count)]
     incidence_photons: u64,
 
+    /// Where the profiles are traced: cpu (every core) or gpu (wgpu compute, one channel at a
+    /// time; not with --full, --target-error, --shard or --mci; Rd(θ) stays on the CPU)
+    #[arg(long, value_parser = ["cpu", "gpu"], default_value = "cpu", conflicts_with_all = ["mci", "shard", "target_error"])]
+    device: String,
+
     /// Print a machine-readable summary on stdout
     #[arg(long)]
     json: bool,
@@ -85,15 +90,9 @@ pub struct SimulateArgs {
 pub fn simulate(args: SimulateArgs) -> Result<()> {
     let pool = crate::common::thread_pool(args.threads)?;
     if let Some(mci) = &args.mci {
-        if !args.materials.is_empty() {
-            bail!("give either materials or --mci, not both");
-        }
         return pool.install(|| run_mci(mci, &args));
     }
     let named: Vec<Named> = if args.all {
-        if !args.materials.is_empty() {
-            bail!("give either material names or --all, not both");
-        }
         library::all()?
     } else if args.materials.is_empty() {
         bail!("no material given: name one (e.g. `sss simulate skin1`), use --all, or --mci FILE");
@@ -104,6 +103,7 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
             .collect::<Result<_>>()?
     };
     let config = library::config(args.config.as_deref())?;
+    let gpu = (args.device == "gpu").then(gpu::Gpu::new).transpose()?;
     let sim = Simulation {
         materials: named
             .iter()
@@ -116,6 +116,7 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
         target_error: args.target_error,
         incidence_angles: args.incidence_angles.clone(),
         incidence_photons: args.incidence_photons,
+        gpu: gpu.as_ref(),
     };
     let bars = Bars::default();
     let Some(s) = &args.shard else {

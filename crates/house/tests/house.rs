@@ -37,10 +37,13 @@ const LAYERS: &[(&str, May)] = &[
     ("gpu", May::Only(&["fit", "shading"])),
     ("mc_gpu", May::Only(&["mc", "fit", "shading", "gpu"])),
     ("render", May::Only(&["mc", "fit", "shading", "gpu"])),
-    ("report", May::Only(&["mc", "fit", "shading", "gpu"])),
+    (
+        "report",
+        May::Only(&["mc", "fit", "shading", "gpu", "mc_gpu"]),
+    ),
     (
         "sss-cli",
-        May::Only(&["mc", "fit", "shading", "gpu", "render", "report"]),
+        May::Only(&["mc", "fit", "shading", "gpu", "mc_gpu", "render", "report"]),
     ),
     (
         "sss-python",

@@ -86,6 +86,7 @@ mod tests {
             rz_se: false,
             channels: 1,
             xy: 0,
+            scores: 0,
         }
     }
 

@@ -238,6 +238,7 @@ impl Tracer {
             rz_se: false,
             channels: 1,
             xy: 0,
+            scores: 0,
         };
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let round = self.dispatch.round.clamp(1, ROUND_PHOTONS);

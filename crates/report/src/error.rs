@@ -39,6 +39,10 @@ pub enum ReportError {
     #[error(transparent)]
     Fit(#[from] FitError),
 
+    /// The photon tracer on the GPU refused or failed.
+    #[error(transparent)]
+    McGpu(#[from] mc_gpu::McGpuError),
+
     /// A render underneath failed.
     #[error(transparent)]
     Gpu(#[from] GpuError),

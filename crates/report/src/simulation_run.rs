@@ -32,6 +32,9 @@ pub struct Simulation<'a> {
     pub incidence_angles: Vec<f64>,
     /// Photon packets per channel and angle for Rd(θ).
     pub incidence_photons: u64,
+    /// Trace the profiles on this GPU ([`mc_gpu::run_batch`]) instead of the CPU's threads (Rd(θ)
+    /// stays on the CPU); not with a target error or shards.
+    pub gpu: Option<&'a gpu::Gpu>,
 }
 
 /// A finished run, owned; [`Simulated::finished`] lends it for writing.
@@ -104,16 +107,34 @@ impl Simulation<'_> {
     pub fn run(&self, progress: &dyn Progress) -> Result<Simulated> {
         let (spec, labels) = self.batch()?;
         let start = Instant::now();
-        let groups = spec.groups().len() as u64;
-        let label = format!(
-            "{} channel(s) in {groups} walk group(s)",
-            spec.channels.len()
-        );
-        progress.begin(&label, self.photons * groups);
+        let channels = spec.channels.len();
+        // The GPU traces each channel on its own; the CPU shares walks within a group.
+        let (walks, label) = match self.gpu {
+            Some(g) => (
+                channels,
+                format!("{channels} channel(s) on {}", g.adapter_name),
+            ),
+            None => {
+                let groups = spec.groups().len();
+                (
+                    groups,
+                    format!("{channels} channel(s) in {groups} walk group(s)"),
+                )
+            }
+        };
+        progress.begin(&label, self.photons * walks as u64);
         let advance = |k| progress.advance(k);
-        let outputs = match self.target_error {
-            Some(e) => mc::run_batch_to_error(&spec, e, &spec.error_radii(), &advance),
-            None => mc::run_batch(&spec, &advance),
+        let outputs = match (self.gpu, self.target_error) {
+            (Some(g), None) => mc_gpu::run_batch(g, &spec, &advance).map_err(Into::into),
+            (Some(_), Some(e)) => Err(crate::ReportError::Invalid {
+                field: "target_error".into(),
+                value: e.to_string(),
+                reason: "the GPU tracer runs a fixed number of photons".into(),
+            }),
+            (None, Some(e)) => {
+                mc::run_batch_to_error(&spec, e, &spec.error_radii(), &advance).map_err(Into::into)
+            }
+            (None, None) => mc::run_batch(&spec, &advance).map_err(Into::into),
         };
         progress.end();
         let outputs = outputs?;
