@@ -368,7 +368,10 @@ fn a_sphere_that_does_not_absorb_returns_all_it_admits() {
 fn the_window_holds_the_exits_within_the_grids_reach() {
     let near = SurfaceGrid { nr: 10, ..GRID };
     let photons = 20_000;
-    for body in [Body::Sphere { radius_cm: 0.3 }, Body::Slab { thickness_cm: 1.0 }] {
+    for body in [
+        Body::Sphere { radius_cm: 0.3 },
+        Body::Slab { thickness_cm: 1.0 },
+    ] {
         let cut = run_body(
             &BodySpec {
                 grid: near,
@@ -402,7 +405,11 @@ fn the_window_holds_the_exits_within_the_grids_reach() {
         let squares: f64 = bins.iter().map(|e| e.value * e.value).sum();
         let var = bins.iter().map(|e| e.se * e.se).sum::<f64>()
             + (squares - sum * sum) / (photons - 1) as f64;
-        assert!((w.r.value - sum).abs() < 1e-12, "{body:?}: {:?} vs {sum}", w.r);
+        assert!(
+            (w.r.value - sum).abs() < 1e-12,
+            "{body:?}: {:?} vs {sum}",
+            w.r
+        );
         assert!(
             (w.r.se * w.r.se - var).abs() < 1e-9 * var,
             "{body:?}: se {} vs {}",
@@ -436,7 +443,10 @@ fn run_bodies_is_run_body_one_at_a_time() {
     .into_iter()
     .map(|b| spec(b, SKIN, 30.0, mc::CHUNK_PHOTONS + 5))
     .collect();
-    let alone: Vec<BodyOutput> = specs.iter().map(|s| run_body(s, &|_| {}).unwrap()).collect();
+    let alone: Vec<BodyOutput> = specs
+        .iter()
+        .map(|s| run_body(s, &|_| {}).unwrap())
+        .collect();
     for threads in [1, 2] {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -449,7 +459,10 @@ fn run_bodies_is_run_body_one_at_a_time() {
             "{threads} threads"
         );
     }
-    let bad = BodySpec { photons: 0, ..specs[0] };
+    let bad = BodySpec {
+        photons: 0,
+        ..specs[0]
+    };
     let e = run_bodies(&[specs[1], bad], &|_| {}).unwrap_err();
     assert!(e.to_string().contains("photons"), "{e}");
 }

@@ -121,10 +121,7 @@ pub fn run_body(spec: &BodySpec, progress: &(dyn Fn(u64) + Sync)) -> Result<Body
 /// `specs`, bit-identical to running them one at a time whatever the thread count. The runs go
 /// in parallel as well as each run's chunks (rayon's work stealing nests them), so that runs of
 /// a few chunks each keep every thread busy. Every spec is checked before any is traced.
-pub fn run_bodies(
-    specs: &[BodySpec],
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<Vec<BodyOutput>> {
+pub fn run_bodies(specs: &[BodySpec], progress: &(dyn Fn(u64) + Sync)) -> Result<Vec<BodyOutput>> {
     for s in specs {
         s.validate()?;
     }
