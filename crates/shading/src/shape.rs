@@ -52,6 +52,10 @@ pub const SHAPE_WINDOW: f64 = 8.0;
 /// The half-space's thickness in diffusion lengths [-] (as `mc`'s `bodies` example).
 pub const HALF_SPACE_DIFFUSION_LENGTHS: f64 = 1000.0;
 
+/// Runs per channel of a table: the half-space, the curved bodies and the slabs at each angle.
+pub const SHAPE_RUNS_PER_CHANNEL: u64 =
+    ((CURVATURE_STEPS - 1 + THICKNESS_STEPS + 1) * INCIDENCE_STEPS) as u64;
+
 /// Photons per run a table is built with by default, a third of the angle tables' 10⁵ per angle
 /// (`render` takes a third of its `incidence_photons`): a table is 3 channels × 16 bodies × 9
 /// angles of runs, and Skin1's builds in about 12 s on two cores with energy ratios to ±0.4–1 %
@@ -217,7 +221,7 @@ impl ShapeTable {
     /// seeded by `spec.seed` (`run_body` mixes in the body, medium and angle, so the runs are
     /// independent), in air with η = n_layer/n_above. A channel that does not scatter (σs = 0)
     /// is not run and gets [`ShapeEntry::ONES`]. `progress` receives photon counts
-    /// (3 × 16 × 9 runs of `spec.photons` at most).
+    /// ([`SHAPE_RUNS_PER_CHANNEL`] runs of `spec.photons` per scattering channel).
     ///
     /// Requirements: three channels; a scattering channel absorbs (σa > 0: the table's lengths
     /// are in 1/σ_tr, and around a cavity only absorption ends a walk).
