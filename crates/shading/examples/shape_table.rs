@@ -1,13 +1,14 @@
 //! Skin1's shape table (issue 47, step 2): the energy ratio, shift and width per curvature and
 //! thickness at 0° and 45°, per channel with standard errors, the time it took to build, and
 //! what share of a half-space's diffuse reflectance the table's window holds (Skin1's channels
-//! and two media of low albedo).
+//! and two media of low albedo), and how far the lookup's linear interpolation lies from bodies
+//! run halfway between the nodes.
 //!
 //! `cargo run --profile ci -p shading --example shape_table [PHOTONS]` (default
 //! `shading::SHAPE_PHOTONS` per run).
 
-use mc::body::{Coefficients, run_body};
-use shading::shape::{half_space, shape_run};
+use mc::body::{Body, Coefficients, run_body};
+use shading::shape::{curved_body, half_space, shape_run};
 use shading::{
     SHAPE_CURVATURES, SHAPE_PHOTONS, SHAPE_THICKNESSES, SHAPE_WINDOW, ShapeEntry, ShapeTable,
 };
@@ -68,22 +69,76 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
 
+    let media = [0, 1, 2].map(|c| {
+        let l = &spec.channels[c].layer;
+        Coefficients {
+            n: l.n / spec.n_above,
+            mu_a: l.mu_a,
+            mu_s: l.mu_s,
+            g: l.g,
+        }
+    });
+
+    println!();
+    println!(
+        "halfway between nodes at 0° (κ: the mean of two, τ: the geometric mean), E run with \
+         {photons} photons against the lookup's; R G B"
+    );
+    let halfway = SHAPE_CURVATURES
+        .windows(2)
+        .map(|w| {
+            let k = 0.5 * (w[0] + w[1]);
+            (format!("κ {k:>7}"), k, None)
+        })
+        .chain(SHAPE_THICKNESSES.windows(2).map(|w| {
+            let t = (w[0] * w[1]).sqrt();
+            (format!("τ {t:>7.3}"), 0.0, Some(t))
+        }));
+    // Runs with a seed apart from the table's, so that the two disagree by their noise.
+    let window = |body: Body, c: usize| {
+        run_body(&shape_run(body, media[c], 0.0, photons, 2), &|_| {}).map(|o| o.reflected.window)
+    };
+    let halves = [0, 1, 2].map(|c| window(half_space(table.sigma_tr[c]), c));
+    for (name, kappa, tau) in halfway {
+        let cells = [0, 1, 2].map(|c| {
+            let s = table.sigma_tr[c];
+            let (body, lookup) = match tau {
+                None => (
+                    curved_body(kappa as f64, s),
+                    table.at(kappa * s as f32, 1.0).energy[c],
+                ),
+                Some(t) => (
+                    Body::Slab {
+                        thickness_cm: t as f64 / s,
+                    },
+                    table.slab_at(t / s as f32, 1.0).energy[c],
+                ),
+            };
+            match (window(body, c), &halves[c]) {
+                (Ok(b), Ok(h)) => {
+                    let e = ShapeEntry::relative(&b, h).energy;
+                    format!(
+                        "{:.3}±{:.3} vs {lookup:.3} ({:+.1} se)",
+                        e.value,
+                        e.se,
+                        (lookup as f64 - e.value) / e.se
+                    )
+                }
+                (Err(e), _) => e.to_string(),
+                (_, Err(e)) => e.to_string(),
+            }
+        });
+        println!(
+            "{name:>10}  {:<30} {:<30} {:<30}",
+            cells[0], cells[1], cells[2]
+        );
+    }
+
     println!();
     println!(
         "the half-space's diffuse reflectance within the window, of its total (2·10⁵ photons)"
     );
-    let skin1 = [0, 1, 2].map(|c| {
-        let l = &spec.channels[c].layer;
-        (
-            ["Skin1 R", "Skin1 G", "Skin1 B"][c],
-            Coefficients {
-                n: l.n / spec.n_above,
-                mu_a: l.mu_a,
-                mu_s: l.mu_s,
-                g: l.g,
-            },
-        )
-    });
+    let skin1 = [0, 1, 2].map(|c| (["Skin1 R", "Skin1 G", "Skin1 B"][c], media[c]));
     let low = [
         (
             "albedo 0.5, g 0",

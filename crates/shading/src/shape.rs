@@ -9,10 +9,11 @@
 //! exits' shift ⟨x⟩ along the plane of incidence and width ⟨s⟩ (mean distance along the surface)
 //! [cm]. The window is there because a sphere's whole-surface reflectance counts light leaving
 //! far from the entry, which a gather or a screen-space blur around the entry places elsewhere; it
-//! holds ≥ 99.9 % of a half-space's light (docs/measurements.md, "Shape tables").
+//! holds ≥ 99.94 % of a half-space's light in Skin1 and ≥ 99.86 % in media of albedo 0.2–0.5
+//! (docs/measurements.md, "Shape tables").
 //!
 //! Lengths are in each channel's diffusion length 1/σ_tr, σ_tr = √(3σa(σa + σs(1 − g))) [cm⁻¹]
-//! (diffusion's effective attenuation; Jensen et al. 2001, eq. 3 and after): the signed curvature
+//! (the effective transport coefficient of the dipole, Jensen et al. 2001): the signed curvature
 //! κ = 1/(σ_tr·R) (> 0: the inside of a sphere of radius R, convex; < 0: the medium around a
 //! spherical cavity of radius R, concave; 0: the half-space) and the thickness τ = σ_tr·t of a
 //! slab. The half-space is a slab of [`HALF_SPACE_DIFFUSION_LENGTHS`]/σ_tr, run through the same
@@ -28,15 +29,22 @@ use crate::angles::{INCIDENCE_STEPS, incidence_ratio};
 use crate::error::{Result, ShadingError};
 
 /// Entries of the curvature axis.
-pub const CURVATURE_STEPS: usize = 11;
+pub const CURVATURE_STEPS: usize = 15;
 
 /// The signed curvatures κ = 1/(σ_tr·R) [-] of the table: concave (cavities) below 0, the
 /// half-space at 0, convex (spheres) above; lookups clamp to the ends. Denser near 0, where a
-/// body of tens of diffusion lengths already differs from the half-space by 10–20 % (issue 47's
+/// body of ten diffusion lengths already differs from the half-space by 10–20 % (issue 47's
 /// step 1: a sphere of 10/σ_tr returns 1.15×, a cavity 0.87×), and ending at a sphere of
-/// 0.5/σ_tr, where the whole body lies within a diffusion length of the entry.
-pub const SHAPE_CURVATURES: [f32; CURVATURE_STEPS] =
-    [-2.0, -1.0, -0.5, -0.25, -0.1, 0.0, 0.1, 0.25, 0.5, 1.0, 2.0];
+/// 0.5/σ_tr, where the whole body lies within a diffusion length of the entry. The nodes at
+/// ±0.75 and ±1.5 are there because E bends between ±0.5 and ±2: on the 11 nodes without them,
+/// Skin1's E run halfway (κ = ±0.75, ±1.5) was 1–5 % (up to 5 standard errors) off the linear
+/// lookup (docs/measurements.md, "Shape tables").
+pub const SHAPE_CURVATURES: [f32; CURVATURE_STEPS] = [
+    -2.0, -1.5, -1.0, -0.75, -0.5, -0.25, -0.1, 0.0, 0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0,
+];
+
+/// Index of the half-space, κ = 0, among [`SHAPE_CURVATURES`].
+pub const HALF_SPACE_NODE: usize = 7;
 
 /// Entries of the thickness axis.
 pub const THICKNESS_STEPS: usize = 5;
@@ -58,7 +66,7 @@ pub const SHAPE_RUNS_PER_CHANNEL: u64 =
 
 /// Photons per run a table is built with by default, a third of the angle tables' 10⁵ per angle
 /// (`render` takes a third of its `incidence_photons`): a table is 3 channels × 16 bodies × 9
-/// angles of runs, and Skin1's builds in about 12 s on two cores with energy ratios to ±0.4–1 %
+/// angles of runs, and Skin1's builds in about 8 s on two cores with energy ratios to 0.5–2.5 %
 /// (docs/measurements.md, "Shape tables").
 pub const SHAPE_PHOTONS: u64 = 100_000 / 3;
 
@@ -194,14 +202,12 @@ pub struct ShapeFactors {
 pub struct ShapeTable {
     /// σ_tr per channel [cm⁻¹], the unit of κ and τ.
     pub sigma_tr: [f64; 3],
-    /// [κ node of [`SHAPE_CURVATURES`]][θ][channel]; the κ = 0 node is the half-space (E = 1).
+    /// [κ node of [`SHAPE_CURVATURES`]][θ][channel]; the [`HALF_SPACE_NODE`] is the half-space
+    /// (E = 1).
     pub curvature: [ShapeRow; CURVATURE_STEPS],
     /// [τ node of [`SHAPE_THICKNESSES`]][θ][channel]: slabs.
     pub thickness: [ShapeRow; THICKNESS_STEPS],
 }
-
-/// Index of the half-space among [`SHAPE_CURVATURES`].
-const HALF_SPACE_NODE: usize = 5;
 
 impl ShapeTable {
     /// The table of a material that returns nothing in any channel: every entry
@@ -396,7 +402,7 @@ impl ShapeTable {
 }
 
 /// The curvature node at or below κ [-] and the fraction towards the next: κ clamped to
-/// [−2, 2], NaN read as 0; at κ = 2, the node before it and fraction 1.
+/// the ends [−2, 2], NaN read as 0; at κ = 2, the node before it and fraction 1.
 pub fn curvature_position(kappa: f32) -> (usize, f32) {
     let k = SHAPE_CURVATURES;
     let kappa = if kappa.is_nan() {

@@ -9,8 +9,8 @@
 use mc::body::{Body, Coefficients, run_body};
 use shading::shape::{ShapeRow, curved_body, half_space, shape_run};
 use shading::{
-    CURVATURE_STEPS, Estimate, SHAPE_CURVATURES, SHAPE_THICKNESSES, ShapeEntry, ShapeTable,
-    THICKNESS_STEPS,
+    CURVATURE_STEPS, Estimate, HALF_SPACE_NODE, SHAPE_CURVATURES, SHAPE_THICKNESSES, ShapeEntry,
+    ShapeTable, THICKNESS_STEPS,
 };
 
 /// A skin-like medium behind a skin-like boundary: 1/σ_tr = 0.22 cm, η = 1.4.
@@ -172,6 +172,7 @@ fn close(a: [[f32; 3]; 3], b: [[f32; 3]; 3], tolerance: f32, what: &str) {
 #[test]
 fn the_curvature_lookup_is_linear_between_exact_nodes_and_clamped() {
     let t = synthetic();
+    assert_eq!(SHAPE_CURVATURES[HALF_SPACE_NODE], 0.0);
     let sigma = [2.0f32, 4.0, 8.0];
     for (i, &kappa) in SHAPE_CURVATURES.iter().enumerate() {
         let per_channel = |k: usize| {
@@ -203,14 +204,20 @@ fn the_curvature_lookup_is_linear_between_exact_nodes_and_clamped() {
         }
     }
     let at_5 = factors(t.at(0.0, 5f32.to_radians().cos()));
-    let (a, b) = (row_at(&t.curvature[5], 0), row_at(&t.curvature[5], 1));
+    let (a, b) = (
+        row_at(&t.curvature[HALF_SPACE_NODE], 0),
+        row_at(&t.curvature[HALF_SPACE_NODE], 1),
+    );
     let mean = [0, 1, 2].map(|q| [0, 1, 2].map(|c| 0.5 * (a[q][c] + b[q][c])));
     close(at_5, mean, 1e-4, "κ = 0, θ = 5°");
     // Beyond the ends, in every channel.
     let last = CURVATURE_STEPS - 1;
     assert_eq!(factors(t.at(1e3, 1.0)), row_at(&t.curvature[last], 0));
     assert_eq!(factors(t.at(-1e3, 1.0)), row_at(&t.curvature[0], 0));
-    assert_eq!(factors(t.at(f32::NAN, 1.0)), row_at(&t.curvature[5], 0));
+    assert_eq!(
+        factors(t.at(f32::NAN, 1.0)),
+        row_at(&t.curvature[HALF_SPACE_NODE], 0)
+    );
     for k in 0..shading::INCIDENCE_STEPS {
         let cos = (10.0 * k as f32).to_radians().cos();
         assert_eq!(t.at(0.0, cos).energy, [1.0; 3], "θ = {}°", 10 * k);
@@ -256,7 +263,7 @@ fn the_thickness_lookup_is_linear_in_ln_tau_and_the_half_space_beyond() {
         let got = factors(t.slab_at(beyond, cos));
         close(
             got,
-            row_at(&t.curvature[5], k),
+            row_at(&t.curvature[HALF_SPACE_NODE], k),
             1e-5,
             &format!("{}°", 10 * k),
         );
@@ -283,7 +290,10 @@ fn a_table_is_deterministic_and_survives_json() {
     assert_eq!(json, serde_json::to_string(&two).unwrap());
     for k in 0..shading::INCIDENCE_STEPS {
         for c in 0..3 {
-            assert_eq!(one.curvature[5][k][c].energy, ShapeEntry::ONES.energy);
+            assert_eq!(
+                one.curvature[HALF_SPACE_NODE][k][c].energy,
+                ShapeEntry::ONES.energy
+            );
         }
     }
     let back: ShapeTable = serde_json::from_str(&json).unwrap();
@@ -318,7 +328,7 @@ fn a_channel_that_does_not_scatter_gets_ones() {
 #[test]
 fn broken_tables_and_inputs_are_refused_by_name() {
     let mut t = synthetic();
-    t.curvature[2][3][1].shift_cm.value = f64::NAN;
+    t.curvature[4][3][1].shift_cm.value = f64::NAN;
     let e = t.validate().unwrap_err().to_string();
     for part in ["shift", "κ = -0.5", "θ = 30°", "channel 1", "NaN"] {
         assert!(e.contains(part), "{part}: {e}");
@@ -328,7 +338,7 @@ fn broken_tables_and_inputs_are_refused_by_name() {
     let e = t.validate().unwrap_err().to_string();
     assert!(e.contains("energy SE at τ = 4") && e.contains("-1"), "{e}");
     let mut t = synthetic();
-    t.curvature[5][0][0].energy.value = 1.01;
+    t.curvature[HALF_SPACE_NODE][0][0].energy.value = 1.01;
     let e = t.validate().unwrap_err().to_string();
     assert!(e.contains("energy at κ = 0"), "{e}");
 
