@@ -29,8 +29,8 @@ pub struct MaterialTables {
 }
 
 /// Photons per run of the shape table: a third of an angle run's (33 333 at the default 10⁵,
-/// [`shading::SHAPE_PHOTONS`]), because the table is 144 runs per channel where an angle table
-/// is 9.
+/// [`shading::SHAPE_PHOTONS`]), because the table is [`shading::SHAPE_RUNS_PER_CHANNEL`] = 180
+/// runs per channel where an angle table is 9.
 fn shape_photons(settings: &TableSettings) -> u64 {
     (settings.incidence_photons / 3).max(1)
 }

@@ -65,9 +65,9 @@ pub const SHAPE_RUNS_PER_CHANNEL: u64 =
     ((CURVATURE_STEPS - 1 + THICKNESS_STEPS + 1) * INCIDENCE_STEPS) as u64;
 
 /// Photons per run a table is built with by default, a third of the angle tables' 10⁵ per angle
-/// (`render` takes a third of its `incidence_photons`): a table is 3 channels × 16 bodies × 9
-/// angles of runs, and Skin1's builds in about 8 s on two cores with energy ratios to 0.5–2.5 %
-/// (docs/measurements.md, "Shape tables").
+/// (`render` takes a third of its `incidence_photons`): a table is [`SHAPE_RUNS_PER_CHANNEL`]
+/// (20 bodies × 9 angles) runs per channel, and Skin1's builds in about 8 s on two cores with
+/// energy ratios to 0.5–2.5 % (docs/measurements.md, "Shape tables").
 pub const SHAPE_PHOTONS: u64 = 100_000 / 3;
 
 /// One body against the half-space at one angle, in one channel.
