@@ -4,7 +4,7 @@
 //! determinism. Expected values come from theory, the literature or iadpython, never from this
 //! code's own output.
 
-use mc::body::{Body, BodyOutput, BodySpec, Coefficients, SurfaceGrid, run_body};
+use mc::body::{Body, BodyOutput, BodySpec, Coefficients, SurfaceGrid, run_bodies, run_body};
 use mc::{Estimate, Grid, Incidence, Layer, Output, RunSpec, Sample, TallySet};
 
 #[allow(dead_code)] // this suite uses chi2 alone
@@ -335,6 +335,136 @@ fn a_non_scattering_sphere_is_beer_lambert_along_its_chord() {
             assert!(area == 1 && o.reflected.profile[bin].value > 0.0);
         }
     }
+}
+
+/// A sphere that scatters and does not absorb (σa = 0) keeps every photon's weight until it
+/// leaves, and a closed body has nowhere to send it but back out: every packet leaves with the
+/// 1 − Rs(θ) it entered with (Fresnel at entry), so R = 1 − Rs to rounding and A = 0 exactly,
+/// however the walks went (the path roulette of 10⁵ interactions is never reached here).
+#[test]
+fn a_sphere_that_does_not_absorb_returns_all_it_admits() {
+    let clear = Coefficients { mu_a: 0.0, ..SKIN };
+    for theta in [0.0, 60.0] {
+        let o = run(Body::Sphere { radius_cm: 0.3 }, clear, theta, 20_000);
+        let rs = fresnel_out(1.0 / clear.n, theta.to_radians().cos());
+        assert!((o.rs - rs).abs() < 1e-12, "{theta}°: Rs {} vs {rs}", o.rs);
+        assert!(
+            (o.r.value - (1.0 - rs)).abs() < 1e-12,
+            "{theta}°: R {:?} vs 1 − Rs = {}",
+            o.r,
+            1.0 - rs
+        );
+        assert_eq!(o.a.value, 0.0, "{theta}°");
+    }
+}
+
+/// The window holds exactly the exits nearer than the grid's reach nr·dr: with the same seed (the
+/// grid does not change the walks), a run whose reach is 10 bins of 0.02 cm has in its window
+/// what a finer-reaching grid's first 10 radial bins hold, and the window's standard error is
+/// the per-photon one that disjoint bins give, var = Σ se_i² + (Σ m_i² − (Σ m_i)²)/(N − 1)
+/// with m_i the bins' means (a photon leaves through one bin, so the cross terms of the bins'
+/// sum are −m_i·m_j). A reach beyond a sphere's antipode holds everything: the totals.
+#[test]
+fn the_window_holds_the_exits_within_the_grids_reach() {
+    let near = SurfaceGrid { nr: 10, ..GRID };
+    let photons = 20_000;
+    for body in [
+        Body::Sphere { radius_cm: 0.3 },
+        Body::Slab { thickness_cm: 1.0 },
+    ] {
+        let cut = run_body(
+            &BodySpec {
+                grid: near,
+                ..spec(body, SKIN, 45.0, photons)
+            },
+            &|_| {},
+        )
+        .unwrap();
+        let full = run(body, SKIN, 45.0, photons);
+        let w = cut.reflected.window;
+        assert_eq!(w.reach_cm, 10.0 * GRID.dr);
+        let band = |i: usize| {
+            let (s0, s1) = (i as f64 * GRID.dr, (i + 1) as f64 * GRID.dr);
+            match body {
+                Body::Sphere { radius_cm: r } => {
+                    2.0 * std::f64::consts::PI * r * r * ((s0 / r).cos() - (s1 / r).cos())
+                }
+                _ => std::f64::consts::PI * (s1 * s1 - s0 * s0),
+            }
+        };
+        let bins: Vec<Estimate> = (0..10)
+            .map(|i| {
+                let e = full.reflected.radial[i];
+                Estimate {
+                    value: e.value * band(i),
+                    se: e.se * band(i),
+                }
+            })
+            .collect();
+        let sum: f64 = bins.iter().map(|e| e.value).sum();
+        let squares: f64 = bins.iter().map(|e| e.value * e.value).sum();
+        let var = bins.iter().map(|e| e.se * e.se).sum::<f64>()
+            + (squares - sum * sum) / (photons - 1) as f64;
+        assert!(
+            (w.r.value - sum).abs() < 1e-12,
+            "{body:?}: {:?} vs {sum}",
+            w.r
+        );
+        assert!(
+            (w.r.se * w.r.se - var).abs() < 1e-9 * var,
+            "{body:?}: se {} vs {}",
+            w.r.se,
+            var.sqrt()
+        );
+        assert!(w.r.value < cut.r.value && w.mean_radius.value < 10.0 * GRID.dr);
+        // The sphere's antipode, π·0.3 cm, lies within 61 bins of 0.02 cm.
+        if let Body::Sphere { .. } = body {
+            let all = full.reflected.window;
+            let exits = &full.reflected;
+            for (a, b) in [
+                (all.r, full.r),
+                (all.shift, exits.shift),
+                (all.mean_radius, exits.mean_radius),
+            ] {
+                assert!((a.value - b.value).abs() < 1e-12 && (a.se - b.se).abs() < 1e-12);
+            }
+        }
+    }
+}
+
+/// A table's runs at once are each the run alone, bit for bit, with one thread or two.
+#[test]
+fn run_bodies_is_run_body_one_at_a_time() {
+    let specs: Vec<BodySpec> = [
+        Body::Sphere { radius_cm: 0.3 },
+        Body::Cavity { radius_cm: 0.3 },
+        Body::Slab { thickness_cm: 0.3 },
+    ]
+    .into_iter()
+    .map(|b| spec(b, SKIN, 30.0, mc::CHUNK_PHOTONS + 5))
+    .collect();
+    let alone: Vec<BodyOutput> = specs
+        .iter()
+        .map(|s| run_body(s, &|_| {}).unwrap())
+        .collect();
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let together = pool.install(|| run_bodies(&specs, &|_| {}).unwrap());
+        assert_eq!(
+            serde_json::to_string(&together).unwrap(),
+            serde_json::to_string(&alone).unwrap(),
+            "{threads} threads"
+        );
+    }
+    let bad = BodySpec {
+        photons: 0,
+        ..specs[0]
+    };
+    let e = run_bodies(&[specs[1], bad], &|_| {}).unwrap_err();
+    assert!(e.to_string().contains("photons"), "{e}");
 }
 
 /// Helmholtz reciprocity of a slab in air: the azimuth-averaged BRDF and BTDF,

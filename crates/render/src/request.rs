@@ -56,6 +56,10 @@ pub struct ResolvedShading {
     pub entry_shift: bool,
     /// Translucency table on.
     pub translucency: bool,
+    /// Shape table on (`shading::ShapeTable`: what curved and thin bodies return against the
+    /// half-space); built for the shape-aware gather and scene pass to come, off until they read
+    /// it.
+    pub shape: bool,
 }
 
 /// How the tables of the shading model are simulated.
@@ -198,6 +202,7 @@ impl Request {
             },
             entry_shift: on(s.entry_shift),
             translucency: separable && s.translucency.unwrap_or(true),
+            shape: false,
         }
     }
 

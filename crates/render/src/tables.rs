@@ -1,7 +1,7 @@
 //! The shading model's tables of one material as a render asks for them, each simulated by
 //! `shading` with the request's run settings and seed.
 
-use shading::{AngleTables, EntryShift, INCIDENCE_STEPS, Translucency};
+use shading::{AngleTables, EntryShift, INCIDENCE_STEPS, ShapeTable, Translucency};
 
 use crate::error::Result;
 use crate::options::ExitLaw;
@@ -22,6 +22,17 @@ pub struct MaterialTables {
     pub entry_shift: Option<EntryShift>,
     /// Tt(d)/ρ and the ρ it is relative to, where asked for.
     pub translucency: Option<(Translucency, [shading::Estimate; 3])>,
+    /// What curved and thin bodies return against the half-space, where asked for (absent from
+    /// tables kept before it existed).
+    #[serde(default)]
+    pub shape: Option<ShapeTable>,
+}
+
+/// Photons per run of the shape table: a third of an angle run's (33 333 at the default 10⁵,
+/// [`shading::SHAPE_PHOTONS`]), because the table is [`shading::SHAPE_RUNS_PER_CHANNEL`] = 180
+/// runs per channel where an angle table is 9.
+fn shape_photons(settings: &TableSettings) -> u64 {
+    (settings.incidence_photons / 3).max(1)
 }
 
 impl MaterialTables {
@@ -40,7 +51,7 @@ impl MaterialTables {
             let json = mc::provenance::Provenance::of(&spec, 0, &m.slug, None).to_json();
             Ok(serde_json::from_str(&json).expect("a provenance is JSON"))
         };
-        let key = serde_json::json!({
+        let mut key = serde_json::json!({
             "format": "sss-tables-1",
             "incidence": shading.incidence,
             "exit": shading.exit != ExitLaw::Lambertian,
@@ -49,6 +60,16 @@ impl MaterialTables {
             "angle_runs": run(settings.incidence_photons)?,
             "slab_runs": run(settings.translucency_photons)?,
         });
+        // Only where asked for, so that tables kept without it keep their key.
+        if shading.shape {
+            key["shape"] = serde_json::json!({
+                "runs": run(shape_photons(settings))?,
+                "curvatures": shading::SHAPE_CURVATURES,
+                "thicknesses": shading::SHAPE_THICKNESSES,
+                "window": shading::SHAPE_WINDOW,
+                "half_space": shading::shape::HALF_SPACE_DIFFUSION_LENGTHS,
+            });
+        }
         Ok(key.to_string())
     }
 
@@ -104,12 +125,26 @@ impl MaterialTables {
         } else {
             None
         };
+        let shape = if shading.shape {
+            let spec = spec(shape_photons(settings))?;
+            let scattering = m.material.sigma_s.iter().filter(|&&s| s > 0.0).count() as u64;
+            progress.begin(
+                "shape table",
+                spec.photons * shading::SHAPE_RUNS_PER_CHANNEL * scattering,
+            );
+            let t = ShapeTable::from_mc(&spec, &|k| progress.advance(k));
+            progress.end();
+            Some(t?)
+        } else {
+            None
+        };
         Ok(MaterialTables {
             slug: m.slug.clone(),
             angles,
             simulated: (incidence, exit),
             entry_shift,
             translucency,
+            shape,
         })
     }
 
@@ -129,7 +164,8 @@ impl MaterialTables {
     }
 
     /// The tables as lines of text, for a caller to show: the incidence table, the exit table
-    /// at three entry angles, the entry shift [mm] and the translucency table, each where built.
+    /// at three entry angles, the entry shift [mm], the translucency table and the shape table's
+    /// energy ratios at normal incidence, each where built.
     pub fn describe(&self) -> Vec<String> {
         let rgb = |v: [f32; 3]| format!("{:.3} {:.3} {:.3}", v[0], v[1], v[2]);
         let mut lines = Vec::new();
@@ -190,6 +226,80 @@ impl MaterialTables {
                 ));
             }
         }
+        if let Some(t) = &self.shape {
+            lines.push(format!(
+                "shape table of {} (energy within {}/σ_tr of the entry over the half-space's, \
+                 at 0°, R G B ± SE; κ = 1/(σ_tr·R), > 0 convex; τ = σ_tr·t of a slab):",
+                self.slug,
+                shading::SHAPE_WINDOW
+            ));
+            let nodes = (shading::SHAPE_CURVATURES
+                .iter()
+                .map(|k| format!("κ {k:>5}")))
+            .zip(&t.curvature)
+            .chain(
+                (shading::SHAPE_THICKNESSES
+                    .iter()
+                    .map(|k| format!("τ {k:>5}")))
+                .zip(&t.thickness),
+            );
+            for (name, row) in nodes {
+                let e = row[0].map(|e| e.energy);
+                lines.push(format!(
+                    "  {name}  {:.3} {:.3} {:.3}  ± {:.3} {:.3} {:.3}",
+                    e[0].value, e[1].value, e[2].value, e[0].se, e[1].se, e[2].se
+                ));
+            }
+        }
         lines
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn only_shape(shape: bool) -> ResolvedShading {
+        ResolvedShading {
+            incidence: false,
+            exit: ExitLaw::Lambertian,
+            entry_shift: false,
+            translucency: false,
+            shape,
+        }
+    }
+
+    /// The shape table is built where asked for and is part of the key then; a key without it is
+    /// the key tables had before it existed (no "shape" in it), and tables kept then still read,
+    /// without one.
+    #[test]
+    fn the_shape_table_is_built_and_keyed_where_asked_for() {
+        let m = NamedMaterial::builtin("skin1").unwrap();
+        let settings = TableSettings {
+            incidence_photons: 300,
+            ..TableSettings::default()
+        };
+        let (off, on) = (only_shape(false), only_shape(true));
+        let key_off = MaterialTables::key(&m, &off, &settings).unwrap();
+        let key_on = MaterialTables::key(&m, &on, &settings).unwrap();
+        assert!(!key_off.contains("\"shape\"") && key_on.contains("\"shape\""));
+        let t = MaterialTables::build(&m, &on, &settings, &()).unwrap();
+        let shape = t.shape.as_ref().unwrap();
+        shape.validate().unwrap();
+        assert!(
+            MaterialTables::build(&m, &off, &settings, &())
+                .unwrap()
+                .shape
+                .is_none()
+        );
+        assert!(
+            t.describe()
+                .iter()
+                .any(|l| l.starts_with("shape table of skin1"))
+        );
+        let mut old = serde_json::to_value(&t).unwrap();
+        old.as_object_mut().unwrap().remove("shape");
+        let kept: MaterialTables = serde_json::from_value(old).unwrap();
+        assert_eq!(kept.shape, None);
     }
 }

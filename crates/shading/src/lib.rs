@@ -9,6 +9,9 @@
 //!   ([`entry_shift`]);
 //! - [`Translucency`]: a slab's transmittance against thickness and its exit law
 //!   ([`translucency`]);
+//! - [`ShapeTable`]: what a sphere, a cavity or a slab returns near the entry against the
+//!   half-space, over curvature and thickness in diffusion lengths, with its shift and width
+//!   ([`shape`]);
 //! - [`DirectionalTable`]: `mc`'s Rd(x, y; θ) for the directional surface gather
 //!   ([`directional`]);
 //! - [`KernelTaps`]: a separable kernel's taps as uploaded ([`kernel`]);
@@ -40,6 +43,7 @@ pub mod model;
 pub mod packed;
 pub mod profile;
 pub mod shaders;
+pub mod shape;
 pub mod translucency;
 
 pub use angle_tables::{
@@ -64,4 +68,8 @@ pub use model::Shading;
 pub use packed::{BINDINGS_WGSL, LOOKUPS_WGSL, MATERIAL_WGSL, PACKED_SHADING_SIZE, PackedShading};
 pub use profile::SimulatedProfile;
 pub use shaders::{CHECK_ENTRY, ShaderSources};
+pub use shape::{
+    CURVATURE_STEPS, HALF_SPACE_NODE, SHAPE_CURVATURES, SHAPE_PHOTONS, SHAPE_RUNS_PER_CHANNEL,
+    SHAPE_THICKNESSES, SHAPE_WINDOW, ShapeEntry, ShapeFactors, ShapeTable, THICKNESS_STEPS,
+};
 pub use translucency::{RHO_PHOTONS, TRANSLUCENCY_STEPS, TRANSLUCENCY_WGSL, Translucency};

@@ -44,9 +44,11 @@ mod sphere;
 mod surface;
 mod walk;
 
-pub use output::{BodyOutput, SurfaceExits};
+pub use output::{BodyOutput, SurfaceExits, Window};
 pub use shape::Body;
 pub use spec::{BodySpec, Coefficients, MAX_SURFACE_BINS, SurfaceGrid};
+
+use rayon::prelude::*;
 
 use crate::error::Result;
 use crate::job::{Job, accumulate_job, chunk_count};
@@ -113,4 +115,15 @@ pub fn run_body(spec: &BodySpec, progress: &(dyn Fn(u64) + Sync)) -> Result<Body
         job.layout,
         job.walk.rs,
     ))
+}
+
+/// Runs many bodies (a table's runs), each exactly as [`run_body`]: the outputs in the order of
+/// `specs`, bit-identical to running them one at a time whatever the thread count. The runs go
+/// in parallel as well as each run's chunks (rayon's work stealing nests them), so that runs of
+/// a few chunks each keep every thread busy. Every spec is checked before any is traced.
+pub fn run_bodies(specs: &[BodySpec], progress: &(dyn Fn(u64) + Sync)) -> Result<Vec<BodyOutput>> {
+    for s in specs {
+        s.validate()?;
+    }
+    specs.par_iter().map(|s| run_body(s, progress)).collect()
 }

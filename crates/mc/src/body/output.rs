@@ -8,7 +8,9 @@
 //!   sin((k+½)Δθ) Δθ) as MCML's `Rd_a`;
 //! - per surface, the shift ⟨x⟩ = Σw·x / Σw and the mean radius ⟨s⟩ = Σw·s / Σw [cm] (ratio
 //!   estimators: standard error by the delta method, var = N/(N − 1) · Σ(b − r·a)² / (Σa)² for
-//!   per-photon scores a = w, b = w·x and ratio r).
+//!   per-photon scores a = w, b = w·x and ratio r);
+//! - per surface, the same three over the window, the exits within the grid's reach
+//!   s < nr·dr ([`Window`]): what a renderer's gather or blur around the entry can place.
 //!
 //! Standard errors of means of per-photon scores as in [`crate::Output`].
 
@@ -36,6 +38,27 @@ pub struct SurfaceExits {
     pub shift: Estimate,
     /// Mean distance of the exits from the entry point along the surface [cm]; NaN if nothing
     /// left here.
+    pub mean_radius: Estimate,
+    /// The exits within the grid's reach.
+    pub window: Window,
+}
+
+/// The exits of one surface within the grid's reach nr·dr of the entry along the surface (on a
+/// slab's far face, of the point below it): the radial bins' light less what the last collects
+/// beyond its outer edge. Each number is a per-photon estimate (a photon leaves once), so its
+/// standard error is exact, not the bins' combined in quadrature (which would leave out the
+/// negative covariance between disjoint bins and overstate it).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Window {
+    /// The reach nr·dr [cm].
+    pub reach_cm: f64,
+    /// The exits within it per unit incident power [-].
+    pub r: Estimate,
+    /// Their mean coordinate along the plane of incidence [cm], as [`SurfaceExits::shift`]; NaN
+    /// if none.
+    pub shift: Estimate,
+    /// Their mean distance from the entry along the surface [cm], as
+    /// [`SurfaceExits::mean_radius`]; NaN if none.
     pub mean_radius: Estimate,
 }
 
@@ -136,17 +159,23 @@ fn surface(acc: &Accumulator, layout: SurfaceLayout, shape: Shape, o: usize) -> 
     let (sw, sw2) = (0..layout.cells())
         .map(cell)
         .fold((0.0, 0.0), |(a, b), (s, s2)| (a + s, b + s2));
+    // Moments whose weights' sums are `a`: Σb at k, Σab at k + 1.
+    let moment = |a: (f64, f64), k: usize| ratio(a, cell(k), acc.s(o + k + 1), n);
     let m = layout.moments();
-    let moment = |k: usize| {
-        let b = cell(m + k);
-        ratio((sw, sw2), b, acc.s(o + m + k + 1), n)
-    };
+    let w = layout.window();
+    let (ww, ww2) = cell(w);
     SurfaceExits {
         profile,
         radial,
         exit_angle,
-        shift: moment(0),
-        mean_radius: moment(2),
+        shift: moment((sw, sw2), m),
+        mean_radius: moment((sw, sw2), m + 2),
+        window: Window {
+            reach_cm: layout.reach(),
+            r: estimate(ww, ww2, n, 1.0),
+            shift: moment((ww, ww2), w + 1),
+            mean_radius: moment((ww, ww2), w + 3),
+        },
     }
 }
 

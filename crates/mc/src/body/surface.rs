@@ -7,7 +7,9 @@
 //! - exits by exit angle to the local normal, in air: Σw and Σw²;
 //! - the first moment along the plane of incidence: Σw·x and Σ(w·x)², then Σw²·x (the cross
 //!   moment of w and w·x, for the standard error of the ratio Σw·x/Σw);
-//! - the mean radius likewise: Σw·s, Σ(w·s)², then Σw²·s.
+//! - the mean radius likewise: Σw·s, Σ(w·s)², then Σw²·s;
+//! - the window, the exits within the grid's reach s < nr·dr: Σw and Σw², then its first
+//!   moment (Σw·x, Σ(w·x)², Σw²·x) and mean radius (Σw·s, Σ(w·s)², Σw²·s) as above.
 //!
 //! A photon leaves once, so each sum of squares is one of per-photon scores. The absorbed weight
 //! is gathered over a history and tallied as (Σ, Σ²) when it ends. Units: cm, rad.
@@ -39,9 +41,20 @@ impl SurfaceLayout {
         self.cells() + self.grid.n_exit
     }
 
-    /// Entries of one surface: cells, exit angles and the two moments' two entries each.
-    pub fn per_surface(&self) -> usize {
+    /// Offset of the window (Σw; Σw·x, Σw²·x; Σw·s, Σw²·s) within a block.
+    pub fn window(&self) -> usize {
         self.moments() + 4
+    }
+
+    /// The window's reach nr·dr [cm]: exits nearer the entry along the surface are in it.
+    pub fn reach(&self) -> f64 {
+        self.grid.nr as f64 * self.grid.dr
+    }
+
+    /// Entries of one surface: cells, exit angles, the two moments' two entries each and the
+    /// window's five.
+    pub fn per_surface(&self) -> usize {
+        self.window() + 5
     }
 
     /// Offset of a surface's block (entry side first, then the far face), after the total
@@ -74,6 +87,8 @@ pub(crate) struct SurfaceScorer<'a> {
     inv_dr: f64,
     inv_d_azimuth: f64,
     inv_d_exit: f64,
+    /// The window's reach nr·dr [cm].
+    reach: f64,
     /// Weight absorbed so far in this history.
     absorbed: f64,
 }
@@ -84,6 +99,7 @@ impl<'a> SurfaceScorer<'a> {
             tally,
             shape,
             layout: SurfaceLayout { grid },
+            reach: SurfaceLayout { grid }.reach(),
             inv_dr: 1.0 / grid.dr,
             inv_d_azimuth: 1.0 / grid.d_azimuth(),
             inv_d_exit: 1.0 / grid.d_exit(),
@@ -131,6 +147,14 @@ impl Scorer for SurfaceScorer<'_> {
         self.tally.sum[m + 1] += w * w * at.along;
         self.add(m + 2, w * at.radius);
         self.tally.sum[m + 3] += w * w * at.radius;
+        if at.radius < self.reach {
+            let k = o + self.layout.window();
+            self.add(k, w);
+            self.add(k + 1, w * at.along);
+            self.tally.sum[k + 2] += w * w * at.along;
+            self.add(k + 3, w * at.radius);
+            self.tally.sum[k + 4] += w * w * at.radius;
+        }
     }
 
     fn finish(&mut self, p: &Photon) {
