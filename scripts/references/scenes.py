@@ -64,6 +64,11 @@ MODELS = [  # label, `sss fit` arguments (None: no scattering), extra `sss rende
     # entering a half-space at θ leaves centred δ ahead of its entry (`--entry-shift`, issue 30).
     ("preint-incidence-exit-entry-shift", ["--model", "preint"],
      ["--incidence-aware", "on", "--exit-aware", "entry", "--entry-shift", "on", "--material", "{material}"]),
+    # ... and the body's shape: each light's entering light times E(κ, θ), what a sphere or a
+    # cavity of the surface's mean curvature returns over a half-space (`--shape`, issue 47).
+    ("preint-incidence-exit-entry-shift-shape", ["--model", "preint"],
+     ["--incidence-aware", "on", "--exit-aware", "entry", "--entry-shift", "on", "--shape", "on",
+      "--material", "{material}"]),
     # No kernel: the directional dipole integrated per pixel over lit points (`--method`), as
     # published and rescaled to the Monte Carlo total reflectance.
     ("directional-dipole", [], ["--method", "directional-dipole", "--material", "{material}",
@@ -97,6 +102,9 @@ FIN_MODELS = [
     ("preint-incidence-translucency-exit-entry-shift", ["--model", "preint"],
      ["--translucency", "on", "--incidence-aware", "on", "--exit-aware", "entry", "--entry-shift", "on",
       "--material", "{material}", "--profiles", "{profiles}"]),
+    ("preint-incidence-translucency-exit-entry-shift-shape", ["--model", "preint"],
+     ["--translucency", "on", "--incidence-aware", "on", "--exit-aware", "entry", "--entry-shift", "on",
+      "--shape", "on", "--material", "{material}", "--profiles", "{profiles}"]),
     ("directional-dipole-mc", [], ["--method", "directional-dipole", "--material", "{material}",
                                    "--profiles", "{profiles}",
                                    "--samples", "32", "--frames", "32", "--light-map", "2048"]),
@@ -108,8 +116,8 @@ FIN_MODELS = [
 BUST_MODELS = [m for m in MODELS if m[0] in (
     "lambert", "preint", "preint-reject", "preint-nodepth", "preint-gaussian", "svd1", "svd3",
     "preint-incidence",
-    "preint-incidence-exit", "preint-incidence-exit-entry", "preint-incidence-exit-entry-shift", "area-gather",
-    *GATHER_LABELS)]
+    "preint-incidence-exit", "preint-incidence-exit-entry", "preint-incidence-exit-entry-shift",
+    "preint-incidence-exit-entry-shift-shape", "area-gather", *GATHER_LABELS)]
 
 # A smooth dielectric boundary (η = 1.3) lit by a square area light: what the index-matched scenes
 # leave out. Light enters through Fresnel transmission and leaves by refraction, so Mitsuba cannot

@@ -7,8 +7,9 @@
 mod common;
 
 use shading::{
-    CHECK_ENTRY, CHECK_OUTPUTS, CheckSample, EntryShift, INCIDENCE_STEPS, PackedShading,
-    ShaderSources, Shading, TRANSLUCENCY_STEPS, Translucency,
+    CHECK_ENTRY, CHECK_OUTPUTS, CheckSample, EntryShift, HALF_SPACE_NODE, INCIDENCE_STEPS,
+    PackedShading, SHAPE_CURVATURES, ShaderSources, Shading, ShapeTable, TRANSLUCENCY_STEPS,
+    Translucency,
 };
 use wgpu::util::DeviceExt;
 
@@ -65,6 +66,25 @@ fn materials() -> Vec<Shading> {
             }),
             shift_se_cm: [[0.001; 3]; INCIDENCE_STEPS],
         },
+        // E rising from concave to convex and with θ, ⟨x⟩ growing with θ.
+        shape: translucent.then(|| {
+            let mut t = ShapeTable::ones([2.7, 7.3, 14.6]);
+            for (i, row) in t.curvature.iter_mut().enumerate() {
+                for (k, entries) in row.iter_mut().enumerate() {
+                    for (c, e) in entries.iter_mut().enumerate() {
+                        let kappa = SHAPE_CURVATURES[i] as f64;
+                        let v = (0.6 * kappa * (1.0 + 0.03 * k as f64)).exp() * (c + 1) as f64;
+                        e.energy.value = if i == HALF_SPACE_NODE {
+                            1.0
+                        } else {
+                            v * jitter() as f64
+                        };
+                        e.shift_cm.value = 0.01 * k as f64 * (2.5 + kappa) * jitter() as f64;
+                    }
+                }
+            }
+            t
+        }),
         eta: 1.4,
     };
     vec![m(true, 1.0), m(false, 0.6)]
@@ -105,6 +125,13 @@ fn samples() -> Vec<CheckSample> {
                 eta: [1.0, 1.33, 1.4, 2.5][(i % 4) as usize],
                 l,
                 delta_cm: 0.3 * hash01(30_000 + i),
+                // Both signs over 0.03–30 cm⁻¹ (κ beyond the table's ends in every channel),
+                // and flat.
+                curvature_per_cm: if i % 13 == 0 {
+                    0.0
+                } else {
+                    (hash01(40_000 + i) - 0.5).signum() * 10f32.powf(3.0 * hash01(50_000 + i) - 1.5)
+                },
             }
         })
         .collect()

@@ -209,7 +209,7 @@ fn draw(request: &Request) -> ::render::Result<gpu::Frame> {
 /// Wavefront .obj path. width, height [px]. light: a light or a list of them, as `sss render
 /// --light` writes them ("dir:X,Y,Z[:E]", "point:X,Y,Z[:I]", "area:X,Y,Z:AX,AY,AZ:SIDE[:L]").
 /// method: "separable", "directional-dipole", "area-gather" or "surface-gather". kernel: an
-/// `sss.Kernel` instead of pre-integration. incidence_aware, entry_shift, translucency: True,
+/// `sss.Kernel` instead of pre-integration. incidence_aware, entry_shift, translucency, shape: True,
 /// False, "on", "off" or None (the method's default); exit_aware: "entry", "on", "off" or None.
 /// camera, target [cm]: three numbers; fov [degrees]. object_albedo: one RGB or one per
 /// material; floor_albedo: RGB. Every other argument as the `sss render` flag of the same name.
@@ -218,7 +218,7 @@ fn draw(request: &Request) -> ::render::Result<gpu::Frame> {
     material = None, *, scene = "sphere", width = 1920, height = 1080, light = None,
     method = "separable", kernel = None, taps = 17, error_target = None,
     incidence_aware = None, exit_aware = None, entry_shift = None, translucency = None,
-    albedo = "pre-post", depth_test = "lerp", tolerance = None, jitter = None,
+    shape = None, albedo = "pre-post", depth_test = "lerp", tolerance = None, jitter = None,
     resolution = "full", blur = "exact", sss_width = 1.0, exposure = 1.0,
     camera = None, target = None, fov = None, object_albedo = None, floor_albedo = None,
     specular = None, ambient = None, no_sss = false,
@@ -242,6 +242,7 @@ pub fn render<'py>(
     exit_aware: Option<&str>,
     entry_shift: Option<&Bound<'py, PyAny>>,
     translucency: Option<&Bound<'py, PyAny>>,
+    shape: Option<&Bound<'py, PyAny>>,
     albedo: &str,
     depth_test: &str,
     tolerance: Option<f32>,
@@ -317,6 +318,7 @@ pub fn render<'py>(
             exit: exit_aware.map(|e| choice("exit_aware", e)).transpose()?,
             entry_shift: switch("entry_shift", entry_shift)?,
             translucency: switch("translucency", translucency)?,
+            shape: switch("shape", shape)?,
         },
         tables,
         gather: ::render::GatherOptions {

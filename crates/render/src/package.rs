@@ -44,6 +44,8 @@ pub struct Package {
 impl Package {
     /// Plans `request` (one SSS material, the separable method) and keeps what an engine needs;
     /// profiles and tables come from `profiles` (a cache, or simulated), reported to `progress`.
+    /// A package carries the shape table unless the request turns it off (`shading.shape`
+    /// `Some(false)`): whether the scene pass reads it is the engine's choice.
     pub fn build(
         request: &Request,
         profiles: &mut dyn Profiles,
@@ -63,8 +65,10 @@ impl Package {
                 "a package holds the separable method's kernel and tables",
             ));
         }
-        let plan = Plan::build(request, profiles, progress)?;
-        Package::from_plan(request, &plan)
+        let mut request = request.clone();
+        request.shading.shape = request.shading.shape.or(Some(true));
+        let plan = Plan::build(&request, profiles, progress)?;
+        Package::from_plan(&request, &plan)
     }
 
     /// The package of a plan already built for `request` (checked as [`Package::build`] does).
@@ -150,6 +154,7 @@ impl Package {
                 "exit": "h(θ_o; θ_i): radiance over a Lambertian surface's of the same total reflectance [-]",
                 "entry_shift": "δ(θ) [cm]",
                 "translucency": "Tt(d)/ρ [-]; exit h_T(θ_o; d) [-]",
+                "shape": "E(κ, θ) [-] (a curved body's returned light within 8/σ_tr of its entry over a half-space's), shift ⟨x⟩ and width ⟨s⟩ [cm]; κ = curvature/σ_tr, σ_tr [cm⁻¹]",
             },
             "grids": {
                 "angle_deg": angles,
@@ -166,6 +171,7 @@ impl Package {
                 },
                 "entry_shift": self.shading.entry_shift,
                 "translucency": self.shading.translucency,
+                "shape": self.shading.shape,
             },
             "incidence": {
                 "value": t.angles.incidence.map(rgb),
@@ -190,8 +196,16 @@ impl Package {
                 "rho": rho.map(|r| serde_json::json!({"value": r.value, "se": r.se})),
                 "index": "tt_over_rho[d][channel], exit[d][θ_o][channel]",
             })),
+            "shape": t.shape.map(|s| serde_json::json!({
+                "sigma_tr_per_cm": s.sigma_tr,
+                "curvature_nodes": shading::SHAPE_CURVATURES,
+                "thickness_nodes": shading::SHAPE_THICKNESSES,
+                "curvature": s.curvature,
+                "thickness": s.thickness,
+                "index": "curvature[κ node][θ_i][channel], thickness[τ node][θ_i][channel]: {energy, shift_cm, width_cm} each {value, se}",
+            })),
             "tables_bin": {
-                "layout": "SssMaterial of sss_lookups.wgsl: 261 vec4<f32>, little-endian",
+                "layout": "SssMaterial of sss_lookups.wgsl: 536 vec4<f32>, little-endian",
                 "bytes": PACKED_SHADING_SIZE,
                 "as_rendered": self.rendered,
             },
@@ -235,6 +249,7 @@ impl Package {
             },
             shift = on(self.shading.entry_shift),
             translucency = on(self.shading.translucency),
+            shape = on(self.shading.shape),
             bytes = PACKED_SHADING_SIZE,
             notes = notes,
         )

@@ -392,6 +392,9 @@ fn shading_of(s: &crate::ResolvedShading) -> String {
     if s.translucency {
         parts.push("translucency");
     }
+    if s.shape {
+        parts.push("shape E(κ, θ)");
+    }
     if parts.is_empty() {
         String::new()
     } else {

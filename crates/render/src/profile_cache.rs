@@ -220,8 +220,10 @@ impl Profiles for Cached<'_> {
             return Ok(kept);
         }
         let t = build()?;
-        let any =
-            t.simulated != (false, false) || t.entry_shift.is_some() || t.translucency.is_some();
+        let any = t.simulated != (false, false)
+            || t.entry_shift.is_some()
+            || t.translucency.is_some()
+            || t.shape.is_some();
         if self.cache.table.is_none() && any {
             let file = json!({ "key": key, "tables": t });
             self.files.add(&path, file.to_string());

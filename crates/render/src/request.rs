@@ -43,6 +43,9 @@ pub struct ShadingOptions {
     pub entry_shift: Option<bool>,
     /// Add the light the material transmits through thin parts (separable method only).
     pub translucency: Option<bool>,
+    /// Multiply the light entering SSS surfaces by the shape table's E(κ, θ) at the surface's
+    /// mean curvature (separable method only; default off).
+    pub shape: Option<bool>,
 }
 
 /// The shading options as applied: each default resolved for the method.
@@ -57,8 +60,7 @@ pub struct ResolvedShading {
     /// Translucency table on.
     pub translucency: bool,
     /// Shape table on (`shading::ShapeTable`: what curved and thin bodies return against the
-    /// half-space); built for the shape-aware gather and scene pass to come, off until they read
-    /// it.
+    /// half-space), read by the scene pass at the surface's mean curvature.
     pub shape: bool,
 }
 
@@ -202,7 +204,7 @@ impl Request {
             },
             entry_shift: on(s.entry_shift),
             translucency: separable && s.translucency.unwrap_or(true),
-            shape: false,
+            shape: separable && s.shape == Some(true),
         }
     }
 
@@ -242,6 +244,16 @@ impl Request {
                     "on",
                     format!(
                         "is for the separable method: the {} carries light through thin parts itself",
+                        describe(method)
+                    ),
+                ));
+            }
+            if given(self.shading.shape) {
+                return Err(RenderError::invalid(
+                    "shape",
+                    "on",
+                    format!(
+                        "is for the separable method: the {} does not read the shape table",
                         describe(method)
                     ),
                 ));

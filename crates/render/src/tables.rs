@@ -159,6 +159,7 @@ impl MaterialTables {
                 _ => [self.angles.exit[0]; INCIDENCE_STEPS],
             },
             translucency: self.translucency.map(|(t, _)| t),
+            shape: self.shape,
             eta: eta as f32,
         }
     }

@@ -34,6 +34,7 @@ fn the_default_is_the_separable_kernel_with_every_table() {
             exit: Some(ExitLaw::Lambertian),
             entry_shift: Some(false),
             translucency: Some(false),
+            shape: Some(false),
         },
         ..Request::default()
     };
@@ -112,6 +113,7 @@ fn what_does_not_go_together_is_refused_by_name() {
         exit: Some(ExitLaw::Lambertian),
         entry_shift: Some(false),
         translucency: Some(false),
+        shape: Some(false),
     };
     dipole_off.check().unwrap();
 }

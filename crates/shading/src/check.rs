@@ -13,7 +13,10 @@ use crate::model::Shading;
 pub const CHECK_WGSL: &str = include_str!("wgsl/check.wgsl");
 
 /// vec4 outputs per sample of [`CHECK_WGSL`].
-pub const CHECK_OUTPUTS: usize = 6;
+pub const CHECK_OUTPUTS: usize = 8;
+
+/// vec4 inputs per sample of [`CHECK_WGSL`].
+pub const CHECK_INPUTS: usize = 4;
 
 /// One set of inputs of every lookup.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -34,6 +37,8 @@ pub struct CheckSample {
     pub l: [f32; 3],
     /// An entry shift δ [cm].
     pub delta_cm: f32,
+    /// The surface's signed curvature [cm⁻¹] (±1/R, > 0 convex).
+    pub curvature_per_cm: f32,
 }
 
 impl CheckSample {
@@ -45,18 +50,20 @@ impl CheckSample {
         b
     }
 
-    /// The three vec4 [`CHECK_WGSL`] reads for this sample.
-    pub fn input(&self) -> [[f32; 4]; 3] {
+    /// The [`CHECK_INPUTS`] vec4 [`CHECK_WGSL`] reads for this sample.
+    pub fn input(&self) -> [[f32; 4]; CHECK_INPUTS] {
         let (n, l) = (self.n, self.l);
         [
             [self.material as f32, self.cos_o, self.cos_i, self.d_cm],
             [n[0], n[1], n[2], self.eta],
             [l[0], l[1], l[2], self.delta_cm],
+            [self.curvature_per_cm, 0.0, 0.0, 0.0],
         ]
     }
 
     /// What the CPU twins give for this sample, in [`CHECK_WGSL`]'s order, for the materials
-    /// `tables` (a translucency that is off reads as [`crate::PackedShading`] uploads it).
+    /// `tables` (a translucency or shape table that is off reads as [`crate::PackedShading`]
+    /// uploads it).
     pub fn expected(&self, tables: &[Shading]) -> [[f32; 4]; CHECK_OUTPUTS] {
         let s = &tables[self.material as usize];
         let v = |c: [f32; 3], w: f32| [c[0], c[1], c[2], w];
@@ -64,6 +71,11 @@ impl CheckSample {
         let (transmitted, exit) = match &s.translucency {
             Some(t) => (t.at(self.d_cm), t.exit_at(self.d_cm, self.cos_o)),
             None => ([0.0; 3], [1.0; 3]),
+        };
+        let shape = s.shape.map(|t| t.at(self.curvature_per_cm, self.cos_i));
+        let (energy, shift) = match shape {
+            Some(f) => (f.energy, f.shift_cm),
+            None => ([1.0; 3], [0.0; 3]),
         };
         [
             v(
@@ -78,6 +90,8 @@ impl CheckSample {
             v(entry_offset(self.n, self.l, self.delta_cm), 0.0),
             v(transmitted, 0.0),
             v(exit, 0.0),
+            v(energy, 0.0),
+            v(shift, 0.0),
         ]
     }
 }

@@ -50,7 +50,7 @@ pub use angle_tables::{
     AngleTables, EXIT_WGSL, ExitTable, INCIDENCE_WGSL, exit_ratio, incidence_hemispherical,
 };
 pub use angles::{ANGLES_WGSL, INCIDENCE_STEPS, incidence_ratio};
-pub use check::{CHECK_OUTPUTS, CHECK_WGSL, CheckSample};
+pub use check::{CHECK_INPUTS, CHECK_OUTPUTS, CHECK_WGSL, CheckSample};
 pub use directional::{
     Bssrdf, DIRECTIONAL_ANGLES, DIRECTIONAL_HALF_WIDTH, DirectionalTable, gather_batch_runs,
     gather_tables,
@@ -70,6 +70,7 @@ pub use profile::SimulatedProfile;
 pub use shaders::{CHECK_ENTRY, ShaderSources};
 pub use shape::{
     CURVATURE_STEPS, HALF_SPACE_NODE, SHAPE_CURVATURES, SHAPE_PHOTONS, SHAPE_RUNS_PER_CHANNEL,
-    SHAPE_THICKNESSES, SHAPE_WINDOW, ShapeEntry, ShapeFactors, ShapeTable, THICKNESS_STEPS,
+    SHAPE_THICKNESSES, SHAPE_WGSL, SHAPE_WINDOW, ShapeEntry, ShapeFactors, ShapeTable,
+    THICKNESS_STEPS,
 };
 pub use translucency::{RHO_PHOTONS, TRANSLUCENCY_STEPS, TRANSLUCENCY_WGSL, Translucency};

@@ -5,6 +5,7 @@ use crate::angle_tables::ExitTable;
 use crate::angles::INCIDENCE_STEPS;
 use crate::entry_shift::EntryShift;
 use crate::error::{Result, ShadingError};
+use crate::shape::ShapeTable;
 use crate::translucency::Translucency;
 
 /// How the surfaces of one SSS material are shaded around the scattering; the default is off
@@ -33,6 +34,12 @@ pub struct Shading {
     /// shadow, and its normal from the surface's curvature), which the radial blur then
     /// spreads. [`EntryShift::NONE`]: off.
     pub entry_shift: EntryShift,
+    /// Shape-aware shading (None: off): light entering a curved body returns E(κ, θ) times what
+    /// a half-space returns near its entry ([`ShapeTable`]); the scene pass multiplies each
+    /// light's entering light on SSS surfaces by E at the surface's mean curvature there (the
+    /// screen-space derivatives of position and normal), which makes a convex part brighter and
+    /// a concave one darker before the blur spreads the light.
+    pub shape: Option<ShapeTable>,
     /// The relative refractive index η of the material's smooth boundary (1: index-matched).
     /// SSS surfaces reflect area lights in mirror with the Fresnel reflectance F(η, θ) at the
     /// view angle, and light entering the back face of a thin part at incidence θ is scaled by
@@ -47,6 +54,9 @@ impl Shading {
             t.validate()?;
         }
         self.entry_shift.validate()?;
+        if let Some(t) = &self.shape {
+            t.validate()?;
+        }
         if !(self.eta.is_finite() && self.eta > 0.0) {
             return Err(ShadingError::invalid("eta", self.eta, "must be positive"));
         }
@@ -80,6 +90,7 @@ impl Default for Shading {
             exit: [[[1.0; 3]; INCIDENCE_STEPS]; INCIDENCE_STEPS],
             translucency: None,
             entry_shift: EntryShift::NONE,
+            shape: None,
             eta: 1.0,
         }
     }

@@ -8,6 +8,7 @@ use crate::angles::{ANGLES_WGSL, INCIDENCE_STEPS};
 use crate::entry_shift::{ENTRY_SHIFT_WGSL, EntryShift};
 use crate::fresnel::FRESNEL_WGSL;
 use crate::model::Shading;
+use crate::shape::{CURVATURE_STEPS, SHAPE_CURVATURES, SHAPE_WGSL};
 use crate::translucency::{TRANSLUCENCY_STEPS, TRANSLUCENCY_WGSL};
 
 /// WGSL's `struct SssMaterial`, the layout of [`PackedShading`].
@@ -15,9 +16,9 @@ pub const MATERIAL_WGSL: &str = include_str!("wgsl/material.wgsl");
 
 /// Every lookup a renderer does in the tables, in one WGSL source: `fresnel`, `angle_index`,
 /// `sss_incidence`, `sss_exit`, `sss_entry_shift`, `sss_entry_offset`, `sss_translucency`,
-/// `sss_translucency_exit`, `sss_back_face_entry` and `struct SssMaterial`. The lookups read the
-/// tables through six accessors the host defines (`sss_incidence_entry(m, k)`, …):
-/// [`BINDINGS_WGSL`] over a storage buffer, or a renderer's own (`gpu`'s over its uniform block).
+/// `sss_translucency_exit`, `sss_back_face_entry`, `sss_shape_energy`, `sss_shape_shift` and
+/// `struct SssMaterial`. The lookups read the tables through ten accessors the host defines
+/// (`sss_incidence_entry(m, k)`, …): [`BINDINGS_WGSL`] over a storage buffer, or a renderer's own (`gpu`'s over its uniform block).
 pub const LOOKUPS_WGSL: &str = const_format::concatcp!(
     FRESNEL_WGSL,
     "\n",
@@ -30,6 +31,8 @@ pub const LOOKUPS_WGSL: &str = const_format::concatcp!(
     ENTRY_SHIFT_WGSL,
     "\n",
     TRANSLUCENCY_WGSL,
+    "\n",
+    SHAPE_WGSL,
     "\n",
     MATERIAL_WGSL
 );
@@ -58,15 +61,28 @@ pub struct PackedShading {
     pub exit: [[f32; 4]; INCIDENCE_STEPS * INCIDENCE_STEPS],
     /// The entry shift δ(θ) [cm] at 0°, 10°, …, 80° (rgb); w of the first: 1 on, 0 off.
     pub shift: [[f32; 4]; INCIDENCE_STEPS],
+    /// The shape table ([`crate::ShapeTable`]): rgb σ_tr per channel [cm⁻¹], w: 1 on, 0 off.
+    pub shape_params: [f32; 4],
+    /// Its curvature nodes κ [-] ([`SHAPE_CURVATURES`]), four per vec4, the last slot 0.
+    pub shape_grid: [[f32; 4]; SHAPE_GRID_VEC4],
+    /// E at node i and θ = 0°, 10°, …, 80°, [9·i + θ index] (rgb; all ones when off).
+    pub shape_energy: [[f32; 4]; CURVATURE_STEPS * INCIDENCE_STEPS],
+    /// ⟨x⟩ [cm] likewise (rgb; zeros when off).
+    pub shape_shift: [[f32; 4]; CURVATURE_STEPS * INCIDENCE_STEPS],
 }
 
-/// The size of [`PackedShading`] and of WGSL's `SssMaterial` [bytes]: 261 vec4.
-pub const PACKED_SHADING_SIZE: usize = (10 + 17 + 16 * 9 + 9 * 9 + 9) * 16;
+/// The vec4 that hold the curvature nodes.
+const SHAPE_GRID_VEC4: usize = CURVATURE_STEPS.div_ceil(4);
+
+/// The size of [`PackedShading`] and of WGSL's `SssMaterial` [bytes]: 536 vec4.
+pub const PACKED_SHADING_SIZE: usize =
+    (10 + 17 + 16 * 9 + 9 * 9 + 9 + 1 + SHAPE_GRID_VEC4 + 2 * CURVATURE_STEPS * 9) * 16;
 const _: () = assert!(std::mem::size_of::<PackedShading>() == PACKED_SHADING_SIZE);
 
 impl PackedShading {
     /// The tables of `s` as uploaded; a translucency that is off keeps zeros for Tt/ρ and ones
-    /// for h_T (with grid 1 cm, ln ratio 1: finite lookups).
+    /// for h_T (with grid 1 cm, ln ratio 1: finite lookups), a shape table that is off ones for E
+    /// and zeros for ⟨x⟩ (with σ_tr 1 cm⁻¹).
     pub fn new(s: &Shading) -> PackedShading {
         let rgb = |r: [f32; 3]| [r[0], r[1], r[2], 0.0];
         PackedShading {
@@ -92,6 +108,26 @@ impl PackedShading {
                 t[0][3] = (s.entry_shift != EntryShift::NONE) as u32 as f32;
                 t
             },
+            shape_params: match &s.shape {
+                Some(t) => {
+                    let [r, g, b] = t.sigma_tr.map(|v| v as f32);
+                    [r, g, b, 1.0]
+                }
+                None => [1.0, 1.0, 1.0, 0.0],
+            },
+            shape_grid: std::array::from_fn(|j| {
+                std::array::from_fn(|i| SHAPE_CURVATURES.get(4 * j + i).copied().unwrap_or(0.0))
+            }),
+            shape_energy: std::array::from_fn(|i| match &s.shape {
+                Some(t) => rgb(t.curvature[i / INCIDENCE_STEPS][i % INCIDENCE_STEPS]
+                    .map(|e| e.energy.value as f32)),
+                None => [1.0; 4],
+            }),
+            shape_shift: std::array::from_fn(|i| match &s.shape {
+                Some(t) => rgb(t.curvature[i / INCIDENCE_STEPS][i % INCIDENCE_STEPS]
+                    .map(|e| e.shift_cm.value as f32)),
+                None => [0.0; 4],
+            }),
         }
     }
 }

@@ -28,6 +28,13 @@ use serde::{Deserialize, Serialize};
 use crate::angles::{INCIDENCE_STEPS, incidence_ratio};
 use crate::error::{Result, ShadingError};
 
+/// The WGSL of the shape table's lookups, `sss_shape_energy(m, curvature, cos_i) -> vec3<f32>`
+/// (E) and `sss_shape_shift(m, curvature, cos_i) -> vec3<f32>` (⟨x⟩ [cm]), with
+/// `sss_curvature_position(m, κ)` (`wgsl/shape.wgsl`; reads the host's `sss_shape_params`,
+/// `sss_shape_grid`, `sss_shape_energy_entry` and `sss_shape_shift_entry`; the CPU twins are
+/// [`ShapeTable::at`] and [`curvature_position`]).
+pub const SHAPE_WGSL: &str = include_str!("wgsl/shape.wgsl");
+
 /// Entries of the curvature axis.
 pub const CURVATURE_STEPS: usize = 15;
 
@@ -198,7 +205,7 @@ pub struct ShapeFactors {
 /// A material's shape table: per channel, what a sphere, a cavity or a slab returns near the
 /// entry against the half-space, over curvature and thickness in the channel's diffusion
 /// lengths, at θ = 0°, 10°, …, 80°.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ShapeTable {
     /// σ_tr per channel [cm⁻¹], the unit of κ and τ.
     pub sigma_tr: [f64; 3],

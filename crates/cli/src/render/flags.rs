@@ -148,12 +148,9 @@ pub struct RenderArgs {
     #[arg(long, value_parser = choice::<render::ExitLaw>())]
     pub exit_aware: Option<render::ExitLaw>,
 
-    /// Entry-shifted shading: light entering a half-space at θ leaves, on average, δ(θ) ahead of
-    /// its entry along its propagation over the surface (mc's centroid at θ = 0°, 10°, …, 80°,
-    /// about 0.6 transport mean free paths at grazing entry); each SSS pixel is shaded with the
-    /// light that entered δ behind it (that point's shadow, and its normal from the surface's
-    /// curvature) before the kernel spreads it [default: on for the separable method, off for
-    /// the others]
+    /// Entry-shifted shading: light entering a half-space at θ leaves δ(θ) ahead of its entry on
+    /// average (mc's centroid); each SSS pixel is shaded with the light that entered δ behind it
+    /// (that point's shadow and normal) [default: on for the separable method, off for others]
     #[arg(long, value_parser = on_off())]
     pub entry_shift: Option<bool>,
 
@@ -169,6 +166,11 @@ pub struct RenderArgs {
     /// directional dipole and the area gather's splats carry this light themselves]
     #[arg(long, value_parser = on_off())]
     pub translucency: Option<bool>,
+
+    /// Shape-aware shading: light entering SSS surfaces times E(κ, θ), what a sphere or cavity of
+    /// the surface's mean curvature returns over a half-space (mc) [default: off; separable only]
+    #[arg(long, value_parser = on_off())]
+    pub shape: Option<bool>,
 
     /// Photons per channel and thickness for the table of --translucency on
     #[arg(long, value_parser = parse_count, default_value = "20000")]
@@ -322,6 +324,7 @@ pub fn request(a: &RenderArgs, materials: Vec<render::NamedMaterial>) -> Result<
             exit: a.exit_aware,
             entry_shift: a.entry_shift,
             translucency: a.translucency,
+            shape: a.shape,
         },
         tables: render::TableSettings {
             seed: a.source.seed_in(&config),

@@ -61,6 +61,22 @@ fn sss_translucency_exit_entry(m: u32, k: u32) -> vec3<f32> {
     return g.materials[m].translucency_exit[k].rgb;
 }
 
+fn sss_shape_params(m: u32) -> vec4<f32> {
+    return g.materials[m].shape_params;
+}
+
+fn sss_shape_grid(m: u32, j: u32) -> vec4<f32> {
+    return g.materials[m].shape_grid[j];
+}
+
+fn sss_shape_energy_entry(m: u32, i: u32, k: u32) -> vec3<f32> {
+    return g.materials[m].shape_energy[9u * i + k].rgb;
+}
+
+fn sss_shape_shift_entry(m: u32, i: u32, k: u32) -> vec3<f32> {
+    return g.materials[m].shape_shift[9u * i + k].rgb;
+}
+
 // The fraction of emitter i's light that reaches `world` (unit normal n, `l` the unit direction
 // towards the light, n_dot_l = n·l > 0): its shadow map's 3×3 comparison filter. The depth bias
 // is a world distance along the ray to the light: one shadow-map texel's footprint at `world`
@@ -182,11 +198,10 @@ struct Local {
     dny: vec3<f32>,
 };
 
-// The change of the unit normal over a displacement d [cm] along the surface: d written in the
-// position's two screen derivatives (least squares), the normal's derivatives applied. At most
-// half a unit (≈ 30°): across a crease or a silhouette the derivatives say nothing of the
-// surface.
-fn normal_turn(loc: Local, d: vec3<f32>) -> vec3<f32> {
+// The unit normal's first-order change over a displacement d [cm] along the surface: d written
+// in the position's two screen derivatives (least squares), the normal's derivatives applied; 0
+// where the derivatives do not span the surface.
+fn normal_derivative(loc: Local, d: vec3<f32>) -> vec3<f32> {
     let a = dot(loc.dpx, loc.dpx);
     let b = dot(loc.dpx, loc.dpy);
     let c = dot(loc.dpy, loc.dpy);
@@ -196,8 +211,29 @@ fn normal_turn(loc: Local, d: vec3<f32>) -> vec3<f32> {
     }
     let u = dot(loc.dpx, d);
     let v = dot(loc.dpy, d);
-    let dn = ((c * u - b * v) * loc.dnx + (a * v - b * u) * loc.dny) / det;
+    return ((c * u - b * v) * loc.dnx + (a * v - b * u) * loc.dny) / det;
+}
+
+// The change of the unit normal over a displacement d [cm] along the surface (normal_derivative),
+// at most half a unit (≈ 30°): across a crease or a silhouette the derivatives say nothing of the
+// surface.
+fn normal_turn(loc: Local, d: vec3<f32>) -> vec3<f32> {
+    let dn = normal_derivative(loc, d);
     return dn * min(1.0, 0.5 / max(length(dn), 1e-30));
+}
+
+// The mean curvature H = (κ₁ + κ₂)/2 [cm⁻¹] of the surface at a point of unit normal n: half the
+// trace of the shape operator, the normal's derivative along two orthonormal tangents t (Duff et
+// al. 2017's basis) projected on them, dn/ds·t. > 0 where the surface is convex (its normal turns
+// the way one moves: 1/R on a sphere of radius R), < 0 concave, 0 flat and where the derivatives
+// are unknown (the splats).
+fn mean_curvature(loc: Local, n: vec3<f32>) -> f32 {
+    let sgn = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (sgn + n.z);
+    let b = n.x * n.y * a;
+    let t1 = vec3<f32>(1.0 + sgn * n.x * n.x * a, sgn * b, -sgn * n.x);
+    let t2 = vec3<f32>(b, sgn + n.y * n.y * a, -n.y);
+    return 0.5 * (dot(normal_derivative(loc, t1), t1) + dot(normal_derivative(loc, t2), t2));
 }
 
 // Light i entering SSS material m where it leaves at `world` (unit normal n, `l` the unit
@@ -207,7 +243,8 @@ fn normal_turn(loc: Local, d: vec3<f32>) -> vec3<f32> {
 // here entered δ behind, at world − δ·t (per channel), where the normal has turned by the
 // surface's curvature (normal_turn) and the shadow is that point's: the light's incidence there,
 // the incidence table at it, its shadow map. δ is read at the angle here (from behind, cos ≤ 0,
-// the 80° value: what enters just before the terminator reaches past it).
+// the 80° value: what enters just before the terminator reaches past it). `curvature`: the mean
+// curvature here [cm⁻¹] for the shape table's E (sss_shape_energy).
 struct Entry {
     // The entering light (rgb), and without shadows (what weighs the exit law's entry angle).
     light: vec3<f32>,
@@ -217,8 +254,10 @@ struct Entry {
 };
 
 fn shifted_entry(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, scale: vec3<f32>,
-                 loc: Local) -> Entry {
+                 loc: Local, curvature: f32) -> Entry {
     let delta = sss_entry_shift(m, dot(n, l));
+    // The shape's E at the angle here (as δ), the same for every channel's entry point.
+    let energy = sss_shape_energy(m, curvature, dot(n, l));
     var e = Entry(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
     for (var c = 0u; c < 3u; c++) {
         var p = world;
@@ -230,7 +269,7 @@ fn shifted_entry(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, s
         }
         let ndl = dot(nc, l);
         if ndl > 0.0 {
-            let u = scale[c] * ndl * sss_incidence(m, ndl)[c];
+            let u = scale[c] * ndl * sss_incidence(m, ndl)[c] * energy[c];
             e.unshadowed[c] = u;
             e.light[c] = u * shadow(i, p, l, ndl);
             e.cos_weighted += u * ndl;
@@ -264,6 +303,8 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
     var through_light = vec3<f32>(0.0);
     let cos_o = dot(n, view_dir);
     let shifting = sss && g.materials[m].shift[0].w > 0.5;
+    // The shape table's E at the mean curvature here (1 where it is off).
+    let curvature = select(0.0, mean_curvature(loc, n), sss && g.materials[m].shape_params.w > 0.5);
     for (var i = 0u; i < u32(g.params.x); i++) {
         let l4 = g.lights[i].pos_or_dir;
         var l = normalize(l4.xyz);
@@ -295,7 +336,7 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
         let eta = g.materials[m].translucency_params.w;
         let mirrored = cell && sss && eta != 1.0;
         if shifting {
-            let e = shifted_entry(i, m, world, n, l, scale, loc);
+            let e = shifted_entry(i, m, world, n, l, scale, loc, curvature);
             irradiance += e.light;
             entry_w += e.unshadowed.r + e.unshadowed.g + e.unshadowed.b;
             entry_c += e.cos_weighted;
@@ -314,7 +355,8 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
             spec += mirror(i, world, n, view_dir, eta) * vis;
         }
         if !shifting {
-            let entering = scale * n_dot_l * select(vec3<f32>(1.0), sss_incidence(m, n_dot_l), sss);
+            let entering = scale * n_dot_l
+                * select(vec3<f32>(1.0), sss_incidence(m, n_dot_l) * sss_shape_energy(m, curvature, n_dot_l), sss);
             irradiance += entering * vis;
             let w = entering.r + entering.g + entering.b;
             entry_w += w;
