@@ -15,6 +15,8 @@ BUDGET_TERMS = {
     "screen_space": "screen-space part: real-time (same tables) ↔ radial",
     "entry_direction": "entry direction: radial ↔ directional",
     "shifted_screen_space": "entry-shifted real-time ↔ directional",
+    "shape_aware": "shape-aware MC gather ↔ reference",
+    "shape": "shape: directional ↔ shape-aware gather",
     "between_surfaces": "light between surfaces: full ↔ reference",
 }
 
@@ -51,12 +53,16 @@ def error_budget(o2s, gather_noise, alone, r2, d2, mask, rows, shapes, interrefl
     - shifted_screen_space: the real-time method with the entry shift (a "-exit-entry-shift"
       model, the closest of them; `shifted_model`) ↔ directional, what it loses against the
       exact half-space BSSRDF over the true surface (absent without such a model);
+    - shape_aware, shape (issue 47; where the run has the shape-aware gather): that gather
+      against the reference, and directional ↔ shape-aware, what the body's curvature (mc in
+      spheres and cavities) changes over the half-space;
     - between_surfaces: the full reference ↔ the one without light between surfaces (0 where the
       scene has one SSS shape on a black floor); self_interreflection_lambert: for a Lambertian
       surface of the same albedo, all bounces over direct light, − 1 (what light leaving a concave
       shape and entering it again is worth there; with several shapes it includes the light
       between them). None without both gathers (a run whose --models leaves them out)."""
-    if not all(g in o2s for g in GATHER_LABELS):
+    radial, directional, shape = GATHER_LABELS
+    if not all(g in o2s for g in (radial, directional)):
         return None
     a0, a1 = blocks(alone[0]), blocks(alone[1])
     m0, dm0 = 0.5 * (a0 + a1), a0 - a1
@@ -81,7 +87,6 @@ def error_budget(o2s, gather_noise, alone, r2, d2, mask, rows, shapes, interrefl
     shifted = [k for k in realtime if k.endswith("-exit-entry-shift")]
     shifted = min(shifted, key=lambda k: against[k]["rmse_noise_corrected"]) if shifted else None
     full = next(r for r in rows if r["model"] == best)
-    radial, directional = GATHER_LABELS
     # The full reference against the one without light between surfaces: both Mitsuba's.
     between = term((r2, d2), reference) if shapes > 1 else ({
         "rmse_noise_corrected": 0.0, "rmse_noise_corrected_se": 0.0, "resolved": False,
@@ -100,6 +105,8 @@ def error_budget(o2s, gather_noise, alone, r2, d2, mask, rows, shapes, interrefl
             "screen_space": term(img[screen], img[radial]),
             "entry_direction": term(img[radial], img[directional]),
             **({"shifted_screen_space": term(img[shifted], img[directional])} if shifted else {}),
+            **({"shape_aware": term(img[shape], reference),
+                "shape": term(img[directional], img[shape])} if shape in img else {}),
             "between_surfaces": between,
         },
         **({"shifted_model": shifted} if shifted else {}),

@@ -72,7 +72,8 @@ def rank(per, per_spatial, rows, calibration, kernel_order=True):
     # resolved closer than the radial profile (the bust's and the fins' grazing entry),
     # reported elsewhere (the sphere, where the half-space's forward transport overshoots
     # at the terminator, the directional gather farther than the radial one).
-    directional_helps = pair(*GATHER_LABELS[::-1]) and closer(GATHER_LABELS[1], GATHER_LABELS[0]) is True
+    radial, directional = GATHER_LABELS[:2]
+    directional_helps = pair(directional, radial) and closer(directional, radial) is True
     if directional_helps:
         for a_, b_ in SHIFT_PAIRS:
             if pair(a_, b_):

@@ -35,8 +35,11 @@ AREA = [
 GATHER_ARGS = ["--method", "surface-gather", "--material", "{material}", "--profiles", "{profiles}",
                "--samples", "32", "--frames", "{frames}", "--light-map", "2048",
                "--incidence-photons", "{table_photons}"]
+# Shape-aware (issue 47): the directional gather scaled by mc's transport in spheres and cavities
+# of each chord's curvature (E(κ, θ) and the spread's stretch), the error budget's "shape" term.
 GATHERS = [("surface-gather-radial", [], [*GATHER_ARGS, "--bssrdf", "radial"]),
-           ("surface-gather-directional", [], [*GATHER_ARGS, "--bssrdf", "directional"])]
+           ("surface-gather-directional", [], [*GATHER_ARGS, "--bssrdf", "directional"]),
+           ("surface-gather-shape", [], [*GATHER_ARGS, "--bssrdf", "shape"])]
 GATHER_LABELS = [g[0] for g in GATHERS]
 MODELS = [  # label, `sss fit` arguments (None: no scattering), extra `sss render` arguments
     ("lambert", None, []),

@@ -66,7 +66,7 @@ fn materials() -> Vec<Shading> {
             }),
             shift_se_cm: [[0.001; 3]; INCIDENCE_STEPS],
         },
-        // E rising from concave to convex and with θ, ⟨x⟩ growing with θ.
+        // E rising from concave to convex and with θ, ⟨x⟩ growing with θ, ⟨s⟩ with κ.
         shape: translucent.then(|| {
             let mut t = ShapeTable::ones([2.7, 7.3, 14.6]);
             for (i, row) in t.curvature.iter_mut().enumerate() {
@@ -80,6 +80,9 @@ fn materials() -> Vec<Shading> {
                             v * jitter() as f64
                         };
                         e.shift_cm.value = 0.01 * k as f64 * (2.5 + kappa) * jitter() as f64;
+                        e.width_cm.value = 0.1 * (1.0 + 0.2 * kappa) / (c + 1) as f64
+                            * (1.0 + 0.01 * k as f64)
+                            * jitter() as f64;
                     }
                 }
             }

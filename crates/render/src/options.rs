@@ -132,6 +132,13 @@ impl Choice for shading::Bssrdf {
              the entry angle's total reflectance, leaving with h(θ_o; θ_i)",
         ),
         (
+            "shape",
+            shading::Bssrdf::Shape,
+            "directional, scaled by mc's transport in spheres and cavities of the chord's \
+             curvature from entry to exit: E(κ, θ_i) times the table with its lengths stretched \
+             by ⟨s⟩(κ)/⟨s⟩(0)",
+        ),
+        (
             "radial",
             shading::Bssrdf::Radial,
             "Rd(|x_o − x_i|) of the Monte Carlo profile × ρ(θ_i)/ρ(0), leaving with h(θ_o; θ_i): \

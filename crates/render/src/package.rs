@@ -205,7 +205,7 @@ impl Package {
                 "index": "curvature[κ node][θ_i][channel], thickness[τ node][θ_i][channel]: {energy, shift_cm, width_cm} each {value, se}",
             })),
             "tables_bin": {
-                "layout": "SssMaterial of sss_lookups.wgsl: 536 vec4<f32>, little-endian",
+                "layout": "SssMaterial of sss_lookups.wgsl: 671 vec4<f32>, little-endian",
                 "bytes": PACKED_SHADING_SIZE,
                 "as_rendered": self.rendered,
             },

@@ -318,8 +318,10 @@ fn gather(
             let r_max = gpu::SurfaceGatherSetup::table_radius_cm(&p);
             let tables = shading::gather_tables(&spec, g.bssrdf, r_max, &|k| progress.advance(k));
             progress.end();
-            let (angles, directional) = tables?;
-            let mut setup = gpu::SurfaceGatherSetup::new(&p, angles, directional)?;
+            let t = tables?;
+            let mut setup = gpu::SurfaceGatherSetup::new(&p, t.angles, t.directional)?;
+            setup.shape = t.shape;
+            setup.bssrdf = g.bssrdf;
             sampling(&mut setup.sampling)?;
             setup.validate()?;
             Gather::Surface(Box::new(setup))

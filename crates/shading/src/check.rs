@@ -13,7 +13,7 @@ use crate::model::Shading;
 pub const CHECK_WGSL: &str = include_str!("wgsl/check.wgsl");
 
 /// vec4 outputs per sample of [`CHECK_WGSL`].
-pub const CHECK_OUTPUTS: usize = 8;
+pub const CHECK_OUTPUTS: usize = 9;
 
 /// vec4 inputs per sample of [`CHECK_WGSL`].
 pub const CHECK_INPUTS: usize = 4;
@@ -72,10 +72,14 @@ impl CheckSample {
             Some(t) => (t.at(self.d_cm), t.exit_at(self.d_cm, self.cos_o)),
             None => ([0.0; 3], [1.0; 3]),
         };
-        let shape = s.shape.map(|t| t.at(self.curvature_per_cm, self.cos_i));
-        let (energy, shift) = match shape {
-            Some(f) => (f.energy, f.shift_cm),
-            None => ([1.0; 3], [0.0; 3]),
+        let (k, cos) = (self.curvature_per_cm, self.cos_i);
+        let (energy, shift, width) = match &s.shape {
+            Some(t) => (
+                t.at(k, cos).energy,
+                t.at(k, cos).shift_cm,
+                t.width_ratio(k, cos),
+            ),
+            None => ([1.0; 3], [0.0; 3], [1.0; 3]),
         };
         [
             v(
@@ -92,6 +96,7 @@ impl CheckSample {
             v(exit, 0.0),
             v(energy, 0.0),
             v(shift, 0.0),
+            v(width, 0.0),
         ]
     }
 }

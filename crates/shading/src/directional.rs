@@ -7,6 +7,7 @@
 
 use crate::angle_tables::AngleTables;
 use crate::error::{Result, ShadingError};
+use crate::shape::{SHAPE_RUNS_PER_CHANNEL, ShapeTable};
 use serde::Serialize;
 
 /// Which Monte Carlo BSSRDF the surface gather integrates.
@@ -16,6 +17,10 @@ pub enum Bssrdf {
     Radial,
     /// Rd(x, y; θ_i) in the plane of incidence.
     Directional,
+    /// Rd(x, y; θ_i) as `Directional`, scaled for the body's shape at the curvature of the chord
+    /// from entry to exit ([`crate::ShapeTable`]): E(κ, θ_i) times the table with its lengths
+    /// stretched by ⟨s⟩(κ)/⟨s⟩(0).
+    Shape,
 }
 
 /// The half width n of the directional tables [`gather_tables`] builds: 385 × 193
@@ -261,36 +266,72 @@ impl DirectionalTable {
 
 /// The tables a surface gather of `bssrdf` reads for the material whose three channels `spec`
 /// holds (a profile-only batch): the angle tables (incidence for [`Bssrdf::Radial`], exit for
-/// both) and, for [`Bssrdf::Directional`], the [`DirectionalTable`] of half width
-/// [`DIRECTIONAL_HALF_WIDTH`] reaching [`DirectionalTable::reach`] within `r_max_cm` (the
+/// all), for [`Bssrdf::Directional`] and [`Bssrdf::Shape`] the [`DirectionalTable`] of half
+/// width [`DIRECTIONAL_HALF_WIDTH`] reaching [`DirectionalTable::reach`] within `r_max_cm` (the
 /// gather's disc radius over √2, so every cell lies on the disc: the 3-D distance |x_o − x_i| is
-/// never shorter than the disc radius), each run of `spec.photons` per channel and angle.
+/// never shorter than the disc radius), each run of `spec.photons` per channel and angle, and for
+/// [`Bssrdf::Shape`] the [`ShapeTable`] with a third of those photons per run (as a render's).
 /// `progress` receives photon counts.
 pub fn gather_tables(
     spec: &mc::BatchSpec,
     bssrdf: Bssrdf,
     r_max_cm: f64,
     progress: &(dyn Fn(u64) + Sync),
-) -> Result<(AngleTables, Option<DirectionalTable>)> {
+) -> Result<GatherTables> {
     let radial = bssrdf == Bssrdf::Radial;
     let angles = AngleTables::from_mc(spec, radial, true, progress)?;
     if radial {
-        return Ok((angles, None));
+        return Ok(GatherTables {
+            angles,
+            directional: None,
+            shape: None,
+        });
     }
     let media =
         [0, 1, 2].map(|c| fit::analytic::Medium::of_layer(&spec.channels[c].layer, spec.n_above));
     let reach = DirectionalTable::reach(&media, r_max_cm);
     let table = DirectionalTable::from_mc(spec, DIRECTIONAL_HALF_WIDTH, reach, progress)?;
-    Ok((angles, Some(table)))
+    let shape = match bssrdf {
+        Bssrdf::Shape => {
+            let third = mc::BatchSpec {
+                photons: (spec.photons / 3).max(1),
+                ..spec.clone()
+            };
+            Some(ShapeTable::from_mc(&third, progress)?)
+        }
+        _ => None,
+    };
+    Ok(GatherTables {
+        angles,
+        directional: Some(table),
+        shape,
+    })
+}
+
+/// What [`gather_tables`] builds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GatherTables {
+    /// ρ(θ)/ρ(0) (radial) and h(θ_o; θ_i).
+    pub angles: AngleTables,
+    /// Rd(x, y; θ) (directional and shape-aware).
+    pub directional: Option<DirectionalTable>,
+    /// What curved bodies return against the half-space (shape-aware).
+    pub shape: Option<ShapeTable>,
 }
 
 /// The batch runs [`gather_tables`] makes (for progress bars: each traces `spec.photons` per
-/// walk group): the angle tables' and the directional tables'.
+/// walk group): the angle tables', the directional tables' and the shape table's (in runs of a
+/// whole batch's photons).
 pub fn gather_batch_runs(bssrdf: Bssrdf) -> u64 {
     let angle_runs = AngleTables::angles(bssrdf == Bssrdf::Radial, true).len();
     let table_runs = match bssrdf {
         Bssrdf::Radial => 0,
-        Bssrdf::Directional => DIRECTIONAL_ANGLES.len(),
+        Bssrdf::Directional | Bssrdf::Shape => DIRECTIONAL_ANGLES.len(),
     };
-    (angle_runs + table_runs) as u64
+    // The shape table's runs trace a third of the photons each, per channel.
+    let shape_runs = match bssrdf {
+        Bssrdf::Shape => SHAPE_RUNS_PER_CHANNEL.div_ceil(3),
+        _ => 0,
+    };
+    (angle_runs + table_runs) as u64 + shape_runs
 }

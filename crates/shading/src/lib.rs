@@ -52,8 +52,8 @@ pub use angle_tables::{
 pub use angles::{ANGLES_WGSL, INCIDENCE_STEPS, incidence_ratio};
 pub use check::{CHECK_INPUTS, CHECK_OUTPUTS, CHECK_WGSL, CheckSample};
 pub use directional::{
-    Bssrdf, DIRECTIONAL_ANGLES, DIRECTIONAL_HALF_WIDTH, DirectionalTable, gather_batch_runs,
-    gather_tables,
+    Bssrdf, DIRECTIONAL_ANGLES, DIRECTIONAL_HALF_WIDTH, DirectionalTable, GatherTables,
+    gather_batch_runs, gather_tables,
 };
 pub use entry_shift::{
     ENTRY_SHIFT_WGSL, EntryShift, SHIFT_GRID_HALF_WIDTH, SHIFT_GRID_REACH_MFP, entry_offset,

@@ -16,8 +16,8 @@ pub const MATERIAL_WGSL: &str = include_str!("wgsl/material.wgsl");
 
 /// Every lookup a renderer does in the tables, in one WGSL source: `fresnel`, `angle_index`,
 /// `sss_incidence`, `sss_exit`, `sss_entry_shift`, `sss_entry_offset`, `sss_translucency`,
-/// `sss_translucency_exit`, `sss_back_face_entry`, `sss_shape_energy`, `sss_shape_shift` and
-/// `struct SssMaterial`. The lookups read the tables through ten accessors the host defines
+/// `sss_translucency_exit`, `sss_back_face_entry`, `sss_shape_energy`, `sss_shape_shift`,
+/// `sss_shape_width` and `struct SssMaterial`. The lookups read the tables through nine accessors the host defines
 /// (`sss_incidence_entry(m, k)`, …): [`BINDINGS_WGSL`] over a storage buffer, or a renderer's own (`gpu`'s over its uniform block).
 pub const LOOKUPS_WGSL: &str = const_format::concatcp!(
     FRESNEL_WGSL,
@@ -65,24 +65,23 @@ pub struct PackedShading {
     pub shape_params: [f32; 4],
     /// Its curvature nodes κ [-] ([`SHAPE_CURVATURES`]), four per vec4, the last slot 0.
     pub shape_grid: [[f32; 4]; SHAPE_GRID_VEC4],
-    /// E at node i and θ = 0°, 10°, …, 80°, [9·i + θ index] (rgb; all ones when off).
-    pub shape_energy: [[f32; 4]; CURVATURE_STEPS * INCIDENCE_STEPS],
-    /// ⟨x⟩ [cm] likewise (rgb; zeros when off).
-    pub shape_shift: [[f32; 4]; CURVATURE_STEPS * INCIDENCE_STEPS],
+    /// E, ⟨x⟩ [cm] and ⟨s⟩ [cm] (quantity q = 0, 1, 2) at node i and θ = 0°, 10°, …, 80°,
+    /// [135·q + 9·i + θ index] (rgb; E ones, ⟨x⟩ and ⟨s⟩ zeros when off).
+    pub shape: [[f32; 4]; 3 * CURVATURE_STEPS * INCIDENCE_STEPS],
 }
 
 /// The vec4 that hold the curvature nodes.
 const SHAPE_GRID_VEC4: usize = CURVATURE_STEPS.div_ceil(4);
 
-/// The size of [`PackedShading`] and of WGSL's `SssMaterial` [bytes]: 536 vec4.
+/// The size of [`PackedShading`] and of WGSL's `SssMaterial` [bytes]: 671 vec4.
 pub const PACKED_SHADING_SIZE: usize =
-    (10 + 17 + 16 * 9 + 9 * 9 + 9 + 1 + SHAPE_GRID_VEC4 + 2 * CURVATURE_STEPS * 9) * 16;
+    (10 + 17 + 16 * 9 + 9 * 9 + 9 + 1 + SHAPE_GRID_VEC4 + 3 * CURVATURE_STEPS * 9) * 16;
 const _: () = assert!(std::mem::size_of::<PackedShading>() == PACKED_SHADING_SIZE);
 
 impl PackedShading {
     /// The tables of `s` as uploaded; a translucency that is off keeps zeros for Tt/ρ and ones
     /// for h_T (with grid 1 cm, ln ratio 1: finite lookups), a shape table that is off ones for E
-    /// and zeros for ⟨x⟩ (with σ_tr 1 cm⁻¹).
+    /// and zeros for ⟨x⟩ and ⟨s⟩ (with σ_tr 1 cm⁻¹).
     pub fn new(s: &Shading) -> PackedShading {
         let rgb = |r: [f32; 3]| [r[0], r[1], r[2], 0.0];
         PackedShading {
@@ -118,15 +117,14 @@ impl PackedShading {
             shape_grid: std::array::from_fn(|j| {
                 std::array::from_fn(|i| SHAPE_CURVATURES.get(4 * j + i).copied().unwrap_or(0.0))
             }),
-            shape_energy: std::array::from_fn(|i| match &s.shape {
-                Some(t) => rgb(t.curvature[i / INCIDENCE_STEPS][i % INCIDENCE_STEPS]
-                    .map(|e| e.energy.value as f32)),
-                None => [1.0; 4],
-            }),
-            shape_shift: std::array::from_fn(|i| match &s.shape {
-                Some(t) => rgb(t.curvature[i / INCIDENCE_STEPS][i % INCIDENCE_STEPS]
-                    .map(|e| e.shift_cm.value as f32)),
-                None => [0.0; 4],
+            shape: std::array::from_fn(|j| {
+                let per = CURVATURE_STEPS * INCIDENCE_STEPS;
+                let (q, i, k) = (j / per, j % per / INCIDENCE_STEPS, j % INCIDENCE_STEPS);
+                match &s.shape {
+                    Some(t) => rgb(t.curvature[i][k]
+                        .map(|e| [e.energy, e.shift_cm, e.width_cm][q].value as f32)),
+                    None => [[1.0; 4], [0.0; 4], [0.0; 4]][q],
+                }
             }),
         }
     }

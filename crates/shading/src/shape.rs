@@ -29,10 +29,10 @@ use crate::angles::{INCIDENCE_STEPS, incidence_ratio};
 use crate::error::{Result, ShadingError};
 
 /// The WGSL of the shape table's lookups, `sss_shape_energy(m, curvature, cos_i) -> vec3<f32>`
-/// (E) and `sss_shape_shift(m, curvature, cos_i) -> vec3<f32>` (⟨x⟩ [cm]), with
-/// `sss_curvature_position(m, κ)` (`wgsl/shape.wgsl`; reads the host's `sss_shape_params`,
-/// `sss_shape_grid`, `sss_shape_energy_entry` and `sss_shape_shift_entry`; the CPU twins are
-/// [`ShapeTable::at`] and [`curvature_position`]).
+/// (E), `sss_shape_shift(…)` (⟨x⟩ [cm]) and `sss_shape_width(…)` (⟨s⟩ over the half-space's),
+/// with `sss_shape_at` and `sss_curvature_position(m, κ)` (`wgsl/shape.wgsl`; reads the host's
+/// `sss_shape_params`, `sss_shape_grid` and `sss_shape_entry`; the CPU twins are
+/// [`ShapeTable::at`], [`ShapeTable::width_ratio`] and [`curvature_position`]).
 pub const SHAPE_WGSL: &str = include_str!("wgsl/shape.wgsl");
 
 /// Entries of the curvature axis.
@@ -389,6 +389,23 @@ impl ShapeTable {
             (&self.curvature[i], &self.curvature[i + 1], f)
         });
         lookup(nodes, cos_i)
+    }
+
+    /// ⟨s⟩(κ)/⟨s⟩(0) per channel: how much wider than the half-space's the returned light
+    /// spreads where the surface's signed curvature is `curvature_per_cm` [cm⁻¹], entered at
+    /// cos θ = `cos_i` ([`ShapeTable::at`]'s widths); 1 where the half-space returns nothing.
+    pub fn width_ratio(&self, curvature_per_cm: f32, cos_i: f32) -> [f32; 3] {
+        let (body, half) = (
+            self.at(curvature_per_cm, cos_i).width_cm,
+            self.at(0.0, cos_i).width_cm,
+        );
+        [0, 1, 2].map(|c| {
+            if half[c] > 0.0 {
+                body[c] / half[c]
+            } else {
+                1.0
+            }
+        })
     }
 
     /// E, ⟨x⟩ and ⟨s⟩ per channel of a slab `thickness_cm` [cm] thick entered at cos θ = `cos_i`:

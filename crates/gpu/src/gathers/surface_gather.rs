@@ -10,7 +10,13 @@
 //!   laid on the modified tangent plane of Frisvad et al. 2014 (the plane through x_i that holds
 //!   x_o, closest to x_i's tangent plane; [`DirectionalTable::response`]) and carrying the true
 //!   entry angle's reflectance: the exact half-space BSSRDF for the entry direction on a flat
-//!   surface.
+//!   surface;
+//! - [`Bssrdf::Shape`]: the directional BSSRDF scaled for the body's shape ([`ShapeTable`]):
+//!   at the signed curvature of the chord from x_i to x_o, κ = (n_o − n_i)·(x_o − x_i)/|x_o −
+//!   x_i|² (1/R on a sphere of radius R and −1/R around a cavity, for any two points of it;
+//!   0 on a plane), Rd(x, y; θ_i) times E(κ, θ_i) with its lengths stretched by w =
+//!   ⟨s⟩(κ)/⟨s⟩(0): E·Rd(x/w, y/w; θ)/w², which returns E times the half-space's light, spread as
+//!   much wider as the body spreads it.
 //!
 //! Both leave with the exit table h(θ_o; θ_i) (radiance over a Lambertian surface's at the view
 //! angle, for light that entered at each sample's θ_i, [`shading::AngleTables`]). Per unit power entering, the profile's annulus averages and
@@ -27,7 +33,8 @@ use crate::frame::recording::Recording;
 use crate::frame::target::Target;
 use crate::gathers::disc_gather::{DiscPipelines, Model, Sampling, gather_wgsl};
 use shading::{
-    AngleTables, Bssrdf, DIRECTIONAL_ANGLES, DirectionalTable, INCIDENCE_STEPS, incidence_ratio,
+    AngleTables, Bssrdf, DIRECTIONAL_ANGLES, DirectionalTable, INCIDENCE_STEPS, PackedShading,
+    Shading, ShapeTable, incidence_ratio,
 };
 
 /// The share of uniform disc sampling in the radius mixture.
@@ -44,8 +51,10 @@ pub struct SurfaceGatherSetup {
     pub profile: Vec<[f64; 3]>,
     /// ρ(θ)/ρ(0) and h(θ) (only the exit table is used by [`Bssrdf::Directional`]).
     pub angles: AngleTables,
-    /// The directional tables (required by [`Bssrdf::Directional`]).
+    /// The directional tables (required by [`Bssrdf::Directional`] and [`Bssrdf::Shape`]).
     pub directional: Option<DirectionalTable>,
+    /// The shape table (required by [`Bssrdf::Shape`]).
+    pub shape: Option<ShapeTable>,
     /// How the disc gather samples; the default radius is the profile's extent.
     pub sampling: Sampling,
 }
@@ -73,6 +82,7 @@ impl SurfaceGatherSetup {
             profile: rows,
             angles,
             directional,
+            shape: None,
             sampling: Sampling {
                 samples: 16,
                 frames: 16,
@@ -123,12 +133,22 @@ impl SurfaceGatherSetup {
                 "Rd must be finite and ≥ 0 in every bin",
             ));
         }
-        if self.bssrdf == Bssrdf::Directional {
+        if self.bssrdf != Bssrdf::Radial {
             let Some(t) = &self.directional else {
                 return Err(GpuError::invalid(
                     "directional table",
                     "none",
                     "the directional BSSRDF needs mc's Rd(x, y; θ) tables",
+                ));
+            };
+            t.validate()?;
+        }
+        if self.bssrdf == Bssrdf::Shape {
+            let Some(t) = &self.shape else {
+                return Err(GpuError::invalid(
+                    "shape table",
+                    "none",
+                    "the shape-aware BSSRDF needs mc's transport in curved bodies",
                 ));
             };
             t.validate()?;
@@ -212,19 +232,32 @@ struct TablesUniform {
     incidence: [[f32; 4]; INCIDENCE_STEPS],
     exit: [[f32; 4]; INCIDENCE_STEPS * INCIDENCE_STEPS],
     directional_total: [[f32; 4]; DIRECTIONAL_ANGLES.len()],
+    shape_params: [f32; 4],
+    shape_grid: [[f32; 4]; 4],
+    shape_entries: [[f32; 4]; SHAPE_ENTRIES],
 }
+
+/// The shape table's vec4 in `Tables` (as in `shading::PackedShading`).
+const SHAPE_ENTRIES: usize = 3 * shading::CURVATURE_STEPS * INCIDENCE_STEPS;
 
 /// The Monte Carlo model and the disc gather.
 pub(crate) const MC_BSSRDF_WGSL: &str = gather_wgsl!(
     shading::INCIDENCE_WGSL,
     shading::EXIT_WGSL,
+    shading::SHAPE_WGSL,
     include_str!("../shaders/mc_bssrdf.wgsl")
 );
 
-/// WGSL's size of `Tables`: 5 vec4, 9 vec4 of incidence, 9 × 9 vec4 of exit and 10 vec4 of the
-/// directional tables' total reflectances, 16 bytes each (checked against naga's layout in a test).
-pub(crate) const TABLES_UNIFORM_SIZE: usize =
-    (5 + INCIDENCE_STEPS + INCIDENCE_STEPS * INCIDENCE_STEPS + DIRECTIONAL_ANGLES.len()) * 16;
+/// WGSL's size of `Tables`: 5 vec4, 9 vec4 of incidence, 9 × 9 vec4 of exit, 10 vec4 of the
+/// directional tables' total reflectances and 1 + 4 + 405 of the shape table, 16 bytes each
+/// (checked against naga's layout in a test).
+pub(crate) const TABLES_UNIFORM_SIZE: usize = (5
+    + INCIDENCE_STEPS
+    + INCIDENCE_STEPS * INCIDENCE_STEPS
+    + DIRECTIONAL_ANGLES.len()
+    + 5
+    + SHAPE_ENTRIES)
+    * 16;
 const _: () = assert!(std::mem::size_of::<TablesUniform>() == TABLES_UNIFORM_SIZE);
 
 fn rgb(v: [f64; 3]) -> [f32; 4] {
@@ -243,7 +276,12 @@ pub(crate) fn encode(
     let directional = setup
         .directional
         .as_ref()
-        .filter(|_| setup.bssrdf == Bssrdf::Directional);
+        .filter(|_| setup.bssrdf != Bssrdf::Radial);
+    // The shape table as the scene pass uploads it (off: E = 1, w = 1).
+    let shape = PackedShading::new(&Shading {
+        shape: setup.shape.filter(|_| setup.bssrdf == Bssrdf::Shape),
+        ..Shading::default()
+    });
     let uniform = TablesUniform {
         radial: [
             setup.dr_cm as f32,
@@ -255,7 +293,11 @@ pub(crate) fn encode(
         total: rgb(total),
         cell: rgb(directional.map_or([1.0; 3], |t| t.cell_cm)),
         shape: [
-            directional.is_some() as u32,
+            match setup.bssrdf {
+                Bssrdf::Radial => 0,
+                Bssrdf::Directional => 1,
+                Bssrdf::Shape => 2,
+            },
             directional.map_or(0, |t| t.half_width as u32),
             setup.profile.len() as u32,
             0,
@@ -267,6 +309,9 @@ pub(crate) fn encode(
         directional_total: std::array::from_fn(|k| {
             rgb(directional.map_or([0.0; 3], |t| t.totals[k].map(|e| e.value)))
         }),
+        shape_params: shape.shape_params,
+        shape_grid: shape.shape_grid,
+        shape_entries: shape.shape,
     };
     // The cumulative share of each channel's ∫Rd dA, exactly 1 at the last bin.
     let dr = setup.dr_cm;
@@ -304,6 +349,7 @@ pub(crate) fn encode(
         label: match setup.bssrdf {
             Bssrdf::Radial => "surface gather (radial)",
             Bssrdf::Directional => "surface gather (directional)",
+            Bssrdf::Shape => "surface gather (shape-aware)",
         },
         wgsl: MC_BSSRDF_WGSL,
         buffers: vec![&ubuf, &pbuf, &cbuf, &dbuf],

@@ -69,12 +69,8 @@ fn sss_shape_grid(m: u32, j: u32) -> vec4<f32> {
     return g.materials[m].shape_grid[j];
 }
 
-fn sss_shape_energy_entry(m: u32, i: u32, k: u32) -> vec3<f32> {
-    return g.materials[m].shape_energy[9u * i + k].rgb;
-}
-
-fn sss_shape_shift_entry(m: u32, i: u32, k: u32) -> vec3<f32> {
-    return g.materials[m].shape_shift[9u * i + k].rgb;
+fn sss_shape_entry(m: u32, q: u32, i: u32, k: u32) -> vec3<f32> {
+    return g.materials[m].shape[135u * q + 9u * i + k].rgb;
 }
 
 // The fraction of emitter i's light that reaches `world` (unit normal n, `l` the unit direction

@@ -15,7 +15,12 @@
 //   With n_i's plane the forward shift carried light from a sphere's lit top towards its
 //   terminator (Skin1 red 7 % short at the top, Mitsuba's reference not); with n* the Mitsuba
 //   sphere's error fell from 7.0 to 5.7 % and the bust's from 22.0 to 16.1 % (CI size).
-// Both leave with h(θ_o; θ_i) (the exit table, at each sample's entry angle). Radii are drawn
+// - shape-aware: the directional response scaled for the body's shape (shading::ShapeTable) at
+//   the signed curvature of the chord from x_i to x_o, κ = (n_o − n_i)·d/|d|², d = x_o − x_i
+//   (on a sphere of radius R, n = (x − c)/R: (n_o − n_i)·d = |d|²/R for any two points, so κ =
+//   1/R exactly; −1/R around a cavity; 0 on a plane): E(κ, θ_i)·Rd(x/w, y/w; θ)/w² per channel,
+//   w = ⟨s⟩(κ)/⟨s⟩(0), which returns E times the half-space's light spread w times as wide.
+// All leave with h(θ_o; θ_i) (the exit table, at each sample's entry angle). Radii are drawn
 // from a mixture of the profile's own area density per channel (its CDF) and a share of uniform
 // disc sampling, which keeps the density positive wherever the 3-D distance may make the
 // response non-zero.
@@ -29,13 +34,19 @@ struct Tables {
     total: vec4<f32>,
     // rgb: cell side of each channel's directional table [cm].
     cell: vec4<f32>,
-    // x: 1 directional, 0 radial; y: the directional table's half width n; z: profile bins.
+    // x: 0 radial, 1 directional, 2 shape-aware; y: the directional table's half width n;
+    // z: profile bins.
     shape: vec4<u32>,
     // ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80°, and h(θ_o; θ_i) at 0°, 10°, …, 80°, [θ_i·9 + θ_o] (rgb).
     incidence: array<vec4<f32>, 9>,
     exit: array<vec4<f32>, 81>,
     // rgb: mc's total diffuse reflectance at each of the directional table's 10 angles [-].
     directional_total: array<vec4<f32>, 10>,
+    // The shape table as shading::PackedShading holds it (rgb σ_tr, w on; curvature nodes; E,
+    // ⟨x⟩, ⟨s⟩ at [135·q + 9·i + θ index]).
+    shape_params: vec4<f32>,
+    shape_grid: array<vec4<f32>, 4>,
+    shape_entries: array<vec4<f32>, 405>,
 };
 
 @group(0) @binding(6) var<uniform> tb: Tables;
@@ -53,6 +64,19 @@ fn sss_incidence_entry(m: u32, k: u32) -> vec3<f32> {
 
 fn sss_exit_entry(m: u32, k: u32) -> vec3<f32> {
     return tb.exit[k].rgb;
+}
+
+// The shape table shading::SHAPE_WGSL's lookups read.
+fn sss_shape_params(m: u32) -> vec4<f32> {
+    return tb.shape_params;
+}
+
+fn sss_shape_grid(m: u32, j: u32) -> vec4<f32> {
+    return tb.shape_grid[j];
+}
+
+fn sss_shape_entry(m: u32, q: u32, i: u32, k: u32) -> vec3<f32> {
+    return tb.shape_entries[135u * q + 9u * i + k].rgb;
 }
 
 fn model_sample_radius(state: ptr<function, u32>) -> f32 {
@@ -166,11 +190,21 @@ fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: v
     let k1 = min(k0 + 1u, 9u);
     let at_star = directional_total_at(a);
     let at_entry = directional_total_at(directional_index(cos_i));
+    // The shape: E and the stretch w at the chord's curvature (1 and 1 unless shape-aware).
+    var energy = vec3<f32>(1.0);
+    var w = vec3<f32>(1.0);
+    if tb.shape.x == 2u && r > 0.0 {
+        let curvature = dot(no - ni, d) / (r * r);
+        energy = sss_shape_energy(0u, curvature, cos_i);
+        w = max(sss_shape_width(0u, curvature, cos_i), vec3<f32>(1e-3));
+    }
     var result = vec3<f32>(0.0);
     for (var c = 0u; c < 3u; c++) {
         if at_star[c] > 0.0 {
-            let v = mix(directional_at(k0, c, x, y), directional_at(k1, c, x, y), a.y);
-            result[c] = v * at_entry[c] / at_star[c];
+            let xs = x / w[c];
+            let ys = y / w[c];
+            let v = mix(directional_at(k0, c, xs, ys), directional_at(k1, c, xs, ys), a.y);
+            result[c] = v * at_entry[c] / at_star[c] * energy[c] / (w[c] * w[c]);
         }
     }
     return result;

@@ -319,6 +319,13 @@ pub struct BudgetTerms {
     /// against the exact half-space BSSRDF (absent without such a model).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shifted_screen_space: Option<BudgetTerm>,
+    /// The shape-aware Monte Carlo gather against the reference (issue 47; absent without it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shape_aware: Option<BudgetTerm>,
+    /// The directional gather against the shape-aware one: what the body's curvature changes
+    /// (absent without it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shape: Option<BudgetTerm>,
     /// The full reference against the one without light between surfaces.
     pub between_surfaces: BudgetTerm,
 }
@@ -347,6 +354,12 @@ impl BudgetTerms {
                 "entry-shifted real-time ↔ directional gather (what the shift misses of it)",
                 t,
             ));
+        }
+        if let Some(t) = &self.shape_aware {
+            terms.push(("shape-aware Monte Carlo gather ↔ reference", t));
+        }
+        if let Some(t) = &self.shape {
+            terms.push(("shape: directional ↔ shape-aware gather", t));
         }
         terms.push((
             "light between surfaces: full reference ↔ reference",
@@ -544,6 +557,14 @@ mod tests {
         );
         let v = &MitsubaImages::parse(&shifted).unwrap()[0];
         assert_eq!(v.error_budget.as_ref().unwrap().terms.named().len(), 7);
+        // And the shape terms (issue 47).
+        let shaped = shifted.replacen(
+            r#""between_surfaces""#,
+            &format!(r#""shape_aware": {term}, "shape": {term}, "between_surfaces""#),
+            1,
+        );
+        let v = &MitsubaImages::parse(&shaped).unwrap()[0];
+        assert_eq!(v.error_budget.as_ref().unwrap().terms.named().len(), 9);
         let broken = with_budget.replacen(
             r#""rmse_noise_corrected_se": 0.002, "resolved""#,
             r#""resolved""#,

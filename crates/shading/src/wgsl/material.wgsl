@@ -1,4 +1,4 @@
-// One material's tables as a renderer uploads them (shading::PackedShading; 8,576 bytes, every
+// One material's tables as a renderer uploads them (shading::PackedShading; 10,736 bytes, every
 // member a vec4 so the layout is the same in uniform and storage buffers, std140 and std430).
 struct SssMaterial {
     // ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80° (rgb), and the ambient light's factor: its cosine-weighted
@@ -16,10 +16,9 @@ struct SssMaterial {
     // δ(θ) [cm] at θ = 0°, 10°, …, 80° (rgb); shift[0].w: 1 on, 0 off.
     shift: array<vec4<f32>, 9>,
     // The shape table (shading::ShapeTable): rgb σ_tr per channel [cm⁻¹], w: 1 on / 0 off; the
-    // curvature nodes κ, four per vec4 (15); E and ⟨x⟩ [cm] at node i and θ = 0°, 10°, …, 80°,
-    // [9·i + θ index] (rgb; ones and zeros: off).
+    // curvature nodes κ, four per vec4 (15); E, ⟨x⟩ [cm] and ⟨s⟩ [cm] (q = 0, 1, 2) at node i and
+    // θ = 0°, 10°, …, 80°, [135·q + 9·i + θ index] (rgb; E ones, the others zeros: off).
     shape_params: vec4<f32>,
     shape_grid: array<vec4<f32>, 4>,
-    shape_energy: array<vec4<f32>, 135>,
-    shape_shift: array<vec4<f32>, 135>,
+    shape: array<vec4<f32>, 405>,
 };

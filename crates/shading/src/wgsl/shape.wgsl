@@ -1,11 +1,13 @@
 // The body's shape (shading::ShapeTable): light entering a sphere of radius R (convex) or the
 // medium around a spherical cavity of radius R (concave) at θ returns E(κ, θ) times what a
-// half-space returns within 8 diffusion lengths of its entry, centred ⟨x⟩(κ, θ) [cm] ahead of it,
-// κ = 1/(σ_tr·R) per channel, signed (> 0 convex). The scene pass multiplies the light entering
-// an SSS surface by E at the surface's mean curvature there.
+// half-space returns within 8 diffusion lengths of its entry, centred ⟨x⟩(κ, θ) [cm] ahead of it
+// and ⟨s⟩(κ, θ) [cm] from it on average, κ = 1/(σ_tr·R) per channel, signed (> 0 convex). The
+// scene pass multiplies the light entering an SSS surface by E at the surface's mean curvature
+// there; the shape-aware surface gather scales the half-space's Rd(x, y; θ) by E and its width
+// by ⟨s⟩(κ)/⟨s⟩(0) at the curvature of the chord from entry to exit.
 // Reads, which the host defines: sss_shape_params(m) (rgb: σ_tr per channel [cm⁻¹]; w: 1 on, 0
-// off), sss_shape_grid(m, j) (the curvature nodes κ 4j … 4j + 3, SSS_SHAPE_STEPS of them),
-// sss_shape_energy_entry(m, i, k) and sss_shape_shift_entry(m, i, k) (node i, θ = 10°·k).
+// off), sss_shape_grid(m, j) (the curvature nodes κ 4j … 4j + 3, SSS_SHAPE_STEPS of them) and
+// sss_shape_entry(m, q, i, k) (quantity q: 0 E, 1 ⟨x⟩ [cm], 2 ⟨s⟩ [cm]; node i; θ = 10°·k).
 
 // Nodes of the curvature axis (shading::CURVATURE_STEPS).
 const SSS_SHAPE_STEPS: u32 = 15u;
@@ -30,49 +32,49 @@ fn sss_curvature_position(m: u32, kappa: f32) -> vec2<f32> {
     return vec2<f32>(f32(i), (k - lo) / (sss_shape_node(m, i + 1u) - lo));
 }
 
-// E (rgb) where the surface's signed curvature is `curvature` [cm⁻¹] (±1/R, > 0 convex) and the
-// light enters at cos θ = cos_i: linear in κ = curvature/σ_tr between the nodes, linear in θ as
-// the angle tables (shading::ShapeTable::at's energy is the CPU twin). 1 where the table is off.
-fn sss_shape_energy(m: u32, curvature: f32, cos_i: f32) -> vec3<f32> {
-    let p = sss_shape_params(m);
-    if p.w < 0.5 {
-        return vec3<f32>(1.0);
-    }
+// Quantity q (rgb) where the surface's signed curvature is `curvature` [cm⁻¹] (±1/R, > 0 convex)
+// and the light enters at cos θ = cos_i: linear in κ = curvature/σ_tr between the nodes, linear
+// in θ as the angle tables (shading::ShapeTable::at is the CPU twin).
+fn sss_shape_at(m: u32, q: u32, curvature: f32, cos_i: f32) -> vec3<f32> {
+    let sigma_tr = sss_shape_params(m).rgb;
     let a = angle_index(cos_i);
     let k0 = u32(a.x);
     let k1 = min(k0 + 1u, 8u);
-    var e = vec3<f32>(1.0);
+    var v = vec3<f32>(0.0);
     for (var c = 0u; c < 3u; c++) {
-        let s = sss_curvature_position(m, curvature / p[c]);
+        let s = sss_curvature_position(m, curvature / sigma_tr[c]);
         let i = u32(s.x);
-        let lo = mix(sss_shape_energy_entry(m, i, k0)[c], sss_shape_energy_entry(m, i, k1)[c], a.y);
-        let hi = mix(sss_shape_energy_entry(m, i + 1u, k0)[c],
-            sss_shape_energy_entry(m, i + 1u, k1)[c], a.y);
-        e[c] = mix(lo, hi, s.y);
+        let lo = mix(sss_shape_entry(m, q, i, k0)[c], sss_shape_entry(m, q, i, k1)[c], a.y);
+        let hi = mix(sss_shape_entry(m, q, i + 1u, k0)[c], sss_shape_entry(m, q, i + 1u, k1)[c], a.y);
+        v[c] = mix(lo, hi, s.y);
     }
-    return e;
+    return v;
+}
+
+// E (rgb): what the body returns over a half-space; 1 where the table is off.
+fn sss_shape_energy(m: u32, curvature: f32, cos_i: f32) -> vec3<f32> {
+    if sss_shape_params(m).w < 0.5 {
+        return vec3<f32>(1.0);
+    }
+    return sss_shape_at(m, 0u, curvature, cos_i);
 }
 
 // ⟨x⟩ [cm] (rgb), the returned light's centroid ahead of its entry along the light's direction
-// over the surface, where the surface's signed curvature along that direction is `curvature`
-// [cm⁻¹], at cos θ = cos_i; as sss_shape_energy (shading::ShapeTable::at's shift is the CPU
-// twin). 0 where the table is off.
+// over the surface (`curvature` along that direction); 0 where the table is off.
 fn sss_shape_shift(m: u32, curvature: f32, cos_i: f32) -> vec3<f32> {
-    let p = sss_shape_params(m);
-    if p.w < 0.5 {
+    if sss_shape_params(m).w < 0.5 {
         return vec3<f32>(0.0);
     }
-    let a = angle_index(cos_i);
-    let k0 = u32(a.x);
-    let k1 = min(k0 + 1u, 8u);
-    var x = vec3<f32>(0.0);
-    for (var c = 0u; c < 3u; c++) {
-        let s = sss_curvature_position(m, curvature / p[c]);
-        let i = u32(s.x);
-        let lo = mix(sss_shape_shift_entry(m, i, k0)[c], sss_shape_shift_entry(m, i, k1)[c], a.y);
-        let hi = mix(sss_shape_shift_entry(m, i + 1u, k0)[c],
-            sss_shape_shift_entry(m, i + 1u, k1)[c], a.y);
-        x[c] = mix(lo, hi, s.y);
+    return sss_shape_at(m, 1u, curvature, cos_i);
+}
+
+// ⟨s⟩(κ)/⟨s⟩(0) (rgb): how much wider than a half-space's the returned light spreads (its mean
+// distance from the entry along the surface); 1 where the table is off or returns nothing.
+fn sss_shape_width(m: u32, curvature: f32, cos_i: f32) -> vec3<f32> {
+    if sss_shape_params(m).w < 0.5 {
+        return vec3<f32>(1.0);
     }
-    return x;
+    let body = sss_shape_at(m, 2u, curvature, cos_i);
+    let half = sss_shape_at(m, 2u, 0.0, cos_i);
+    return select(vec3<f32>(1.0), body / half, half > vec3<f32>(0.0));
 }
