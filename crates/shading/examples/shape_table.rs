@@ -69,15 +69,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
 
-    let media = [0, 1, 2].map(|c| {
-        let l = &spec.channels[c].layer;
-        Coefficients {
-            n: l.n / spec.n_above,
-            mu_a: l.mu_a,
-            mu_s: l.mu_s,
-            g: l.g,
-        }
-    });
+    let media = shading::shape::channel_media(&spec);
 
     println!();
     println!(

@@ -151,6 +151,20 @@ impl ShapeEntry {
 /// One node's entries, [θ index][channel].
 pub type ShapeRow = [[ShapeEntry; 3]; INCIDENCE_STEPS];
 
+/// The media a table of the first three channels of `spec` runs: each channel's layer with η
+/// relative to the ambient index above it, in air.
+pub fn channel_media(spec: &mc::BatchSpec) -> [Coefficients; 3] {
+    [0, 1, 2].map(|c| {
+        let l = &spec.channels[c].layer;
+        Coefficients {
+            n: l.n / spec.n_above,
+            mu_a: l.mu_a,
+            mu_s: l.mu_s,
+            g: l.g,
+        }
+    })
+}
+
 /// The body of signed curvature `kappa` [-] in a medium of σ_tr = `sigma_tr` [cm⁻¹]: a sphere of
 /// radius 1/(κσ_tr) for κ > 0, a cavity of radius 1/(|κ|σ_tr) for κ < 0, the half-space for 0.
 pub fn curved_body(kappa: f64, sigma_tr: f64) -> Body {
@@ -246,15 +260,7 @@ impl ShapeTable {
                 "one material (three channels) per table",
             ));
         }
-        let media = [0, 1, 2].map(|c| {
-            let l = &spec.channels[c].layer;
-            Coefficients {
-                n: l.n / spec.n_above,
-                mu_a: l.mu_a,
-                mu_s: l.mu_s,
-                g: l.g,
-            }
-        });
+        let media = channel_media(spec);
         let sigma_tr = media.map(|m| m.sigma_tr());
         let lit: Vec<usize> = (0..3).filter(|&c| media[c].mu_s > 0.0).collect();
         for &c in &lit {
