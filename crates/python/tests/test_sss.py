@@ -346,6 +346,7 @@ def test_render_without_scattering_conserves_the_lambertian_light():
     ({"incidence_aware": "maybe"}, "incidence_aware"),
     ({"method": "directional-dipole", "entry_shift": True}, "entry_shift"),
     ({"method": "area-gather", "translucency": "on"}, "translucency"),
+    ({"method": "surface-gather", "shape": True}, "shape"),
     ({"light": "sun:1,2,3"}, "light"),
     ({"scene": "pair"}, "material"),
     ({"exit_aware": "sideways"}, "exit_aware"),
@@ -369,7 +370,8 @@ def test_the_render_example_runs(tmp_path):
 def test_package_holds_the_tables_the_renderer_reads():
     # The package sss export writes, as bytes and arrays: ρ(0°)/ρ(0) is 1 by definition, the exit
     # law moves light between view angles and adds none (cosine-weighted mean 1 within 2 % for
-    # the 10° steps), tables.bin is 671 vec4 whose first nine hold the incidence table.
+    # the 10° steps), tables.bin is 671 vec4 whose first nine hold the incidence table, and the
+    # shape table.
     p = sss.package("skin1", photons=QUICK, incidence_photons=20_000, translucency_photons=5_000)
     assert set(p["files"]) == {"README.md", "tables.json", "tables.bin", "kernel.json", "kernel.wgsl",
                                "kernel.glsl", "kernel.hlsl", "sss_lookups.wgsl", "sss_lookups.glsl",
@@ -383,6 +385,10 @@ def test_package_holds_the_tables_the_renderer_reads():
         np.testing.assert_allclose(mean.sum(axis=0), 1.0, atol=0.02)
     table = np.frombuffer(p["files"]["tables.bin"], dtype="<f4").reshape(671, 4)
     np.testing.assert_array_equal(table[:9, :3], p["incidence"])
+    # It carries the shape table (on: shape_params.w = 1 after the 261 vec4 before it), whose E is
+    # exactly 1 at κ = 0, the half-space against itself (node 7 of 15, 9 angles each).
+    assert table[261, 3] == 1.0
+    np.testing.assert_array_equal(table[266 + 9 * 7:266 + 9 * 8, :3], np.ones((9, 3)))
     tr = p["translucency"]
     assert tr["tt_over_rho"].shape == (16, 3) and np.all(np.diff(tr["tt_over_rho"], axis=0) <= 0)
     assert b"sss_exit" in p["files"]["sss_lookups.glsl"]
