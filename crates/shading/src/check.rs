@@ -74,11 +74,10 @@ impl CheckSample {
         };
         let (k, cos) = (self.curvature_per_cm, self.cos_i);
         let (energy, shift, width) = match &s.shape {
-            Some(t) => (
-                t.at(k, cos).energy,
-                t.at(k, cos).shift_cm,
-                t.width_ratio(k, cos),
-            ),
+            Some(t) => {
+                let f = t.at(k, cos);
+                (f.energy, f.shift_cm, t.width_ratio(k, cos))
+            }
             None => ([1.0; 3], [0.0; 3], [1.0; 3]),
         };
         [

@@ -299,8 +299,12 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
     var through_light = vec3<f32>(0.0);
     let cos_o = dot(n, view_dir);
     let shifting = sss && g.materials[m].shift[0].w > 0.5;
-    // The shape table's E at the mean curvature here (1 where it is off).
-    let curvature = select(0.0, mean_curvature(loc, n), sss && g.materials[m].shape_params.w > 0.5);
+    // The mean curvature the shape table's E is read at (only where the table is on: WGSL's
+    // select would evaluate it on every pixel).
+    var curvature = 0.0;
+    if sss && g.materials[m].shape_params.w > 0.5 {
+        curvature = mean_curvature(loc, n);
+    }
     for (var i = 0u; i < u32(g.params.x); i++) {
         let l4 = g.lights[i].pos_or_dir;
         var l = normalize(l4.xyz);
