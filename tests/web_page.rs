@@ -2,11 +2,14 @@
 //! WebGPU adapter (SwiftShader), captures its default view of the sphere, the fins and the bust
 //! (`?capture`), and the image equals `sss render`'s PFM of the same scene and material.
 //!
-//! The two rasterizers (SwiftShader in Chromium, lavapipe for `sss render`) cover a few silhouette
-//! and shadow-edge pixels differently: a pixel of the fin is background in one and fin in the
-//! other. So the image is compared with one pixel of rasterization slack (each pixel against the
-//! nearest of the other image's 3×3 neighbourhood): that RMSE within 1 % of the mean; the plain
-//! RMSE (every pixel against the same pixel) is printed, and the means agree within 0.5 %.
+//! The comparison runs at `sss render`'s default size, 1920×1080: the plain RMSE (every pixel
+//! against the same pixel) within 1 % of the mean. The two rasterizers (SwiftShader in Chromium,
+//! lavapipe for `sss render`) cover a few silhouette pixels differently (fin in one image,
+//! background in the other), and at some sizes an edge falls within their different sub-pixel
+//! precisions of a pixel centre (the bust's floor edge at 480×270 lies 0.027 px from one: a whole
+//! row differs), so the test also asserts the RMSE with one pixel of rasterization slack (each
+//! pixel against the nearest of the other image's 3×3 neighbourhood) within 1 %, which holds at
+//! every size and is what the method is judged by, and the means within 0.5 %.
 
 mod common;
 use common::{report_skip, sss};
@@ -17,8 +20,12 @@ use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Duration;
 
-const WIDTH: u32 = 480;
-const HEIGHT: u32 = 270;
+/// `sss render`'s default size, where the page's default view is compared.
+const WIDTH: u32 = 1920;
+const HEIGHT: u32 = 1080;
+/// The size of the reference folder's view (a smaller check of the reference's camera and light).
+const REFERENCE_WIDTH: u32 = 480;
+const REFERENCE_HEIGHT: u32 = 270;
 
 /// Serves `root` on 127.0.0.1 (GET) and hands the body of the first POST to the channel.
 fn serve(root: PathBuf) -> (u16, mpsc::Receiver<Vec<u8>>) {
@@ -144,9 +151,10 @@ fn capture(
     (w, h, rgb)
 }
 
-/// The page's capture of `name` equals `sss render`'s PFM: RMSE with one pixel of rasterization
-/// slack within 1 % of the mean, the means within 0.5 % (the plain RMSE printed).
-fn page_matches(name: &str, (w, h, page): (usize, usize, &[f32]), pfm: &Path) {
+/// The page's capture of `name` equals `sss render`'s PFM: the RMSE with one pixel of
+/// rasterization slack within 1 % of the mean, the means within 0.5 %, and where `plain` (at the
+/// default size) the plain RMSE within 1 % too (printed always).
+fn page_matches(name: &str, (w, h, page): (usize, usize, &[f32]), pfm: &Path, plain_too: bool) {
     let (rw, rh, rendered) = read_pfm(pfm);
     assert_eq!((w, h), (rw, rh), "{name}");
     let (plain, slack, mean) = errors(w, h, page, &rendered);
@@ -156,6 +164,7 @@ fn page_matches(name: &str, (w, h, page): (usize, usize, &[f32]), pfm: &Path) {
         100.0 * plain,
         100.0 * slack
     );
+    assert!(!plain_too || plain <= 0.01, "{name}: RMSE {plain}");
     assert!(
         slack <= 0.01,
         "{name}: RMSE with one pixel of slack {slack}"
@@ -327,7 +336,12 @@ fn the_page_draws_what_sss_render_draws() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let name = scene.trim_end_matches(".obj");
         let (w, h, page) = capture(port, &rx, name, true);
-        page_matches(name, (w, h, &page), &path.join(&out).join("render.pfm"));
+        page_matches(
+            name,
+            (w, h, &page),
+            &path.join(&out).join("render.pfm"),
+            true,
+        );
     }
 }
 
@@ -353,7 +367,7 @@ fn the_page_draws_a_reference_in_its_view() {
     let (light, albedo) = ("point:-12,20,14:500", "0.566,0.325,0.195");
     std::fs::create_dir(path.join("ref")).unwrap();
     let view = serde_json::json!({
-        "name": "sphere", "scene": "sphere", "width": WIDTH, "height": HEIGHT,
+        "name": "sphere", "scene": "sphere", "width": REFERENCE_WIDTH, "height": REFERENCE_HEIGHT,
         "camera": [0.0, 9.0, 24.0], "target": [-1.5, 6.5, 3.0], "fov_deg": 16.0,
         "boxes": [bar], "lights": [light], "floor_albedo": [0.0, 0.0, 0.0], "specular": 0.0,
         "ambient": 0.0, "object_albedo": [0.566, 0.325, 0.195], "material_toml": SKIN1_ETA1,
@@ -362,7 +376,7 @@ fn the_page_draws_a_reference_in_its_view() {
     let npz = std::process::Command::new("python3")
         .arg("-c")
         .arg(format!(
-            "import numpy as np; np.savez_compressed('ref/arrays.npz', reference=np.full(({HEIGHT}, {WIDTH}, 3), 0.05))"
+            "import numpy as np; np.savez_compressed('ref/arrays.npz', reference=np.full(({REFERENCE_HEIGHT}, {REFERENCE_WIDTH}, 3), 0.05))"
         ))
         .current_dir(path)
         .status()
@@ -398,7 +412,7 @@ fn the_page_draws_a_reference_in_its_view() {
     let png = std::fs::read(path.join("site/frames/sphere/reference.png")).unwrap();
     assert_eq!(&png[..4], b"\x89PNG");
     std::fs::write(path.join("skin1-eta-1-0.toml"), SKIN1_ETA1).unwrap();
-    let (width, height) = (WIDTH.to_string(), HEIGHT.to_string());
+    let (width, height) = (REFERENCE_WIDTH.to_string(), REFERENCE_HEIGHT.to_string());
     let mut args = vec![
         "render",
         "--material",
@@ -436,5 +450,6 @@ fn the_page_draws_a_reference_in_its_view() {
         "reference view",
         (w, h, &page),
         &path.join("render/render.pfm"),
+        false,
     );
 }
