@@ -1,6 +1,8 @@
 //! `sss table`: tables written whole, sharded builds merged bit-identical to the one-machine
-//! build for N = 1, 3, 4 (white, the default, and one walk per albedo, `--white off`) (and `--shard auto` from a job array's environment), profiles and
-//! kernels from tables, and bad input refused with exit code 2, naming the field, writing nothing.
+//! build for N = 1, 3, 4 (white, the default, and one walk per albedo, `--white off`) (and
+//! `--shard auto` from a job array's environment), the same tables on the GPU (`--device gpu`),
+//! profiles and kernels from tables, and bad input refused with exit code 2, naming the field,
+//! writing nothing.
 
 mod common;
 
@@ -307,4 +309,44 @@ fn simulate_takes_its_slice_from_a_job_array() {
     assert!(csv("merged") == csv("whole"));
     // A Kubernetes Indexed Job needs N.
     refused(&run(&[("JOB_COMPLETION_INDEX", "1")], "k8s"), "auto/N");
+}
+
+/// `--device gpu` builds the same table file on the GPU (lavapipe in CI), named for its adapter,
+/// equal to the CPU's within noise (Skin1's profile from each: χ²/dof ≤ 1.5 per channel over the
+/// bins both resolve; the statistics per albedo are `crates/mc_gpu/tests/table.rs`'s), and a
+/// sharded GPU build is refused.
+#[test]
+fn the_gpu_builds_the_same_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let gpu = table(&["--device", "gpu", "--out", "gpu"], d);
+    if common::no_adapter(&gpu) {
+        return;
+    }
+    ok(&gpu);
+    let text = std::fs::read_to_string(d.join("gpu").join(FILE)).unwrap();
+    let t = mc::table::Table::from_json(&text, FILE).unwrap();
+    assert!(t.tracer.as_deref().is_some_and(|s| s.starts_with("gpu: ")));
+    ok(&table(&["--out", "cpu"], d));
+    let profile = |dir: &str| {
+        ok(&from_table("skin1", dir, &format!("{dir}.csv"), d));
+        let csv = std::fs::read_to_string(d.join(format!("{dir}.csv"))).unwrap();
+        fit::Profile::from_csv(&csv, "p.csv").unwrap()
+    };
+    let (a, b) = (profile("gpu"), profile("cpu"));
+    for c in 0..3 {
+        let (mut chi2, mut dof) = (0.0, 0);
+        for k in 0..a.r.len() {
+            let var = a.se[c][k].powi(2) + b.se[c][k].powi(2);
+            if var > 0.0 && var.sqrt() < 0.1 * (a.rd[c][k] + b.rd[c][k]) / 2.0 {
+                chi2 += (a.rd[c][k] - b.rd[c][k]).powi(2) / var;
+                dof += 1;
+            }
+        }
+        assert!(
+            dof >= 10 && chi2 / dof as f64 <= 1.5,
+            "channel {c}: χ² {chi2} over {dof}"
+        );
+    }
+    refused(&table(&["--device", "gpu", "--shard", "1/2"], d), "--shard");
 }

@@ -59,14 +59,13 @@ pub struct TableArgs {
     #[arg(long)]
     threads: Option<usize>,
 
+    /// Where the walks are traced: cpu (every core) or gpu (wgpu compute, the same tables within noise; not with --shard)
+    #[arg(long, value_parser = ["cpu", "gpu"], default_value = "cpu", conflicts_with = "shard")]
+    device: String,
+
     /// Print a machine-readable summary on stdout
     #[arg(long)]
     json: bool,
-}
-
-/// The file name of the table of (g, η).
-pub fn file_name(g: f64, eta: f64) -> String {
-    format!("g{g}_eta{eta}.table.json")
 }
 
 fn specs(a: &TableArgs) -> Result<Vec<TableSpec>> {
@@ -91,23 +90,26 @@ pub fn run(a: TableArgs) -> Result<()> {
         None => (1, 1),
     };
     let start = Instant::now();
-    let label = if a.shard.is_some() {
-        format!("table shard {i}/{n}")
-    } else {
-        format!("{} table(s)", specs.len())
+    let label = match &a.shard {
+        Some(_) => format!("table shard {i}/{n}"),
+        None => format!("{} table(s)", specs.len()),
     };
     let bar = common::photons(TableShard::photons(&specs, i, n), &label);
+    if a.device == "gpu" {
+        let (tables, events) = mc_gpu::tables(&gpu::Gpu::new()?, &specs, &|k| bar.inc(k))?;
+        bar.finish_and_clear();
+        return write(&tables, &a.out, a.json, start, Some(events));
+    }
     let shard = pool.install(|| TableShard::trace(&specs, i, n, &|k| bar.inc(k)))?;
     bar.finish_and_clear();
-    let seconds = start.elapsed().as_secs_f64();
     let events = shard.interactions();
     if a.shard.is_some() {
         let path = a.out.join(format!("table-shard-{i}-of-{n}.json"));
-        let timing = (seconds, Some(events));
+        let timing = (start.elapsed().as_secs_f64(), Some(events));
         return common::write_shard(&path, shard.to_json(), (i, n), timing, a.json);
     }
     let tables = table::merge_tables(&[(String::new(), shard)])?;
-    write(&tables, &a.out, a.json, seconds, Some(events))
+    write(&tables, &a.out, a.json, start, Some(events))
 }
 
 /// `sss merge` of table shards, given each file's name and text.
@@ -118,20 +120,22 @@ pub fn merge(texts: &[(String, String)], out: &Path, json: bool) -> Result<()> {
         .map(|(name, text)| Ok((name.clone(), TableShard::from_json(text, name)?)))
         .collect::<Result<Vec<_>>>()?;
     let tables = table::merge_tables(&shards)?;
-    write(&tables, out, json, start.elapsed().as_secs_f64(), None)
+    write(&tables, out, json, start, None)
 }
 
+/// Writes the tables built since `start` and reports them.
 fn write(
     tables: &[Table],
     out: &Path,
     json: bool,
-    seconds: f64,
+    start: Instant,
     events: Option<u64>,
 ) -> Result<()> {
+    let seconds = start.elapsed().as_secs_f64();
     let mut files = Outputs::default();
     let mut rows = Vec::new();
     for t in tables {
-        let path = out.join(file_name(t.g, t.eta));
+        let path = out.join(t.file_name());
         files.add(&path, t.to_json());
         let (line, row) = t.summary(&path);
         if !json {
@@ -146,11 +150,8 @@ fn write(
             "events_per_second": events.map(|e| e as f64 / seconds),
         }))?;
     } else if let Some(e) = events {
-        eprintln!(
-            "{} table(s) in {seconds:.1} s ({:.3e} events/s)",
-            tables.len(),
-            e as f64 / seconds
-        );
+        let (count, rate) = (tables.len(), e as f64 / seconds);
+        eprintln!("{count} table(s) in {seconds:.1} s ({rate:.3e} events/s)");
     }
     Ok(())
 }

@@ -229,29 +229,9 @@ impl TableSpec {
     /// The table from the batch's group accumulators (one per albedo, as
     /// [`crate::accumulate_batch`] or [`crate::shard::merge`] return them).
     pub fn table(&self, accs: &[Accumulator]) -> Result<Table> {
-        if accs.len() != self.albedos.len() {
-            return Err(McError::invalid(
-                "accumulators",
-                accs.len(),
-                "one per albedo of the table is required",
-            ));
-        }
+        self.check_rows(accs.len())?;
         let sources = edge_sources();
-        let mut t = Table {
-            format: FORMAT.into(),
-            g: self.g,
-            eta: self.eta,
-            photons: self.photons,
-            seed: self.seed,
-            white: self.white,
-            rsp: crate::fresnel::specular(1.0, self.eta, None),
-            albedo: self.albedos.clone(),
-            radius: radius_edges(),
-            cumulative: Vec::new(),
-            cumulative_sq: Vec::new(),
-            rd: Vec::new(),
-            rd_sq: Vec::new(),
-        };
+        let mut rows = Vec::with_capacity(accs.len());
         for acc in accs {
             let l = acc.layout;
             if l.channels != LEVELS || l.nr != LEVEL_BINS || l.na != 1 {
@@ -282,13 +262,99 @@ impl TableSpec {
                 p.push(pk.clamp(pp, rd.max(pp)));
                 q.push(qk.clamp(qp, rd_sq.max(qp)));
             }
-            t.cumulative.push(p);
-            t.cumulative_sq.push(q);
-            t.rd.push(rd);
-            t.rd_sq.push(rd_sq);
+            rows.push(Row { p, q, rd, rd_sq });
         }
-        Ok(t)
+        Ok(self.assemble(rows, None))
     }
+
+    /// The table from exact sums per albedo over the radial intervals of [`radius_edges`] (one
+    /// more than the edges: [0, ρ₀), [ρ₀, ρ₁), …, [ρ_last, ∞)), as a tracer that bins each exit
+    /// once returns them (the GPU's); `tracer` names it in the table ([`Table::tracer`]).
+    pub fn table_from_intervals(&self, rows: &[IntervalSums], tracer: &str) -> Result<Table> {
+        self.check_rows(rows.len())?;
+        let intervals = radius_edges().len() + 1;
+        let mut out = Vec::with_capacity(rows.len());
+        for r in rows {
+            if r.sum.len() != intervals || r.sum_sq.len() != intervals {
+                return Err(McError::invalid(
+                    "interval sums",
+                    format!("{} and {}", r.sum.len(), r.sum_sq.len()),
+                    "a table needs one per radial interval (radius_edges() + 1)",
+                ));
+            }
+            let n = r.photons.max(1) as f64;
+            // Exact prefix sums of non-negative integers: monotone without clamping.
+            let prefix = |v: &[i128]| -> Vec<f64> {
+                v.iter()
+                    .scan(0i128, |acc, &x| {
+                        *acc += x;
+                        Some(fixed(*acc) / n)
+                    })
+                    .collect()
+            };
+            let (mut p, mut q) = (prefix(&r.sum), prefix(&r.sum_sq));
+            let (rd, rd_sq) = (p.pop().unwrap_or(0.0), q.pop().unwrap_or(0.0));
+            out.push(Row { p, q, rd, rd_sq });
+        }
+        Ok(self.assemble(out, Some(tracer.to_string())))
+    }
+
+    fn check_rows(&self, rows: usize) -> Result<()> {
+        if rows != self.albedos.len() {
+            return Err(McError::invalid(
+                "accumulators",
+                rows,
+                "one per albedo of the table is required",
+            ));
+        }
+        Ok(())
+    }
+
+    fn assemble(&self, rows: Vec<Row>, tracer: Option<String>) -> Table {
+        let mut t = Table {
+            format: FORMAT.into(),
+            g: self.g,
+            eta: self.eta,
+            photons: self.photons,
+            seed: self.seed,
+            white: self.white,
+            tracer,
+            rsp: crate::fresnel::specular(1.0, self.eta, None),
+            albedo: self.albedos.clone(),
+            radius: radius_edges(),
+            cumulative: Vec::new(),
+            cumulative_sq: Vec::new(),
+            rd: Vec::new(),
+            rd_sq: Vec::new(),
+        };
+        for r in rows {
+            t.cumulative.push(r.p);
+            t.cumulative_sq.push(r.q);
+            t.rd.push(r.rd);
+            t.rd_sq.push(r.rd_sq);
+        }
+        t
+    }
+}
+
+/// One albedo's exact sums over a table's radial intervals ([`TableSpec::table_from_intervals`]),
+/// in the host's fixed point (units of 2⁻⁶⁴ of a photon's weight, as [`Accumulator`]'s).
+#[derive(Clone, Debug, PartialEq)]
+pub struct IntervalSums {
+    /// Σw per interval.
+    pub sum: Vec<i128>,
+    /// Σw² per interval (each photon leaves once: its squared weight).
+    pub sum_sq: Vec<i128>,
+    /// Photons traced.
+    pub photons: u64,
+}
+
+/// One albedo of a table: cumulative reflectance and its second moment per edge, and totals.
+struct Row {
+    p: Vec<f64>,
+    q: Vec<f64>,
+    rd: f64,
+    rd_sq: f64,
 }
 
 fn fixed(s: i128) -> f64 {
@@ -313,6 +379,9 @@ pub struct Table {
     /// written before: one walk per albedo.
     #[serde(default)]
     pub white: bool,
+    /// The GPU adapter that traced the table (`sss table --device gpu`); absent: the CPU tracer.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tracer: Option<String>,
     /// Specular reflectance at normal incidence [-], not included in any reflectance here.
     pub rsp: f64,
     /// Single-scattering albedos σs/σt, increasing [-].
@@ -338,6 +407,11 @@ fn se_of(mean: f64, mean_sq: f64, n: u64) -> f64 {
 }
 
 impl Table {
+    /// The file `sss table` writes it to: `g{g}_eta{η}.table.json`.
+    pub fn file_name(&self) -> String {
+        format!("g{}_eta{}.table.json", self.g, self.eta)
+    }
+
     /// What a build reports of the table written to `file`, as a line for the user and as JSON:
     /// its albedos and photons, total Rd at the largest albedo with its standard error, and the
     /// radii it reaches [mean free paths].
@@ -349,8 +423,9 @@ impl Table {
         } else {
             "one walk each"
         };
+        let tracer = self.tracer.as_deref().unwrap_or("cpu");
         let line = format!(
-            "table g = {}, η = {}: {} albedos up to {} × {} photons ({walks}); Rd at the largest {rd:.5} ± {se:.5}; radii to {:.0} mean free paths → {}",
+            "table g = {}, η = {}: {} albedos up to {} × {} photons ({walks}, {tracer}); Rd at the largest {rd:.5} ± {se:.5}; radii to {:.0} mean free paths → {}",
             self.g,
             self.eta,
             self.albedo.len(),
@@ -362,6 +437,7 @@ impl Table {
         let json = serde_json::json!({
             "g": self.g, "eta": self.eta, "file": file, "albedos": self.albedo.len(),
             "photons_per_albedo": self.photons, "seed": self.seed, "white": self.white,
+            "tracer": tracer,
             "max_albedo": self.albedo[last], "rd_at_max_albedo": rd,
             "rd_at_max_albedo_se": se, "reach_mfp": self.reach(),
         });
@@ -973,6 +1049,81 @@ mod tests {
             assert!(w[1] > w[0] && w[1] / w[0] <= 2.0 + 1e-12, "{w:?}");
         }
         assert!(*e.last().unwrap() > 4000.0);
+    }
+
+    /// The same exits scored on the level grids (as the CPU tracer does) and on the radial
+    /// intervals (as the GPU does) give the same table: every level's bin edge is an edge of
+    /// the intervals, and an exit on an edge counts above it in both.
+    #[test]
+    fn interval_sums_give_the_level_grids_table() {
+        let spec = TableSpec {
+            g: 0.0,
+            eta: 1.4,
+            albedos: default_albedos(8, 0.99),
+            photons: 500,
+            seed: 1,
+            white: true,
+        };
+        let edges = radius_edges();
+        let layout = crate::tally::Layout {
+            nr: LEVEL_BINS,
+            nz: 1,
+            na: 1,
+            layers: 1,
+            rz: false,
+            rz_se: false,
+            channels: LEVELS,
+            xy: 0,
+            scores: 0,
+        };
+        let levels: Vec<_> = (0..LEVELS)
+            .map(|j| crate::grid::GridIndex::new(&level_grid(j)))
+            .collect();
+        let (mut accs, mut rows) = (Vec::new(), Vec::new());
+        for a in 0..spec.albedos.len() {
+            let mut acc = Accumulator::new(layout);
+            let mut row = IntervalSums {
+                sum: vec![0; edges.len() + 1],
+                sum_sq: vec![0; edges.len() + 1],
+                photons: spec.photons,
+            };
+            for i in 0..spec.photons {
+                // Radii from 10⁻⁴ to 10⁴ mean free paths, some exactly on edges.
+                let r = if i % 7 == 0 {
+                    edges[(i as usize * 13 + a) % edges.len()]
+                } else {
+                    10f64
+                        .powf(-4.0 + 8.0 * ((i * 7919 + a as u64 * 104_729) % 1000) as f64 / 1000.0)
+                };
+                let w = (1 + (i + a as u64) % 5) as i128 * (1 << 50);
+                for (j, g) in levels.iter().enumerate() {
+                    acc.sum[layout.rd_ra(j) + g.ir(r)] += w;
+                    acc.sum_sq[layout.rd_ra(j) + g.ir(r)] += (w * w) >> 64;
+                }
+                let m = edges.partition_point(|&e| e <= r);
+                row.sum[m] += w;
+                row.sum_sq[m] += (w * w) >> 64;
+            }
+            acc.photons = spec.photons;
+            accs.push(acc);
+            rows.push(row);
+        }
+        let by_levels = spec.table(&accs).unwrap();
+        let by_intervals = spec.table_from_intervals(&rows, "test").unwrap();
+        assert_eq!(by_intervals.tracer.as_deref(), Some("test"));
+        assert_eq!(
+            Table {
+                tracer: None,
+                ..by_intervals
+            },
+            by_levels
+        );
+        let short = IntervalSums {
+            sum: vec![0; 3],
+            ..rows[0].clone()
+        };
+        let e = spec.table_from_intervals(&vec![short; 8], "test");
+        assert!(e.unwrap_err().to_string().contains("radial interval"));
     }
 
     #[test]

@@ -17,8 +17,9 @@
 //! whatever the dispatch size. Photon k draws from its own stream of (seed, k).
 //!
 //! Main items: [`run`] (a layered [`mc::RunSpec`], like [`mc::run`]), [`run_batch`] (the
-//! channels of a [`mc::BatchSpec`], like [`mc::run_batch`]), [`Tracer`] (the compiled pass, for
-//! many runs and to choose the dispatch size), [`McGpuError`].
+//! channels of a [`mc::BatchSpec`], like [`mc::run_batch`]), [`tables`] (profile tables of
+//! [`mc::table`], white or per albedo), [`Tracer`] (the compiled pass, for many runs and to
+//! choose the dispatch size), [`McGpuError`].
 //!
 //! ```no_run
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -36,6 +37,7 @@
 
 mod error;
 mod medium;
+mod table;
 pub mod tally;
 mod tracer;
 
@@ -44,9 +46,11 @@ use mc::{BatchSpec, Output, RunSpec, TallySet};
 
 pub use error::{McGpuError, Result};
 pub use medium::MAX_LAYERS;
+pub use table::tables;
 pub use tracer::{CPU_SLOTS, Dispatch, GPU_SLOTS, TARGET_DISPATCH_SECONDS, TRACER_WGSL, Tracer};
 
 use medium::Walk;
+use tracer::{Target, grid_layout};
 
 /// Runs an MCML run on the GPU and normalizes it, as [`mc::run`] does on the CPU (normal
 /// incidence, the run's seed). `progress` is called after each dispatch with the photons it
@@ -78,7 +82,9 @@ impl Tracer {
         spec.validate()?;
         check_tallies(&spec.tallies)?;
         let walk = Walk::new(&spec.sample, !spec.tallies.absorption_rz, 1.0)?;
-        let acc = self.trace(gpu, &walk, &spec.grid, spec.photons, spec.seed, progress)?;
+        let target = Target::Grid(&spec.grid);
+        let sums = self.trace(gpu, &walk, &target, spec.photons, spec.seed, progress)?;
+        let acc = sums.accumulator(grid_layout(&walk, &spec.grid));
         Ok(Output::from_accumulator(&acc, 0, spec.grid, walk.rsp))
     }
 
@@ -96,7 +102,9 @@ impl Tracer {
                 let walk = Walk::of_channel(spec, c)?;
                 let grid = spec.channels[c].grid;
                 let seed = channel_seed(spec, c);
-                let acc = self.trace(gpu, &walk, &grid, spec.photons, seed, progress)?;
+                let target = Target::Grid(&grid);
+                let sums = self.trace(gpu, &walk, &target, spec.photons, seed, progress)?;
+                let acc = sums.accumulator(grid_layout(&walk, &grid));
                 Ok(Output::from_accumulator(&acc, 0, grid, walk.rsp))
             })
             .collect()

@@ -30,10 +30,10 @@ pub const ROUND_PHOTONS: u64 = 1 << 22;
 /// One unit of the GPU's fixed point, 2⁻³², is this many units of the host's 2⁻⁶⁴.
 const GPU_ONE: u32 = 32;
 
-/// The tally buffer's layout in 32-bit words: per entry of `layout` Σx (lo, hi) and Σx² (lo,
-/// hi), then the interactions (lo, hi).
-pub(crate) fn words(layout: &Layout) -> usize {
-    4 * layout.entries() + 2
+/// The tally buffer's layout in 32-bit words for `entries` entries: per entry Σx (lo, hi) and Σx²
+/// (lo, hi), then the interactions (lo, hi).
+pub(crate) fn words(entries: usize) -> usize {
+    4 * entries + 2
 }
 
 /// The u64 at `words[i]` (lo), `words[i + 1]` (hi).
@@ -41,35 +41,60 @@ fn u64_at(words: &[u32], i: usize) -> u64 {
     u64::from(words[i]) | (u64::from(words[i + 1]) << 32)
 }
 
-/// Adds a round's tally words (and its `photons`) into `acc`; `overflow` is the shader's flag.
-pub(crate) fn add_round(
-    acc: &mut Accumulator,
-    words: &[u32],
-    photons: u64,
-    overflow: bool,
-) -> Result<()> {
-    if overflow {
-        return Err(McGpuError::TallyOverflow {
-            round_photons: ROUND_PHOTONS,
-        });
-    }
-    let l = acc.layout;
-    let entries = l.entries();
-    // One layer's absorption is the photon's whole absorption: the shader scores it once, as A.
-    let source = |e: usize| {
-        if l.layers == 1 && e == l.a_l(0) {
-            l.a_total(0)
-        } else {
-            e
+/// A run's exact sums per shader entry, in the host's fixed point (units of 2⁻⁶⁴, as mc's
+/// [`Accumulator`]).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Sums {
+    pub sum: Vec<i128>,
+    pub sum_sq: Vec<i128>,
+    pub photons: u64,
+    pub interactions: u64,
+}
+
+impl Sums {
+    pub fn new(entries: usize) -> Sums {
+        Sums {
+            sum: vec![0; entries],
+            sum_sq: vec![0; entries],
+            photons: 0,
+            interactions: 0,
         }
-    };
-    for e in 0..entries {
-        acc.sum[e] += i128::from(u64_at(words, 4 * source(e))) << GPU_ONE;
-        acc.sum_sq[e] += i128::from(u64_at(words, 4 * source(e) + 2)) << GPU_ONE;
     }
-    acc.interactions += u64_at(words, 4 * entries);
-    acc.photons += photons;
-    Ok(())
+
+    /// Adds a round's tally words (and its `photons`); `overflow` is the shader's flag.
+    pub fn add_round(&mut self, words: &[u32], photons: u64, overflow: bool) -> Result<()> {
+        if overflow {
+            return Err(McGpuError::TallyOverflow {
+                round_photons: ROUND_PHOTONS,
+            });
+        }
+        let entries = self.sum.len();
+        for e in 0..entries {
+            self.sum[e] += i128::from(u64_at(words, 4 * e)) << GPU_ONE;
+            self.sum_sq[e] += i128::from(u64_at(words, 4 * e + 2)) << GPU_ONE;
+        }
+        self.interactions += u64_at(words, 4 * entries);
+        self.photons += photons;
+        Ok(())
+    }
+
+    /// The sums of a run on a grid as mc's accumulator of `layout`.
+    pub fn accumulator(&self, layout: Layout) -> Accumulator {
+        let mut acc = Accumulator::new(layout);
+        // One layer's absorption is the photon's whole absorption: the shader scores it once, as A.
+        for e in 0..layout.entries() {
+            let from = if layout.layers == 1 && e == layout.a_l(0) {
+                layout.a_total(0)
+            } else {
+                e
+            };
+            acc.sum[e] = self.sum[from];
+            acc.sum_sq[e] = self.sum_sq[from];
+        }
+        acc.photons = self.photons;
+        acc.interactions = self.interactions;
+        acc
+    }
 }
 
 #[cfg(test)]
@@ -93,28 +118,31 @@ mod tests {
     #[test]
     fn a_round_adds_in_the_hosts_fixed_point() {
         let l = layout();
-        let mut w = vec![0u32; words(&l)];
+        let entries = l.entries();
+        let mut w = vec![0u32; words(entries)];
         // Entry 1 (Rd of the second radial bin): Σx = 1.5, Σx² = 2^-32.
         (w[4], w[5]) = (1 << 31, 1);
         w[6] = 1;
         // Interactions: 2^32 + 7.
         let n = w.len();
         (w[n - 2], w[n - 1]) = (7, 1);
-        let mut acc = Accumulator::new(l);
-        add_round(&mut acc, &w, 10, false).unwrap();
-        add_round(&mut acc, &w, 10, false).unwrap();
+        let mut sums = Sums::new(entries);
+        sums.add_round(&w, 10, false).unwrap();
+        sums.add_round(&w, 10, false).unwrap();
+        let acc = sums.accumulator(l);
         assert_eq!(acc.s(1), 3.0);
         assert_eq!(acc.sum_sq[1], 2 << 32);
         assert_eq!((acc.photons, acc.interactions), (20, 2 * ((1 << 32) + 7)));
         // A single layer's A_l is the A the shader scored.
-        let mut a = vec![0u32; words(&l)];
+        let mut a = vec![0u32; words(entries)];
         a[4 * l.a_total(0)] = 5;
-        let mut acc = Accumulator::new(l);
-        add_round(&mut acc, &a, 1, false).unwrap();
+        let mut sums = Sums::new(entries);
+        sums.add_round(&a, 1, false).unwrap();
+        let acc = sums.accumulator(l);
         assert_eq!(acc.sum[l.a_l(0)], 5 << 32);
         assert_eq!(acc.sum[l.a_total(0)], 5 << 32);
         assert!(matches!(
-            add_round(&mut acc, &w, 10, true),
+            sums.add_round(&w, 10, true),
             Err(McGpuError::TallyOverflow { .. })
         ));
     }

@@ -17,11 +17,11 @@ use std::time::Instant;
 
 use bytemuck::{Pod, Zeroable};
 use gpu::Gpu;
-use mc::{Accumulator, Grid, Layout};
+use mc::{Grid, Layout};
 
 use crate::error::{McGpuError, Result};
 use crate::medium::{MAX_LAYERS, Walk};
-use crate::tally::{ROUND_PHOTONS, add_round, words};
+use crate::tally::{ROUND_PHOTONS, Sums, words};
 
 /// The walk's WGSL, its parts in order.
 pub const TRACER_WGSL: &str = concat!(
@@ -45,7 +45,8 @@ pub const CPU_SLOTS: u32 = 1 << 11;
 /// Loop iterations one invocation may run per dispatch, all loops together: below the 65,535 after
 /// which Mesa 22's lavapipe silently ends a shader's loops. A step costs one, and a photon that
 /// ends in it at most 4 + 3 per layer more (its deposits summed and its scores made,
-/// `tracer.wgsl`'s `finish`).
+/// `tracer.wgsl`'s `finish`), or in a table's walk 9 + one per albedo (the bisection of its
+/// intervals and a score per albedo).
 const LOOP_BUDGET: u32 = 60_000;
 /// Steps per slot of the first dispatch when the steps adapt.
 const FIRST_STEPS: u32 = 32;
@@ -91,7 +92,7 @@ struct Params {
     count: u32,
     layers: u32,
     first: u32,
-    pad: u32,
+    albedos: u32,
     nr: u32,
     na: u32,
     /// 1/dr in walk units [1/unit].
@@ -124,17 +125,57 @@ struct Variant {
     /// Some scattering layer has g = 0 / g ≠ 0.
     isotropic: bool,
     anisotropic: bool,
+    /// A profile table's walk.
+    table: bool,
 }
 
 impl Variant {
-    fn of(walk: &Walk) -> Variant {
+    fn of(walk: &Walk, target: &Target) -> Variant {
         Variant {
+            table: matches!(target, Target::Table { .. }),
             glass: walk.slabs.iter().any(|s| s.is_glass()),
             layered: walk.slabs.len() > 1,
             importance: walk.importance,
             isotropic: walk.slabs.iter().any(|s| !s.is_glass() && s.g == 0.0),
             anisotropic: walk.slabs.iter().any(|s| !s.is_glass() && s.g != 0.0),
         }
+    }
+}
+
+/// What a run tallies.
+pub(crate) enum Target<'a> {
+    /// Rd(r, α), Tt(r, α), A_l and A on a grid [cm].
+    Grid(&'a Grid),
+    /// A profile table's top exits per albedo and radial interval (`table.rs`): per albedo
+    /// ln(α/α_walk), increasing, and the intervals' edges [walk units], increasing.
+    Table {
+        ln_ratio: &'a [f32],
+        edges: &'a [f32],
+    },
+}
+
+impl Target<'_> {
+    /// The shader's tally entries.
+    fn entries(&self, walk: &Walk) -> usize {
+        match self {
+            Target::Grid(grid) => grid_layout(walk, grid).entries(),
+            Target::Table { ln_ratio, edges } => ln_ratio.len() * (edges.len() + 1),
+        }
+    }
+}
+
+/// The accumulator layout of a run of `walk` on `grid`.
+pub(crate) fn grid_layout(walk: &Walk, grid: &Grid) -> Layout {
+    Layout {
+        nr: grid.nr,
+        nz: grid.nz,
+        na: grid.na,
+        layers: walk.slabs.len(),
+        rz: false,
+        rz_se: false,
+        channels: 1,
+        xy: 0,
+        scores: 0,
     }
 }
 
@@ -193,6 +234,7 @@ impl Tracer {
             ("IMPORTANCE", flag(variant.importance)),
             ("ISOTROPIC", flag(variant.isotropic)),
             ("ANISOTROPIC", flag(variant.anisotropic)),
+            ("TABLE", flag(variant.table)),
         ];
         let p = gpu
             .device
@@ -218,34 +260,39 @@ impl Tracer {
         self
     }
 
-    /// Traces `photons` photons of `walk` seeded with `seed`, tallied on `grid` [cm], and returns
-    /// the exact sums. `progress` is called after each dispatch with the photons it finished.
+    /// Traces `photons` photons of `walk` seeded with `seed`, tallied as `target` says, and
+    /// returns the exact sums of the shader's entries. `progress` is called after each dispatch
+    /// with the photons it finished.
     pub(crate) fn trace(
         &self,
         gpu: &Gpu,
         walk: &Walk,
-        grid: &Grid,
+        target: &Target,
         photons: u64,
         seed: u64,
         progress: &(dyn Fn(u64) + Sync),
-    ) -> Result<Accumulator> {
-        let layout = Layout {
-            nr: grid.nr,
-            nz: grid.nz,
-            na: grid.na,
-            layers: walk.slabs.len(),
-            rz: false,
-            rz_se: false,
-            channels: 1,
-            xy: 0,
-            scores: 0,
-        };
+    ) -> Result<Sums> {
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let round = self.dispatch.round.clamp(1, ROUND_PHOTONS);
         let slots = self.dispatch.slots.max(1).min(photons.min(round) as u32);
-        let pipeline = self.pipeline(gpu, Variant::of(walk));
-        let b = self.buffers(gpu, pipeline, walk, &layout, slots)?;
-        let max_steps = LOOP_BUDGET / (5 + 3 * walk.slabs.len() as u32);
+        let pipeline = self.pipeline(gpu, Variant::of(walk, target));
+        let entries = target.entries(walk);
+        let b = self.buffers(gpu, pipeline, walk, target, entries, slots)?;
+        let (nr, na, inv_dr, inv_da, albedos, step_cost) = match target {
+            Target::Grid(grid) => (
+                grid.nr as u32,
+                grid.na as u32,
+                (walk.scale / grid.dr) as f32,
+                (1.0 / grid.da()) as f32,
+                0,
+                5 + 3 * walk.slabs.len() as u32,
+            ),
+            Target::Table { ln_ratio, edges } => {
+                let albedos = ln_ratio.len() as u32;
+                (edges.len() as u32 + 1, 1, 1.0, 1.0, albedos, 10 + albedos)
+            }
+        };
+        let max_steps = LOOP_BUDGET / step_cost;
         let mut params = Params {
             seed_lo: seed as u32,
             seed_hi: (seed >> 32) as u32,
@@ -254,11 +301,11 @@ impl Tracer {
             count: 0,
             layers: walk.slabs.len() as u32,
             first: walk.first,
-            pad: 0,
-            nr: grid.nr as u32,
-            na: grid.na as u32,
-            inv_dr: (walk.scale / grid.dr) as f32,
-            inv_da: (1.0 / grid.da()) as f32,
+            albedos,
+            nr,
+            na,
+            inv_dr,
+            inv_da,
             w0: (1.0 - walk.rsp) as f32,
             tau_total: walk.tau_total as f32,
             slots,
@@ -268,7 +315,7 @@ impl Tracer {
                 .unwrap_or(FIRST_STEPS)
                 .clamp(1, max_steps),
         };
-        let mut acc = Accumulator::new(layout);
+        let mut sums = Sums::new(entries);
         let mut done = 0u64;
         while done < photons {
             let n = round.min(photons - done);
@@ -284,14 +331,14 @@ impl Tracer {
                     params.steps = adapt(params.steps, max_steps, start.elapsed().as_secs_f64());
                 }
                 if u64::from(work.next) >= n && work.busy == 0 {
-                    read_round(gpu, &b, &mut acc, n, work.overflow)?;
+                    read_round(gpu, &b, &mut sums, n, work.overflow)?;
                     break;
                 }
             }
             done += n;
         }
         device_result(scope)?;
-        Ok(acc)
+        Ok(sums)
     }
 
     /// The run's buffers, after checking that the tallies fit the adapter's storage buffers.
@@ -300,10 +347,11 @@ impl Tracer {
         gpu: &Gpu,
         pipeline: wgpu::ComputePipeline,
         walk: &Walk,
-        layout: &Layout,
+        target: &Target,
+        entries: usize,
         slots: u32,
     ) -> Result<Buffers> {
-        let tally_bytes = 4 * words(layout) as u64;
+        let tally_bytes = 4 * words(entries) as u64;
         let slot_bytes = SLOT_BYTES * u64::from(slots);
         let limits = gpu.device.limits();
         check_storage(&limits, tally_bytes.max(slot_bytes))?;
@@ -334,6 +382,17 @@ impl Tracer {
             tally_bytes,
             U::STORAGE | U::COPY_SRC | U::COPY_DST,
         );
+        let table_words: Vec<f32> = match target {
+            Target::Grid(_) => vec![0.0],
+            Target::Table { ln_ratio, edges } => [*ln_ratio, *edges].concat(),
+        };
+        let table = buffer(
+            "mc_gpu table",
+            size_of_val(table_words.as_slice()) as u64,
+            U::STORAGE | U::COPY_DST,
+        );
+        gpu.queue
+            .write_buffer(&table, 0, bytemuck::cast_slice(&table_words));
         let work = buffer("mc_gpu work", 16, U::STORAGE | U::COPY_SRC | U::COPY_DST);
         gpu.queue.write_buffer(&work, 0, &[0; 16]);
         // Zero: every slot starts without a photon.
@@ -353,6 +412,7 @@ impl Tracer {
                 entry(2, &tally),
                 entry(3, &work),
                 entry(4, &slots),
+                entry(5, &table),
             ],
         });
         Ok(Buffers {
@@ -389,16 +449,10 @@ impl Tracer {
     }
 }
 
-/// Reads a round's tallies of `photons` into `acc` and clears them.
-fn read_round(
-    gpu: &Gpu,
-    b: &Buffers,
-    acc: &mut Accumulator,
-    photons: u64,
-    overflow: bool,
-) -> Result<()> {
+/// Reads a round's tallies of `photons` into `sums` and clears them.
+fn read_round(gpu: &Gpu, b: &Buffers, sums: &mut Sums, photons: u64, overflow: bool) -> Result<()> {
     let words: Vec<u32> = bytemuck::pod_collect_to_vec(&gpu.read_buffer(&b.tally, b.tally_bytes)?);
-    add_round(acc, &words, photons, overflow)?;
+    sums.add_round(&words, photons, overflow)?;
     let mut enc = gpu.device.create_command_encoder(&Default::default());
     enc.clear_buffer(&b.tally, 0, None);
     gpu.queue.submit([enc.finish()]);
@@ -417,7 +471,7 @@ fn adapt(steps: u32, max: u32, seconds: f64) -> u32 {
     }
 }
 
-/// Refuses a device without compute shaders of one 64-wide workgroup and three storage buffers.
+/// Refuses a device without compute shaders of one 64-wide workgroup and five storage buffers.
 pub(crate) fn check_compute(limits: &wgpu::Limits, adapter: &str) -> Result<()> {
     let reason = if limits.max_compute_workgroups_per_dimension == 0 {
         "no compute shaders".to_string()
@@ -425,8 +479,8 @@ pub(crate) fn check_compute(limits: &wgpu::Limits, adapter: &str) -> Result<()> 
         || limits.max_compute_workgroup_size_x < WORKGROUP
     {
         format!("workgroups of fewer than {WORKGROUP} invocations")
-    } else if limits.max_storage_buffers_per_shader_stage < 3 {
-        "fewer than 3 storage buffers per compute shader".to_string()
+    } else if limits.max_storage_buffers_per_shader_stage < 5 {
+        "fewer than 5 storage buffers per compute shader".to_string()
     } else {
         return Ok(());
     };

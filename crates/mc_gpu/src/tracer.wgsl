@@ -27,6 +27,9 @@ override IMPORTANCE: bool = true;
 // Some layer scatters isotropically (g = 0) / some layer does not (phase.wgsl).
 override ISOTROPIC: bool = true;
 override ANISOTROPIC: bool = true;
+// A profile table's walk (mc_gpu's table.rs): each exit through the top is scored once per albedo
+// of the table, on the table's radial intervals, and nothing else is tallied.
+override TABLE: bool = false;
 // MCML's WEIGHT and CHANCE (mc::ROULETTE_THRESHOLD, mc::ROULETTE_SURVIVAL).
 const ROULETTE_THRESHOLD: f32 = 1.0e-4;
 const ROULETTE_SURVIVAL: f32 = 0.1;
@@ -49,8 +52,9 @@ struct Params {
     layers: u32,
     // Layer photons are launched into (1 under a glass top layer, as MCML does).
     first: u32,
-    // Padding: the block is a multiple of 16 bytes.
-    pad: u32,
+    // A table's albedos (TABLE); 0 otherwise.
+    albedos: u32,
+    // Radial bins (a table's intervals: its edges + 1).
     nr: u32,
     na: u32,
     // Radial bins per length unit of the walk, 1/dr [1/unit].
@@ -116,6 +120,9 @@ struct Slot {
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> slabs: array<Slab>;
 @group(0) @binding(4) var<storage, read_write> slots: array<Slot>;
+// TABLE: per albedo ln(α/α_walk) (in the table's order, increasing), then the radial intervals'
+// nr − 1 edges [walk units], increasing. One unused word otherwise.
+@group(0) @binding(5) var<storage, read> table: array<f32>;
 
 // The current history's deposits in the layers it has left, per layer, and in the layer it is
 // in; and that layer (loaded when the photon enters it, not at every step).
@@ -124,6 +131,8 @@ var<private> absorbed_here: f32;
 // The history's escape, if any: its tally entry and weight (0: none).
 var<private> escaped_entry: u32;
 var<private> escaped_w: f32;
+// Its interactions (TABLE).
+var<private> escaped_n: u32;
 var<private> slab: Slab;
 
 // The photon enters `layer`: what it deposited in the one it leaves is put by, the new one loaded.
@@ -214,6 +223,27 @@ fn importance(p: ptr<function, Photon>, rng: ptr<function, Rng>) {
 // The score is made when the history ends (`finish`).
 fn escape(p: Photon, top: bool, cos_exit: f32) {
     let r = length(p.pos.xy);
+    if (TABLE) {
+        // A half-space table tallies only what leaves through the top.
+        if (top) {
+            // The interval: how many edges are ≤ r (an exit on an edge counts above it, as
+            // mc's GridIndex bins), by bisection.
+            var lo = 0u;
+            var hi = params.nr - 1u;
+            while (lo < hi) {
+                let mid = (lo + hi) / 2u;
+                if (table[params.albedos + mid] <= r) {
+                    lo = mid + 1u;
+                } else {
+                    hi = mid;
+                }
+            }
+            escaped_entry = lo;
+            escaped_n = p.interactions;
+            escaped_w = p.w;
+        }
+        return;
+    }
     let ir = min(u32(r * params.inv_dr), params.nr - 1u);
     let ia = min(u32(acos(min(cos_exit, 1.0)) * params.inv_da), params.na - 1u);
     let off = select(params.nr * params.na, 0u, top);
@@ -286,6 +316,10 @@ fn hop_in_glass(p: ptr<function, Photon>, rng: ptr<function, Rng>) {
 // layer's A_l is its A, copied on the host) are made by one loop over (score, Σx or Σx²), so the
 // shader holds a single copy of the atomics, which lavapipe runs lane by lane at every step.
 fn finish(layer: u32) {
+    if (TABLE) {
+        finish_table();
+        return;
+    }
     let a_l = 2u * params.nr * params.na;
     var total = absorbed_here;
     if (LAYERED) {
@@ -309,6 +343,28 @@ fn finish(layer: u32) {
         }
         let square = k % 2u == 1u;
         add_fixed(4u * entry + select(0u, 2u, square), select(x, x * x, square));
+    }
+}
+
+// A table's scores: the exit's weight for every albedo α, w·(α/α_walk)ⁿ after n interactions
+// (mc's white.rs), from the walk's albedo down, until a weight rounds to 0 in the tallies' fixed
+// point (every smaller albedo's is smaller still, so nothing it would add is lost).
+fn finish_table() {
+    if (escaped_w == 0.0) {
+        return;
+    }
+    let n = f32(escaped_n);
+    for (var i = params.albedos; i > 0u; i--) {
+        var w = escaped_w;
+        if (escaped_n > 0u) {
+            w *= exp(n * table[i - 1u]);
+        }
+        if (w < 0.5 / 4294967296.0) {
+            break;
+        }
+        let entry = (i - 1u) * params.nr + escaped_entry;
+        add_fixed(4u * entry, w);
+        add_fixed(4u * entry + 2u, w * w);
     }
 }
 
@@ -394,6 +450,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     if (finished > 0u) {
         atomicAdd(&work[3], finished);
-        add_u64(4u * (2u * params.nr * params.na + params.layers + 1u), inter_lo, inter_hi);
+        let entries = select(2u * params.nr * params.na + params.layers + 1u, params.albedos * params.nr, TABLE);
+        add_u64(4u * entries, inter_lo, inter_hi);
     }
 }

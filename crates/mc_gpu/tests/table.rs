@@ -1,0 +1,160 @@
+//! Profile tables on the GPU (`mc_gpu::table`, `sss table --device gpu`) against the CPU's, never
+//! against themselves:
+//! - a white table (every albedo from the largest albedo's walk, reweighted by (α/α_max)ⁿ) equals
+//!   the CPU's per-albedo table (one independent walk per albedo) within the noise of both, for
+//!   g = 0 and g = 0.9 (η = 1.4: total internal reflection returns photons): the annuli between
+//!   the table's edges give χ²/dof ≤ 1.5 per albedo and ≤ 1.2 pooled over the albedos, the totals
+//!   agree within 3 standard errors (the statistic of `crates/mc/tests/white_table.rs`; measured
+//!   over four seed pairs here, pooled χ²/dof 0.81–1.17);
+//! - the per-albedo build (`--white off`) agrees with the CPU's white table the same way, and its
+//!   largest albedo is the white table's walk bit for bit (the same walk and streams);
+//! - α = 0 reflects nothing, exactly; the same seed gives the same table whatever the dispatch.
+
+mod common;
+
+use mc::table::{self, Table, TableSpec, default_albedos};
+
+fn spec(g: f64, white: bool, seed: u64, photons: u64) -> TableSpec {
+    TableSpec {
+        g,
+        eta: 1.4,
+        albedos: default_albedos(12, 0.999),
+        photons,
+        seed,
+        white,
+    }
+}
+
+/// One table on the GPU.
+fn one(
+    gpu: &gpu::Gpu,
+    s: &TableSpec,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<(Table, u64), mc_gpu::McGpuError> {
+    mc_gpu::tables(gpu, std::slice::from_ref(s), progress).map(|(mut t, n)| (t.remove(0), n))
+}
+
+fn cpu(s: &TableSpec) -> Table {
+    table::build(std::slice::from_ref(s), &|_| {})
+        .unwrap()
+        .remove(0)
+}
+
+/// Diffuse reflectance per photon within [ρ_{k−1}, ρ_k) of albedo `i` and its standard error.
+fn annulus(t: &Table, i: usize, k: usize) -> (f64, f64) {
+    let below = |v: &[f64]| if k == 0 { 0.0 } else { v[k - 1] };
+    let m = t.cumulative[i][k] - below(&t.cumulative[i]);
+    let m2 = t.cumulative_sq[i][k] - below(&t.cumulative_sq[i]);
+    let n = t.photons as f64;
+    (m, ((m2 - m * m).max(0.0) / (n - 1.0)).sqrt())
+}
+
+/// The GPU's table `a` equals the CPU's `b` within noise (see the module documentation).
+fn agree(what: &str, a: &Table, b: &Table) {
+    assert_eq!(a.rd[0], 0.0, "{what}: α = 0 scatters nothing back");
+    assert_eq!(
+        (a.albedo.clone(), a.radius.clone()),
+        (b.albedo.clone(), b.radius.clone())
+    );
+    let (mut judged, mut pooled, mut pooled_dof) = (0, 0.0, 0);
+    for i in 1..a.albedo.len() {
+        let (mut chi2, mut dof) = (0.0, 0);
+        for k in 0..a.radius.len() {
+            let (x, sx) = annulus(a, i, k);
+            let (y, sy) = annulus(b, i, k);
+            let var = sx * sx + sy * sy;
+            // Annuli holding some hundred photons' worth or more in both runs.
+            if var > 0.0 && var.sqrt() < 0.1 * (x + y) / 2.0 {
+                chi2 += (x - y).powi(2) / var;
+                dof += 1;
+            }
+        }
+        if dof >= 20 {
+            let reduced = chi2 / dof as f64;
+            assert!(
+                reduced <= 1.5,
+                "{what}, α = {}: χ²/dof = {reduced:.2} over {dof} annuli",
+                a.albedo[i]
+            );
+            judged += 1;
+            (pooled, pooled_dof) = (pooled + chi2, pooled_dof + dof);
+        }
+        let (x, y) = (a.rd_node(i), b.rd_node(i));
+        let z = (x.value - y.value).abs() / (x.se * x.se + y.se * y.se).sqrt();
+        assert!(
+            z <= 3.0,
+            "{what}, α = {}: Rd {} ± {} against {} ± {} ({z:.1} SE)",
+            a.albedo[i],
+            x.value,
+            x.se,
+            y.value,
+            y.se
+        );
+    }
+    assert!(
+        judged >= 8,
+        "{what}: {judged} albedos judged by their annuli"
+    );
+    let reduced = pooled / pooled_dof as f64;
+    eprintln!("{what}: pooled χ²/dof {reduced:.3} over {pooled_dof} annuli, {judged} albedos");
+    assert!(reduced <= 1.2, "{what}: pooled χ²/dof = {reduced:.3}");
+}
+
+fn white_agrees(g: f64) {
+    let Some(gpu) = common::gpu() else { return };
+    let (t, interactions) = one(&gpu, &spec(g, true, 31, 100_000), &|_| {}).unwrap();
+    assert!(t.white && t.tracer.as_deref().is_some_and(|s| s.starts_with("gpu: ")));
+    assert!(interactions > 100_000);
+    agree(
+        &format!("white, g = {g}"),
+        &t,
+        &cpu(&spec(g, true, 32, 100_000)),
+    );
+}
+
+#[test]
+fn a_white_table_equals_the_cpus_at_g_0() {
+    white_agrees(0.0);
+}
+
+#[test]
+fn a_white_table_equals_the_cpus_at_g_0_9() {
+    white_agrees(0.9);
+}
+
+#[test]
+fn per_albedo_walks_equal_the_cpu_and_end_in_the_white_walk() {
+    let Some(gpu) = common::gpu() else { return };
+    let photons = 40_000;
+    let (each, _) = one(&gpu, &spec(0.5, false, 41, photons), &|_| {}).unwrap();
+    assert!(!each.white);
+    agree(
+        "per albedo, g = 0.5",
+        &each,
+        &cpu(&spec(0.5, true, 42, photons)),
+    );
+    // The white table traces the largest albedo's own walk.
+    let (white, _) = one(&gpu, &spec(0.5, true, 41, photons), &|_| {}).unwrap();
+    let last = white.albedo.len() - 1;
+    assert_eq!(white.cumulative[last], each.cumulative[last]);
+    assert_eq!(white.rd_sq[last], each.rd_sq[last]);
+    assert_ne!(white.rd[last - 1], each.rd[last - 1]);
+}
+
+#[test]
+fn the_same_seed_gives_the_same_table_whatever_the_dispatch() {
+    let Some(gpu) = common::gpu() else { return };
+    let s = spec(0.0, true, 7, 5_000);
+    let (a, _) = one(&gpu, &s, &|_| {}).unwrap();
+    let tracer = mc_gpu::Tracer::new(&gpu)
+        .unwrap()
+        .with_dispatch(mc_gpu::Dispatch {
+            slots: 100,
+            steps: Some(7),
+            round: 1_000,
+        });
+    let (b, _) = tracer.table(&gpu, &s, &|_| {}).unwrap();
+    assert_eq!(a, b);
+    // Through the file, as `sss profile --model table` reads it.
+    assert_eq!(Table::from_json(&a.to_json(), "t").unwrap(), a);
+}
