@@ -337,6 +337,17 @@ impl TableSpec {
     }
 }
 
+/// How two builds of a table agree at one albedo node ([`Table::agreement`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NodeAgreement {
+    /// Σ (a − b)²/(σa² + σb²) over the resolved rings.
+    pub chi2: f64,
+    /// The resolved rings.
+    pub dof: usize,
+    /// |Rd_a − Rd_b| in combined standard errors (0 if both are exact and equal).
+    pub rd_z: f64,
+}
+
 /// One albedo's exact sums over a table's radial intervals ([`TableSpec::table_from_intervals`]),
 /// in the host's fixed point (units of 2⁻⁶⁴ of a photon's weight, as [`Accumulator`]'s).
 #[derive(Clone, Debug, PartialEq)]
@@ -573,6 +584,56 @@ impl Table {
             value: self.rd[i],
             se: se_of(self.rd[i], self.rd_sq[i], self.photons),
         }
+    }
+
+    /// Diffuse reflectance leaving within [ρ_{k−1}, ρ_k) (ρ₋₁ = 0) at the table's own albedo `i`,
+    /// per unit incident power, with its standard error (a photon leaves once: its second
+    /// moments difference like its means).
+    pub fn ring_node(&self, i: usize, k: usize) -> Estimate {
+        let below = |v: &[f64]| if k == 0 { 0.0 } else { v[k - 1] };
+        let m = self.cumulative[i][k] - below(&self.cumulative[i]);
+        let m2 = self.cumulative_sq[i][k] - below(&self.cumulative_sq[i]);
+        Estimate {
+            value: m,
+            se: se_of(m, m2, self.photons),
+        }
+    }
+
+    /// How `other`, an independent build of the same table (other seeds, another tracer), agrees
+    /// with this one at each albedo node: χ² over the rings between the edges that hold some
+    /// hundred photons' worth or more in both (combined standard error below a tenth of the
+    /// mean; sparser rings are skewed, Poisson-like, not Gaussian) and the totals' difference in
+    /// combined standard errors. Refuses tables of other albedos or edges.
+    pub fn agreement(&self, other: &Table) -> Result<Vec<NodeAgreement>> {
+        if self.albedo != other.albedo || self.radius != other.radius {
+            return Err(McError::invalid(
+                "table",
+                format!("g = {}, η = {}", other.g, other.eta),
+                "has other albedos or edges: not the same table",
+            ));
+        }
+        let agreement = |i: usize| {
+            let (mut chi2, mut dof) = (0.0, 0);
+            for k in 0..self.radius.len() {
+                let (a, b) = (self.ring_node(i, k), other.ring_node(i, k));
+                let var = a.se * a.se + b.se * b.se;
+                if var > 0.0 && var.sqrt() < 0.1 * (a.value + b.value) / 2.0 {
+                    chi2 += (a.value - b.value).powi(2) / var;
+                    dof += 1;
+                }
+            }
+            let (a, b) = (self.rd_node(i), other.rd_node(i));
+            let var = a.se * a.se + b.se * b.se;
+            let rd_z = if var > 0.0 {
+                (a.value - b.value).abs() / var.sqrt()
+            } else if a.value == b.value {
+                0.0
+            } else {
+                f64::INFINITY
+            };
+            NodeAgreement { chi2, dof, rd_z }
+        };
+        Ok((0..self.albedo.len()).map(agreement).collect())
     }
 
     /// The table interpolated at `albedo` (see the module documentation); refuses an albedo

@@ -10,6 +10,9 @@
 //! - α = 0 reflects nothing (no photon scatters back), exactly;
 //! - sharded white builds merge bit-identical to the one-machine build.
 
+#[path = "common/table_agreement.rs"]
+mod table_agreement;
+
 use mc::table::{self, Table, TableShard, TableSpec, default_albedos};
 
 fn spec(g: f64, white: bool, seed: u64, photons: u64) -> TableSpec {
@@ -25,16 +28,6 @@ fn spec(g: f64, white: bool, seed: u64, photons: u64) -> TableSpec {
 
 fn build(s: TableSpec) -> Table {
     table::build(&[s], &|_| {}).unwrap().remove(0)
-}
-
-/// Diffuse reflectance per photon within [ρ_{k−1}, ρ_k) of albedo `i` and its standard error
-/// (a photon leaves at most once: its second moments difference like its means).
-fn annulus(t: &Table, i: usize, k: usize) -> (f64, f64) {
-    let below = |v: &[f64]| if k == 0 { 0.0 } else { v[k - 1] };
-    let m = t.cumulative[i][k] - below(&t.cumulative[i]);
-    let m2 = t.cumulative_sq[i][k] - below(&t.cumulative_sq[i]);
-    let n = t.photons as f64;
-    (m, ((m2 - m * m).max(0.0) / (n - 1.0)).sqrt())
 }
 
 #[test]
@@ -55,54 +48,7 @@ fn agree(g: f64) {
     let photons = 100_000;
     let white = build(spec(g, true, 21, photons));
     let each = build(spec(g, false, 22, photons));
-    assert_eq!(white.rd[0], 0.0, "α = 0 scatters nothing back");
-    let (mut judged, mut pooled, mut pooled_dof) = (0, 0.0, 0);
-    for i in 1..white.albedo.len() {
-        let (mut chi2, mut dof) = (0.0, 0);
-        for k in 0..white.radius.len() {
-            let (a, sa) = annulus(&white, i, k);
-            let (b, sb) = annulus(&each, i, k);
-            let var = sa * sa + sb * sb;
-            // Annuli holding some hundred photons' worth or more in both runs (sparser ones are
-            // skewed: a few photons, Poisson-like, not Gaussian).
-            if var > 0.0 && var.sqrt() < 0.1 * (a + b) / 2.0 {
-                chi2 += (a - b).powi(2) / var;
-                dof += 1;
-            }
-        }
-        // Albedos whose light is spread over too few resolved annuli (g = 0.9 below α ≈ 0.9:
-        // Rd < 1 %) are judged by their totals alone.
-        if dof >= 20 {
-            let reduced = chi2 / dof as f64;
-            assert!(
-                reduced <= 1.5,
-                "g = {g}, α = {}: χ²/dof = {reduced:.2} over {dof} annuli",
-                white.albedo[i]
-            );
-            judged += 1;
-            (pooled, pooled_dof) = (pooled + chi2, pooled_dof + dof);
-        }
-        let (a, b) = (white.rd_node(i), each.rd_node(i));
-        let z = (a.value - b.value).abs() / (a.se * a.se + b.se * b.se).sqrt();
-        assert!(
-            z <= 3.0,
-            "g = {g}, α = {}: Rd {} ± {} against {} ± {} ({z:.1} SE)",
-            white.albedo[i],
-            a.value,
-            a.se,
-            b.value,
-            b.se
-        );
-    }
-    // Over every judged albedo at once a bias of a few percent of the noise would show: ~500
-    // annuli, so a true agreement's χ²/dof lies within 1 ± 0.07 (one standard deviation; the
-    // white albedos share a walk, which correlates their terms, not their means).
-    assert!(
-        judged >= 8,
-        "g = {g}: {judged} albedos judged by their annuli"
-    );
-    let reduced = pooled / pooled_dof as f64;
-    assert!(reduced <= 1.2, "g = {g}: pooled χ²/dof = {reduced:.3}");
+    table_agreement::agree(&format!("g = {g}"), &white, &each);
 }
 
 #[test]
@@ -134,4 +80,35 @@ fn sharded_white_builds_merge_bit_identical() {
     // A table file keeps how it was built.
     let back = Table::from_json(&whole.to_json(), "t").unwrap();
     assert!(back.white);
+}
+
+/// `Table::agreement`, what the comparisons above rest on: a table agrees with itself exactly,
+/// a bias of one albedo's reflectance shows at that albedo only, and other tables are refused.
+#[test]
+fn the_agreement_sees_a_bias_at_its_albedo() {
+    let t = build(spec(0.5, true, 3, 40_000));
+    for n in t.agreement(&t).unwrap() {
+        assert_eq!((n.chi2, n.rd_z), (0.0, 0.0));
+    }
+    let mut biased = t.clone();
+    let i = 8;
+    for k in 0..t.radius.len() {
+        biased.cumulative[i][k] *= 1.2;
+        biased.cumulative_sq[i][k] *= 1.44;
+    }
+    biased.rd[i] *= 1.2;
+    biased.rd_sq[i] *= 1.44;
+    let a = t.agreement(&biased).unwrap();
+    assert!(
+        a[i].dof >= 20 && a[i].chi2 / a[i].dof as f64 > 5.0,
+        "{:?}",
+        a[i]
+    );
+    assert!(a[i].rd_z > 10.0, "{:?}", a[i]);
+    assert_eq!(a[i - 1].chi2, 0.0);
+    let other = build(TableSpec {
+        albedos: default_albedos(12, 0.99),
+        ..spec(0.5, true, 3, 1_000)
+    });
+    assert!(t.agreement(&other).is_err());
 }

@@ -11,6 +11,8 @@
 //! - α = 0 reflects nothing, exactly; the same seed gives the same table whatever the dispatch.
 
 mod common;
+#[path = "../../mc/tests/common/table_agreement.rs"]
+mod table_agreement;
 
 use mc::table::{self, Table, TableSpec, default_albedos};
 
@@ -40,72 +42,12 @@ fn cpu(s: &TableSpec) -> Table {
         .remove(0)
 }
 
-/// Diffuse reflectance per photon within [ρ_{k−1}, ρ_k) of albedo `i` and its standard error.
-fn annulus(t: &Table, i: usize, k: usize) -> (f64, f64) {
-    let below = |v: &[f64]| if k == 0 { 0.0 } else { v[k - 1] };
-    let m = t.cumulative[i][k] - below(&t.cumulative[i]);
-    let m2 = t.cumulative_sq[i][k] - below(&t.cumulative_sq[i]);
-    let n = t.photons as f64;
-    (m, ((m2 - m * m).max(0.0) / (n - 1.0)).sqrt())
-}
-
-/// The GPU's table `a` equals the CPU's `b` within noise (see the module documentation).
-fn agree(what: &str, a: &Table, b: &Table) {
-    assert_eq!(a.rd[0], 0.0, "{what}: α = 0 scatters nothing back");
-    assert_eq!(
-        (a.albedo.clone(), a.radius.clone()),
-        (b.albedo.clone(), b.radius.clone())
-    );
-    let (mut judged, mut pooled, mut pooled_dof) = (0, 0.0, 0);
-    for i in 1..a.albedo.len() {
-        let (mut chi2, mut dof) = (0.0, 0);
-        for k in 0..a.radius.len() {
-            let (x, sx) = annulus(a, i, k);
-            let (y, sy) = annulus(b, i, k);
-            let var = sx * sx + sy * sy;
-            // Annuli holding some hundred photons' worth or more in both runs.
-            if var > 0.0 && var.sqrt() < 0.1 * (x + y) / 2.0 {
-                chi2 += (x - y).powi(2) / var;
-                dof += 1;
-            }
-        }
-        if dof >= 20 {
-            let reduced = chi2 / dof as f64;
-            assert!(
-                reduced <= 1.5,
-                "{what}, α = {}: χ²/dof = {reduced:.2} over {dof} annuli",
-                a.albedo[i]
-            );
-            judged += 1;
-            (pooled, pooled_dof) = (pooled + chi2, pooled_dof + dof);
-        }
-        let (x, y) = (a.rd_node(i), b.rd_node(i));
-        let z = (x.value - y.value).abs() / (x.se * x.se + y.se * y.se).sqrt();
-        assert!(
-            z <= 3.0,
-            "{what}, α = {}: Rd {} ± {} against {} ± {} ({z:.1} SE)",
-            a.albedo[i],
-            x.value,
-            x.se,
-            y.value,
-            y.se
-        );
-    }
-    assert!(
-        judged >= 8,
-        "{what}: {judged} albedos judged by their annuli"
-    );
-    let reduced = pooled / pooled_dof as f64;
-    eprintln!("{what}: pooled χ²/dof {reduced:.3} over {pooled_dof} annuli, {judged} albedos");
-    assert!(reduced <= 1.2, "{what}: pooled χ²/dof = {reduced:.3}");
-}
-
 fn white_agrees(g: f64) {
     let Some(gpu) = common::gpu() else { return };
     let (t, interactions) = one(&gpu, &spec(g, true, 31, 100_000), &|_| {}).unwrap();
     assert!(t.white && t.tracer.as_deref().is_some_and(|s| s.starts_with("gpu: ")));
     assert!(interactions > 100_000);
-    agree(
+    table_agreement::agree(
         &format!("white, g = {g}"),
         &t,
         &cpu(&spec(g, true, 32, 100_000)),
@@ -128,7 +70,7 @@ fn per_albedo_walks_equal_the_cpu_and_end_in_the_white_walk() {
     let photons = 40_000;
     let (each, _) = one(&gpu, &spec(0.5, false, 41, photons), &|_| {}).unwrap();
     assert!(!each.white);
-    agree(
+    table_agreement::agree(
         "per albedo, g = 0.5",
         &each,
         &cpu(&spec(0.5, true, 42, photons)),

@@ -1,0 +1,41 @@
+//! Two builds of one profile table agree within noise (shared by mc's white tables and
+//! mc_gpu's tables): per albedo node above α = 0, χ²/dof ≤ 1.5 over the rings both resolve where
+//! there are at least 20 of them (albedos whose light is spread over fewer, g = 0.9 below
+//! α ≈ 0.9 with Rd < 1 %, are judged by their totals alone), the totals within 3 combined
+//! standard errors; at least 8 albedos judged by their rings, and χ²/dof ≤ 1.2 pooled over them:
+//! with ~500 rings a true agreement lies within 1 ± 0.07 (one standard deviation; a white
+//! table's albedos share a walk, which correlates their terms, not their means), so a bias of a
+//! few percent of the noise would show. α = 0 reflects nothing, exactly, in `a`.
+
+use mc::table::Table;
+
+pub fn agree(what: &str, a: &Table, b: &Table) {
+    assert_eq!(a.rd[0], 0.0, "{what}: α = 0 scatters nothing back");
+    let (mut judged, mut pooled, mut pooled_dof) = (0, 0.0, 0);
+    for (i, n) in a.agreement(b).unwrap().iter().enumerate().skip(1) {
+        let alpha = a.albedo[i];
+        if n.dof >= 20 {
+            let reduced = n.chi2 / n.dof as f64;
+            assert!(
+                reduced <= 1.5,
+                "{what}, α = {alpha}: χ²/dof = {reduced:.2} over {} rings",
+                n.dof
+            );
+            judged += 1;
+            (pooled, pooled_dof) = (pooled + n.chi2, pooled_dof + n.dof);
+        }
+        assert!(
+            n.rd_z <= 3.0,
+            "{what}, α = {alpha}: Rd {:?} against {:?}",
+            a.rd_node(i),
+            b.rd_node(i)
+        );
+    }
+    assert!(
+        judged >= 8,
+        "{what}: {judged} albedos judged by their annuli"
+    );
+    let reduced = pooled / pooled_dof as f64;
+    eprintln!("{what}: pooled χ²/dof {reduced:.3} over {pooled_dof} annuli, {judged} albedos");
+    assert!(reduced <= 1.2, "{what}: pooled χ²/dof = {reduced:.3}");
+}
