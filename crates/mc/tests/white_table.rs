@@ -14,17 +14,7 @@
 mod table_agreement;
 
 use mc::table::{self, Table, TableShard, TableSpec, default_albedos};
-
-fn spec(g: f64, white: bool, seed: u64, photons: u64) -> TableSpec {
-    TableSpec {
-        g,
-        eta: 1.4,
-        albedos: default_albedos(12, 0.999),
-        photons,
-        seed,
-        white,
-    }
-}
+use table_agreement::spec;
 
 fn build(s: TableSpec) -> Table {
     table::build(&[s], &|_| {}).unwrap().remove(0)

@@ -14,18 +14,8 @@ mod common;
 #[path = "../../mc/tests/common/table_agreement.rs"]
 mod table_agreement;
 
-use mc::table::{self, Table, TableSpec, default_albedos};
-
-fn spec(g: f64, white: bool, seed: u64, photons: u64) -> TableSpec {
-    TableSpec {
-        g,
-        eta: 1.4,
-        albedos: default_albedos(12, 0.999),
-        photons,
-        seed,
-        white,
-    }
-}
+use mc::table::{self, Table, TableSpec};
+use table_agreement::spec;
 
 /// One table on the GPU.
 fn one(

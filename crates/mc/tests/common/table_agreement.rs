@@ -1,4 +1,5 @@
-//! Two builds of one profile table agree within noise (shared by mc's white tables and
+//! The tables both test files build (`spec`: 12 albedos up to 0.999 at η = 1.4), and two builds
+//! of one profile table agree within noise (shared by mc's white tables and
 //! mc_gpu's tables): per albedo node above α = 0, χ²/dof ≤ 1.5 over the rings both resolve where
 //! there are at least 20 of them (albedos whose light is spread over fewer, g = 0.9 below
 //! α ≈ 0.9 with Rd < 1 %, are judged by their totals alone), the totals within 3 combined
@@ -7,7 +8,19 @@
 //! table's albedos share a walk, which correlates their terms, not their means), so a bias of a
 //! few percent of the noise would show. α = 0 reflects nothing, exactly, in `a`.
 
-use mc::table::Table;
+use mc::table::{Table, TableSpec, default_albedos};
+
+/// A small table of anisotropy `g` at η = 1.4 (total internal reflection returns photons).
+pub fn spec(g: f64, white: bool, seed: u64, photons: u64) -> TableSpec {
+    TableSpec {
+        g,
+        eta: 1.4,
+        albedos: default_albedos(12, 0.999),
+        photons,
+        seed,
+        white,
+    }
+}
 
 pub fn agree(what: &str, a: &Table, b: &Table) {
     assert_eq!(a.rd[0], 0.0, "{what}: α = 0 scatters nothing back");
