@@ -235,10 +235,10 @@ fn a_package_validates_and_holds_what_the_renderer_reads() {
             );
         }
 
-        // tables.bin is SssMaterial of tables.json's as_rendered: 671 vec4, little-endian.
+        // tables.bin is SssMaterial of tables.json's as_rendered: 718 vec4, little-endian.
         let json: serde_json::Value = serde_json::from_str(&read("tables.json")).unwrap();
         let bin = std::fs::read(pkg.join("tables.bin")).unwrap();
-        assert_eq!(bin.len(), 671 * 16, "{material}");
+        assert_eq!(bin.len(), 718 * 16, "{material}");
         let f = |i: usize| f32::from_le_bytes(bin[4 * i..4 * i + 4].try_into().unwrap()) as f64;
         let rendered = &json["tables_bin"]["as_rendered"];
         let num = |v: &serde_json::Value| v.as_f64().unwrap();

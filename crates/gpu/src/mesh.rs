@@ -82,6 +82,24 @@ pub(crate) fn pipeline(
     label: &str,
     formats: &[wgpu::TextureFormat],
 ) -> wgpu::RenderPipeline {
+    pipeline_with(
+        dev,
+        module,
+        label,
+        formats,
+        (!formats.is_empty()).then_some("fs"),
+    )
+}
+
+/// [`pipeline`] with the fragment entry point `fragment` (None: no fragment stage): a depth-only
+/// pass may have one that discards.
+pub(crate) fn pipeline_with(
+    dev: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    label: &str,
+    formats: &[wgpu::TextureFormat],
+    fragment: Option<&str>,
+) -> wgpu::RenderPipeline {
     let targets: Vec<Option<wgpu::ColorTargetState>> =
         formats.iter().map(|&f| Some(f.into())).collect();
     dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -96,9 +114,9 @@ pub(crate) fn pipeline(
         primitive: wgpu::PrimitiveState::default(),
         depth_stencil: Some(depth_test()),
         multisample: Default::default(),
-        fragment: (!formats.is_empty()).then(|| wgpu::FragmentState {
+        fragment: fragment.map(|entry| wgpu::FragmentState {
             module,
-            entry_point: Some("fs"),
+            entry_point: Some(entry),
             compilation_options: Default::default(),
             targets: &targets,
         }),

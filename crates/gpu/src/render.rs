@@ -223,7 +223,13 @@ impl Renderer {
         let alloc = Alloc::pooled(gpu, &self.pool);
         let mesh = MeshBuffers::upload(alloc, &scene.mesh);
         let mut rec = Recording::timed(alloc, enc);
-        let shadow_maps = self.shadow.encode(&mut rec, (scene, &mesh))?;
+        // The disc gathers shade with their own physics (the scene pass's tables off): no back maps.
+        let back = if disc {
+            0
+        } else {
+            crate::passes::shadow::back_layers(scene, params)
+        };
+        let shadow_maps = self.shadow.encode(&mut rec, (scene, &mesh, back))?;
         let gbuffer = self
             .gbuffer
             .encode(&mut rec, (scene, &mesh, &shadow_maps, params, disc))?;

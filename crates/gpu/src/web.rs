@@ -91,8 +91,16 @@ pub struct WebFrame {
 
 impl WebFrame {
     /// The frame `crate::render` draws of `scene` with `kernels` (one per SSS material) at
-    /// `params`: full resolution, the exact blur path; other settings are refused by name.
+    /// `params`: full resolution, the exact blur path, no shape tables (their thin bodies need the
+    /// back maps, which the page does not draw); other settings are refused by name.
     pub fn new(scene: &Scene, kernels: &[KernelTaps], params: &RenderParams) -> Result<WebFrame> {
+        if crate::passes::shadow::back_layers(scene, params) > 0 {
+            return Err(GpuError::invalid(
+                "shape",
+                "on",
+                "a web frame draws no back maps (the shape table's thin bodies): shape off",
+            ));
+        }
         if params.half_res || params.fast {
             return Err(GpuError::invalid(
                 "resolution",

@@ -66,7 +66,7 @@ fn materials() -> Vec<Shading> {
             }),
             shift_se_cm: [[0.001; 3]; INCIDENCE_STEPS],
         },
-        // E rising from concave to convex and with θ, ⟨x⟩ growing with θ, ⟨s⟩ with κ.
+        // E rising from concave to convex and with θ, ⟨x⟩ growing with θ, ⟨s⟩ with κ; slabs' E below 1.
         shape: translucent.then(|| {
             let mut t = ShapeTable::ones([2.7, 7.3, 14.6]);
             for (i, row) in t.curvature.iter_mut().enumerate() {
@@ -82,6 +82,16 @@ fn materials() -> Vec<Shading> {
                         e.shift_cm.value = 0.01 * k as f64 * (2.5 + kappa) * jitter() as f64;
                         e.width_cm.value = 0.1 * (1.0 + 0.2 * kappa) / (c + 1) as f64
                             * (1.0 + 0.01 * k as f64)
+                            * jitter() as f64;
+                    }
+                }
+            }
+            // Slabs keeping less the thinner they are, and less at grazing entry.
+            for (i, row) in t.thickness.iter_mut().enumerate() {
+                for (k, entries) in row.iter_mut().enumerate() {
+                    for (c, e) in entries.iter_mut().enumerate() {
+                        e.energy.value = (1.0 - 0.6 * 0.5f64.powi(i as i32) / (c + 1) as f64)
+                            * (1.0 - 0.02 * k as f64)
                             * jitter() as f64;
                     }
                 }

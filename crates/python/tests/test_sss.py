@@ -370,7 +370,7 @@ def test_the_render_example_runs(tmp_path):
 def test_package_holds_the_tables_the_renderer_reads():
     # The package sss export writes, as bytes and arrays: ρ(0°)/ρ(0) is 1 by definition, the exit
     # law moves light between view angles and adds none (cosine-weighted mean 1 within 2 % for
-    # the 10° steps), tables.bin is 671 vec4 whose first nine hold the incidence table, and the
+    # the 10° steps), tables.bin is 718 vec4 whose first nine hold the incidence table, and the
     # shape table.
     p = sss.package("skin1", photons=QUICK, incidence_photons=20_000, translucency_photons=5_000)
     assert set(p["files"]) == {"README.md", "tables.json", "tables.bin", "kernel.json", "kernel.wgsl",
@@ -383,7 +383,7 @@ def test_package_holds_the_tables_the_renderer_reads():
         h = np.stack([np.interp(t, np.arange(9), row[:, c]) for c in range(3)], axis=1)
         mean = (2 * np.cos(theta) * np.sin(theta) * np.radians(0.1))[:, None] * h
         np.testing.assert_allclose(mean.sum(axis=0), 1.0, atol=0.02)
-    table = np.frombuffer(p["files"]["tables.bin"], dtype="<f4").reshape(671, 4)
+    table = np.frombuffer(p["files"]["tables.bin"], dtype="<f4").reshape(718, 4)
     np.testing.assert_array_equal(table[:9, :3], p["incidence"])
     # It carries the shape table (on: shape_params.w = 1 after the 261 vec4 before it), whose E is
     # exactly 1 at κ = 0, the half-space against itself (node 7 of 15, 9 angles each).

@@ -205,7 +205,7 @@ impl Package {
                 "index": "curvature[κ node][θ_i][channel], thickness[τ node][θ_i][channel]: {energy, shift_cm, width_cm} each {value, se}",
             })),
             "tables_bin": {
-                "layout": "SssMaterial of sss_lookups.wgsl: 671 vec4<f32>, little-endian",
+                "layout": format!("SssMaterial of sss_lookups.wgsl: {} vec4<f32>, little-endian", shading::PACKED_SHADING_VEC4),
                 "bytes": PACKED_SHADING_SIZE,
                 "as_rendered": self.rendered,
             },
@@ -251,6 +251,7 @@ impl Package {
             translucency = on(self.shading.translucency),
             shape = on(self.shading.shape),
             bytes = PACKED_SHADING_SIZE,
+            vec4 = shading::PACKED_SHADING_VEC4,
             notes = notes,
         )
     }

@@ -44,7 +44,8 @@ pub struct ShadingOptions {
     /// Add the light the material transmits through thin parts (separable method only).
     pub translucency: Option<bool>,
     /// Multiply the light entering SSS surfaces by the shape table's E(κ, θ) at the surface's
-    /// mean curvature (separable method only; default off).
+    /// mean curvature, and by what a slab as thin as the body's chord along the light keeps
+    /// where it is thinner than its curvature makes it (separable method only; default off).
     pub shape: Option<bool>,
 }
 

@@ -13,7 +13,7 @@ use crate::model::Shading;
 pub const CHECK_WGSL: &str = include_str!("wgsl/check.wgsl");
 
 /// vec4 outputs per sample of [`CHECK_WGSL`].
-pub const CHECK_OUTPUTS: usize = 9;
+pub const CHECK_OUTPUTS: usize = 10;
 
 /// vec4 inputs per sample of [`CHECK_WGSL`].
 pub const CHECK_INPUTS: usize = 4;
@@ -27,7 +27,8 @@ pub struct CheckSample {
     pub cos_o: f32,
     /// cos θ_i, the entry angle's cosine.
     pub cos_i: f32,
-    /// A thin part's thickness [cm].
+    /// A thin part's thickness [cm] (translucency), and the body's chord along the light
+    /// (`sss_shape_thin`).
     pub d_cm: f32,
     /// The unit normal.
     pub n: [f32; 3],
@@ -73,12 +74,17 @@ impl CheckSample {
             None => ([0.0; 3], [1.0; 3]),
         };
         let (k, cos) = (self.curvature_per_cm, self.cos_i);
-        let (energy, shift, width) = match &s.shape {
+        let (energy, shift, width, thin) = match &s.shape {
             Some(t) => {
                 let f = t.at(k, cos);
-                (f.energy, f.shift_cm, t.width_ratio(k, cos))
+                (
+                    f.energy,
+                    f.shift_cm,
+                    t.width_ratio(k, cos),
+                    t.thin_factor(k, self.d_cm, cos),
+                )
             }
-            None => ([1.0; 3], [0.0; 3], [1.0; 3]),
+            None => ([1.0; 3], [0.0; 3], [1.0; 3], [1.0; 3]),
         };
         [
             v(
@@ -96,6 +102,7 @@ impl CheckSample {
             v(energy, 0.0),
             v(shift, 0.0),
             v(width, 0.0),
+            v(thin, 0.0),
         ]
     }
 }

@@ -65,7 +65,10 @@ pub use kernel::{KernelTaps, MAX_PASSES, MAX_TAPS};
 /// settings, a batch of its channels, an estimate with its standard error.
 pub use mc::{BatchSpec, Estimate, Material, SimConfig};
 pub use model::Shading;
-pub use packed::{BINDINGS_WGSL, LOOKUPS_WGSL, MATERIAL_WGSL, PACKED_SHADING_SIZE, PackedShading};
+pub use packed::{
+    BINDINGS_WGSL, LOOKUPS_WGSL, MATERIAL_WGSL, PACKED_SHADING_SIZE, PACKED_SHADING_VEC4,
+    PackedShading,
+};
 pub use profile::SimulatedProfile;
 pub use shaders::{CHECK_ENTRY, ShaderSources};
 pub use shape::{

@@ -38,7 +38,10 @@ pub struct Shading {
     /// a half-space returns near its entry ([`ShapeTable`]); the scene pass multiplies each
     /// light's entering light on SSS surfaces by E at the surface's mean curvature there (the
     /// screen-space derivatives of position and normal), which makes a convex part brighter and
-    /// a concave one darker before the blur spreads the light.
+    /// a concave one darker before the blur spreads the light; and where the body is thinner
+    /// along the light than its curvature makes it (its chord from a back-face depth map per
+    /// light), by [`ShapeTable::thin_factor`]: the light a slab that thin loses through its far
+    /// side.
     pub shape: Option<ShapeTable>,
     /// The relative refractive index η of the material's smooth boundary (1: index-matched).
     /// SSS surfaces reflect area lights in mirror with the Fresnel reflectance F(η, θ) at the

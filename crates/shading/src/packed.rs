@@ -8,7 +8,9 @@ use crate::angles::{ANGLES_WGSL, INCIDENCE_STEPS};
 use crate::entry_shift::{ENTRY_SHIFT_WGSL, EntryShift};
 use crate::fresnel::FRESNEL_WGSL;
 use crate::model::Shading;
-use crate::shape::{CURVATURE_STEPS, SHAPE_CURVATURES, SHAPE_WGSL};
+use crate::shape::{
+    CURVATURE_STEPS, SHAPE_CURVATURES, SHAPE_THICKNESSES, SHAPE_WGSL, THICKNESS_STEPS,
+};
 use crate::translucency::{TRANSLUCENCY_STEPS, TRANSLUCENCY_WGSL};
 
 /// WGSL's `struct SssMaterial`, the layout of [`PackedShading`].
@@ -17,7 +19,7 @@ pub const MATERIAL_WGSL: &str = include_str!("wgsl/material.wgsl");
 /// Every lookup a renderer does in the tables, in one WGSL source: `fresnel`, `angle_index`,
 /// `sss_incidence`, `sss_exit`, `sss_entry_shift`, `sss_entry_offset`, `sss_translucency`,
 /// `sss_translucency_exit`, `sss_back_face_entry`, `sss_shape_energy`, `sss_shape_shift`,
-/// `sss_shape_width` and `struct SssMaterial`. The lookups read the tables through nine accessors the host defines
+/// `sss_shape_width`, `sss_shape_thin` and `struct SssMaterial`. The lookups read the tables through eleven accessors the host defines
 /// (`sss_incidence_entry(m, k)`, …): [`BINDINGS_WGSL`] over a storage buffer, or a renderer's own (`gpu`'s over its uniform block).
 pub const LOOKUPS_WGSL: &str = const_format::concatcp!(
     FRESNEL_WGSL,
@@ -68,20 +70,38 @@ pub struct PackedShading {
     /// E, ⟨x⟩ [cm] and ⟨s⟩ [cm] (quantity q = 0, 1, 2) at node i and θ = 0°, 10°, …, 80°,
     /// [135·q + 9·i + θ index] (rgb; E ones, ⟨x⟩ and ⟨s⟩ zeros when off).
     pub shape: [[f32; 4]; 3 * CURVATURE_STEPS * INCIDENCE_STEPS],
+    /// The slabs' thicknesses τ [-] ([`SHAPE_THICKNESSES`]), four per vec4, the last slots 0.
+    pub shape_slab_grid: [[f32; 4]; SLAB_GRID_VEC4],
+    /// E of the slab of node k at θ = 0°, 10°, …, 80°, [9·k + θ index] (rgb; ones when off).
+    pub shape_slab: [[f32; 4]; THICKNESS_STEPS * INCIDENCE_STEPS],
 }
 
 /// The vec4 that hold the curvature nodes.
 const SHAPE_GRID_VEC4: usize = CURVATURE_STEPS.div_ceil(4);
 
-/// The size of [`PackedShading`] and of WGSL's `SssMaterial` [bytes]: 671 vec4.
-pub const PACKED_SHADING_SIZE: usize =
-    (10 + 17 + 16 * 9 + 9 * 9 + 9 + 1 + SHAPE_GRID_VEC4 + 3 * CURVATURE_STEPS * 9) * 16;
+/// The vec4 that hold the slabs' thicknesses.
+const SLAB_GRID_VEC4: usize = THICKNESS_STEPS.div_ceil(4);
+
+/// The vec4 of [`PackedShading`] and of WGSL's `SssMaterial`: 718.
+pub const PACKED_SHADING_VEC4: usize = 10
+    + 17
+    + 16 * 9
+    + 9 * 9
+    + 9
+    + 1
+    + SHAPE_GRID_VEC4
+    + 3 * CURVATURE_STEPS * 9
+    + SLAB_GRID_VEC4
+    + THICKNESS_STEPS * 9;
+
+/// The size of [`PackedShading`] and of WGSL's `SssMaterial` [bytes].
+pub const PACKED_SHADING_SIZE: usize = PACKED_SHADING_VEC4 * 16;
 const _: () = assert!(std::mem::size_of::<PackedShading>() == PACKED_SHADING_SIZE);
 
 impl PackedShading {
     /// The tables of `s` as uploaded; a translucency that is off keeps zeros for Tt/ρ and ones
     /// for h_T (with grid 1 cm, ln ratio 1: finite lookups), a shape table that is off ones for E
-    /// and zeros for ⟨x⟩ and ⟨s⟩ (with σ_tr 1 cm⁻¹).
+    /// (curved bodies and slabs) and zeros for ⟨x⟩ and ⟨s⟩ (with σ_tr 1 cm⁻¹).
     pub fn new(s: &Shading) -> PackedShading {
         let rgb = |r: [f32; 3]| [r[0], r[1], r[2], 0.0];
         PackedShading {
@@ -124,6 +144,16 @@ impl PackedShading {
                     Some(t) => rgb(t.curvature[i][k]
                         .map(|e| [e.energy, e.shift_cm, e.width_cm][q].value as f32)),
                     None => [[1.0; 4], [0.0; 4], [0.0; 4]][q],
+                }
+            }),
+            shape_slab_grid: std::array::from_fn(|j| {
+                std::array::from_fn(|i| SHAPE_THICKNESSES.get(4 * j + i).copied().unwrap_or(0.0))
+            }),
+            shape_slab: std::array::from_fn(|j| {
+                let (i, k) = (j / INCIDENCE_STEPS, j % INCIDENCE_STEPS);
+                match &s.shape {
+                    Some(t) => rgb(t.thickness[i][k].map(|e| e.energy.value as f32)),
+                    None => [1.0; 4],
                 }
             }),
         }

@@ -29,10 +29,12 @@ use crate::angles::{INCIDENCE_STEPS, incidence_ratio};
 use crate::error::{Result, ShadingError};
 
 /// The WGSL of the shape table's lookups, `sss_shape_energy(m, curvature, cos_i) -> vec3<f32>`
-/// (E), `sss_shape_shift(…)` (⟨x⟩ [cm]) and `sss_shape_width(…)` (⟨s⟩ over the half-space's),
-/// with `sss_shape_at` and `sss_curvature_position(m, κ)` (`wgsl/shape.wgsl`; reads the host's
-/// `sss_shape_params`, `sss_shape_grid` and `sss_shape_entry`; the CPU twins are
-/// [`ShapeTable::at`], [`ShapeTable::width_ratio`] and [`curvature_position`]).
+/// (E), `sss_shape_shift(…)` (⟨x⟩ [cm]), `sss_shape_width(…)` (⟨s⟩ over the half-space's) and
+/// `sss_shape_thin(m, curvature, chord, cos_i)` (what a thin body keeps), with `sss_shape_at`,
+/// `sss_shape_slab` and `sss_curvature_position(m, κ)` (`wgsl/shape.wgsl`; reads the host's
+/// `sss_shape_params`, `sss_shape_grid`, `sss_shape_entry`, `sss_shape_slab_grid` and
+/// `sss_shape_slab_entry`; the CPU twins are [`ShapeTable::at`], [`ShapeTable::width_ratio`],
+/// [`ShapeTable::thin_factor`], [`ShapeTable::slab_at`] and [`curvature_position`]).
 pub const SHAPE_WGSL: &str = include_str!("wgsl/shape.wgsl");
 
 /// Entries of the curvature axis.
@@ -428,6 +430,39 @@ impl ShapeTable {
                 },
             );
         lookup(nodes, cos_i)
+    }
+}
+
+impl ShapeTable {
+    /// What a body keeps of the light E(κ, θ) gives where it is thinner along the light than its
+    /// curvature makes it, per channel (≤ 1): light entering at cos θ = `cos_i` where the body's
+    /// chord along the light ray is `chord_cm` [cm] and its signed curvature `curvature_per_cm`
+    /// [cm⁻¹]. A slab t thick has the chord t/cos θ (the light's straight line, as a depth map
+    /// from the light measures it), a sphere of radius R the chord 2R·cos θ; so the body is read
+    /// as a slab t = chord·cos θ, and the sphere of its curvature as the slab t_κ = 2cos²θ/κ
+    /// (none where it is concave or flat: t_κ = ∞, E_slab = 1). The factor is
+    /// E_slab(t)/E_slab(t_κ) ([`ShapeTable::slab_at`]), at most 1: on a sphere 1 (E(κ) already
+    /// holds what leaves through its far side), on a flat plate E_slab(t). 1 where the chord is
+    /// unknown (≤ 0 or NaN) or E_slab(t_κ) is 0.
+    pub fn thin_factor(&self, curvature_per_cm: f32, chord_cm: f32, cos_i: f32) -> [f32; 3] {
+        // Unknown: 0, negative or NaN.
+        if chord_cm.is_nan() || chord_cm <= 0.0 {
+            return [1.0; 3];
+        }
+        let c = cos_i.clamp(0.0, 1.0);
+        let slab = self.slab_at(chord_cm * c, cos_i).energy;
+        let own = if curvature_per_cm > 0.0 {
+            self.slab_at(2.0 * c * c / curvature_per_cm, cos_i).energy
+        } else {
+            [1.0; 3]
+        };
+        [0, 1, 2].map(|k| {
+            if own[k] > 0.0 {
+                (slab[k] / own[k]).min(1.0)
+            } else {
+                1.0
+            }
+        })
     }
 }
 

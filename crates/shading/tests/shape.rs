@@ -271,6 +271,46 @@ fn the_thickness_lookup_is_linear_in_ln_tau_and_the_half_space_beyond() {
     }
 }
 
+/// What a thin body keeps, `ShapeTable::thin_factor`: a slab t thick entered at θ has the chord
+/// t/cos θ along the light and keeps E_slab(t, θ); a sphere of radius R has the chord 2R·cos θ
+/// and keeps all of E(κ) (factor 1) at every angle; an unknown chord (0, negative, NaN) changes
+/// nothing; the factor is never above 1; and a body thinner than its sphere keeps less.
+#[test]
+fn a_thin_body_keeps_the_slabs_share_and_a_sphere_all_of_its_own() {
+    let t = synthetic();
+    for k in [0usize, 3, 6] {
+        let cos = (10.0 * k as f32).to_radians().cos();
+        for t_cm in [0.05f32, 0.2, 0.6, 5.0] {
+            let got = t.thin_factor(0.0, t_cm / cos, cos);
+            let want = t.slab_at(t_cm, cos).energy.map(|e| e.min(1.0));
+            for c in 0..3 {
+                assert!(
+                    (got[c] - want[c]).abs() < 1e-5,
+                    "slab {t_cm} cm at {}°",
+                    10 * k
+                );
+            }
+        }
+        for r in [0.05f32, 0.3, 2.0] {
+            let sphere = t.thin_factor(1.0 / r, 2.0 * r * cos, cos);
+            for f in sphere {
+                assert!((f - 1.0).abs() < 1e-5, "sphere of {r} cm at {}°", 10 * k);
+            }
+            let thinner = t.thin_factor(1.0 / r, r * cos, cos);
+            assert!(thinner.iter().all(|&f| f <= 1.0), "{thinner:?}");
+        }
+    }
+    // The synthetic slabs keep 1 − 0.1·(1 + c/2)/(1 + τ) (channel c): a flat plate keeps less.
+    assert!(t.thin_factor(0.0, 0.1, 1.0).iter().all(|&f| f < 0.95));
+    for unknown in [0.0f32, -1.0, f32::NAN] {
+        assert_eq!(t.thin_factor(0.5, unknown, 0.7), [1.0; 3]);
+    }
+    assert_eq!(
+        ShapeTable::ones([2.0, 4.0, 8.0]).thin_factor(0.0, 0.01, 1.0),
+        [1.0; 3]
+    );
+}
+
 /// Skin1's table with few photons: the same bits with one thread and two, E = 1 ± 0 at κ = 0,
 /// and unchanged through JSON.
 #[test]

@@ -167,8 +167,8 @@ pub struct RenderArgs {
     #[arg(long, value_parser = on_off())]
     pub translucency: Option<bool>,
 
-    /// Shape-aware shading: light entering SSS surfaces times E(κ, θ), what a sphere or cavity of
-    /// the surface's mean curvature returns over a half-space (mc) [default: off; separable only]
+    /// Shape-aware shading: entering light × E(κ, θ) of a sphere or cavity of the surface's
+    /// curvature (mc), less where the body is thin along the light [default: off; separable only]
     #[arg(long, value_parser = on_off())]
     pub shape: Option<bool>,
 

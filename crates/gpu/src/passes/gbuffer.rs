@@ -160,7 +160,15 @@ fn globals(scene: &Scene, params: &RenderParams, plain: bool) -> Globals {
             scene.specular,
             scene.shininess,
         ],
-        ambient: scene.ambient.extend(0.0).into(),
+        // w: where the back maps start in the shadow maps (0: none; shadow::back_layers).
+        ambient: scene
+            .ambient
+            .extend(if plain {
+                0.0
+            } else {
+                crate::passes::shadow::back_layers(scene, params) as f32
+            })
+            .into(),
         lights,
         // `plain`: all off but η (the disc gathers bring their own physics).
         materials: params.shading.map(|s| {

@@ -73,6 +73,14 @@ fn sss_shape_entry(m: u32, q: u32, i: u32, k: u32) -> vec3<f32> {
     return g.materials[m].shape[135u * q + 9u * i + k].rgb;
 }
 
+fn sss_shape_slab_grid(m: u32, j: u32) -> vec4<f32> {
+    return g.materials[m].shape_slab_grid[j];
+}
+
+fn sss_shape_slab_entry(m: u32, i: u32, k: u32) -> vec3<f32> {
+    return g.materials[m].shape_slab[9u * i + k].rgb;
+}
+
 // The fraction of emitter i's light that reaches `world` (unit normal n, `l` the unit direction
 // towards the light, n_dot_l = n·l > 0): its shadow map's 3×3 comparison filter. The depth bias
 // is a world distance along the ray to the light: one shadow-map texel's footprint at `world`
@@ -161,6 +169,52 @@ fn entry(i: u32, xy: vec2<f32>, z: f32) -> vec3<f32> {
     return e.xyz / e.w;
 }
 
+// The body's chord [cm] along light i's ray through `world`, a point the light reaches first: the
+// distance to the next surface behind it, the light's back map (shadow::back_layers: the layer
+// g.ambient.w after its shadow map's), at the nearest texel; 0 (unknown) without back maps or a
+// shadow map, outside the map, or where nothing lies behind.
+fn chord(i: u32, world: vec3<f32>) -> f32 {
+    let back = g.ambient.w;
+    let layer = g.lights[i].color.w;
+    if back < 0.5 || layer < 0.0 {
+        return 0.0;
+    }
+    let p = g.lights[i].view_proj * vec4<f32>(world, 1.0);
+    let ndc = p.xyz / p.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
+        return 0.0;
+    }
+    let size = vec2<f32>(textureDimensions(shadow_maps));
+    let z = textureLoad(shadow_maps, vec2<i32>(uv * size), i32(layer + back), 0);
+    if z >= 1.0 {
+        return 0.0;
+    }
+    return length(entry(i, ndc.xy, z) - world);
+}
+
+// The body's shape for light i entering SSS material m at `world` (unit normal n, `l` the unit
+// direction towards the light, cos θ = cos_i, `loc` the surface's turn): E at the mean curvature
+// `curvature` [cm⁻¹] times what a body thinner along the light than its curvature keeps
+// (sss_shape_thin at the chord, with the normal curvature in the plane of n and l: a sphere's
+// 1/R, a cylinder's 1/r across its axis and 0 along it, so that on both the chord is what the
+// curvature makes it; at normal incidence the mean curvature); ones where the material's shape
+// table is off.
+fn shape_factor(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, loc: Local,
+                curvature: f32) -> vec3<f32> {
+    if g.materials[m].shape_params.w < 0.5 {
+        return vec3<f32>(1.0);
+    }
+    let cos_i = dot(n, l);
+    let along = l - cos_i * n;
+    var k = curvature;
+    if dot(along, along) > 1e-8 {
+        let t = normalize(along);
+        k = dot(normal_derivative(loc, t), t);
+    }
+    return sss_shape_energy(m, curvature, cos_i) * sss_shape_thin(m, k, chord(i, world), cos_i);
+}
+
 // π × the radiance a smooth dielectric boundary of index eta at `world` (unit normal n) reflects
 // towards the camera (`view_dir`) from cell i of an area light: the Fresnel reflectance at the
 // view angle times the cell's radiance, where the mirror ray hits the cell's front face (π: the
@@ -240,7 +294,7 @@ fn mean_curvature(loc: Local, n: vec3<f32>) -> f32 {
 // surface's curvature (normal_turn) and the shadow is that point's: the light's incidence there,
 // the incidence table at it, its shadow map. δ is read at the angle here (from behind, cos ≤ 0,
 // the 80° value: what enters just before the terminator reaches past it). `curvature`: the mean
-// curvature here [cm⁻¹] for the shape table's E (sss_shape_energy).
+// curvature here [cm⁻¹] for the shape table's E (shape_factor).
 struct Entry {
     // The entering light (rgb), and without shadows (what weighs the exit law's entry angle).
     light: vec3<f32>,
@@ -253,7 +307,7 @@ fn shifted_entry(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, s
                  loc: Local, curvature: f32) -> Entry {
     let delta = sss_entry_shift(m, dot(n, l));
     // The shape's E at the angle here (as δ), the same for every channel's entry point.
-    let energy = sss_shape_energy(m, curvature, dot(n, l));
+    let energy = shape_factor(i, m, world, n, l, loc, curvature);
     var e = Entry(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
     for (var c = 0u; c < 3u; c++) {
         var p = world;
@@ -356,7 +410,7 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
         }
         if !shifting {
             let entering = scale * n_dot_l
-                * select(vec3<f32>(1.0), sss_incidence(m, n_dot_l) * sss_shape_energy(m, curvature, n_dot_l), sss);
+                * select(vec3<f32>(1.0), sss_incidence(m, n_dot_l) * shape_factor(i, m, world, n, l, loc, curvature), sss);
             irradiance += entering * vis;
             let w = entering.r + entering.g + entering.b;
             entry_w += w;

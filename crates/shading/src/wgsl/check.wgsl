@@ -1,5 +1,5 @@
 // The lookups evaluated at sampled inputs, for comparing a GPU's results with the CPU twins
-// (shading::check): per sample four vec4 in, nine out. With bindings.wgsl, a self-test an
+// (shading::check): per sample four vec4 in, ten out. With bindings.wgsl, a self-test an
 // engine can dispatch as it is.
 
 // First x: the number of samples (not arrayLength: HLSL compilers disagree on whether a byte
@@ -11,7 +11,7 @@
 // sss_back_face_entry(η, cos_i)], [sss_entry_shift(m, cos_i), 0], [sss_entry_offset(n, l, δ), 0],
 // [sss_translucency(m, d), 0], [sss_translucency_exit(m, d, cos_o), 0],
 // [sss_shape_energy(m, curvature, cos_i), 0], [sss_shape_shift(m, curvature, cos_i), 0],
-// [sss_shape_width(m, curvature, cos_i), 0].
+// [sss_shape_width(m, curvature, cos_i), 0], [sss_shape_thin(m, curvature, d, cos_i), 0].
 @group(0) @binding(2) var<storage, read_write> sss_check_out: array<vec4<f32>>;
 
 @compute @workgroup_size(64)
@@ -25,7 +25,7 @@ fn sss_check(@builtin(global_invocation_id) id: vec3<u32>) {
     let lb = sss_check_in[4u * i + 3u];
     let curvature = sss_check_in[4u * i + 4u].x;
     let m = u32(a.x);
-    let o = 9u * i;
+    let o = 10u * i;
     sss_check_out[o] = vec4<f32>(sss_incidence(m, a.z), fresnel(nb.w, a.y));
     sss_check_out[o + 1u] = vec4<f32>(sss_exit(m, a.y, a.z), sss_back_face_entry(nb.w, a.z));
     sss_check_out[o + 2u] = vec4<f32>(sss_entry_shift(m, a.z), 0.0);
@@ -35,4 +35,5 @@ fn sss_check(@builtin(global_invocation_id) id: vec3<u32>) {
     sss_check_out[o + 6u] = vec4<f32>(sss_shape_energy(m, curvature, a.z), 0.0);
     sss_check_out[o + 7u] = vec4<f32>(sss_shape_shift(m, curvature, a.z), 0.0);
     sss_check_out[o + 8u] = vec4<f32>(sss_shape_width(m, curvature, a.z), 0.0);
+    sss_check_out[o + 9u] = vec4<f32>(sss_shape_thin(m, curvature, a.w, a.z), 0.0);
 }

@@ -1,4 +1,4 @@
-// One material's tables as a renderer uploads them (shading::PackedShading; 10,736 bytes, every
+// One material's tables as a renderer uploads them (shading::PackedShading; 11,488 bytes, every
 // member a vec4 so the layout is the same in uniform and storage buffers, std140 and std430).
 struct SssMaterial {
     // ρ(θ)/ρ(0) at θ = 0°, 10°, …, 80° (rgb), and the ambient light's factor: its cosine-weighted
@@ -21,4 +21,8 @@ struct SssMaterial {
     shape_params: vec4<f32>,
     shape_grid: array<vec4<f32>, 4>,
     shape: array<vec4<f32>, 405>,
+    // The slabs: their thicknesses τ [-], four per vec4 (5); E at slab k and θ = 0°, 10°, …,
+    // 80°, [9·k + θ index] (rgb; ones: off).
+    shape_slab_grid: array<vec4<f32>, 2>,
+    shape_slab: array<vec4<f32>, 45>,
 };

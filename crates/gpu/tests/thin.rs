@@ -1,0 +1,142 @@
+//! Thin bodies in the scene pass (issue 47): where a material has a shape table, the light
+//! entering an SSS surface is multiplied by what a slab as thin as the body's chord along the
+//! light keeps of a half-space's light, relative to what the sphere of the surface's curvature
+//! keeps (`shading::ShapeTable::thin_factor`); the chord comes from each light's back map (the
+//! next surface behind its shadow map's first, by depth peeling). On a slab t thick lit at θ
+//! the chord is t/cos θ, so the factor is E_slab(t, θ); on a sphere the chord is 2R·cos θ and the
+//! curvature 1/R, so it is 1: E(κ) already holds what leaves through the sphere's far side.
+//! Under CI=true a missing adapter fails.
+
+use glam::Vec3;
+use gpu::{AlbedoMode, Camera, Light, MAX_MATERIALS, Mesh, RenderParams, Scatter, Scene, render};
+use shading::{SHAPE_THICKNESSES, Shading, ShapeTable};
+
+mod common;
+use common::gpu;
+
+const SIZE: u32 = 32;
+
+/// σ_tr [cm⁻¹] per channel: a 10 cm chord is τ = 1, 1.5 and 2.5, inside the slabs' nodes.
+const SIGMA_TR: [f64; 3] = [0.1, 0.15, 0.25];
+
+/// A shape table that changes nothing for curved bodies (E = 1) and whose slabs keep
+/// 1 − 0.4·(0.25/τ)^½ of a half-space's light (less the thinner, 0.6 at the first node), 2 %
+/// less per 10° of entry angle.
+fn table() -> ShapeTable {
+    let mut t = ShapeTable::ones(SIGMA_TR);
+    for (i, row) in t.thickness.iter_mut().enumerate() {
+        for (k, entries) in row.iter_mut().enumerate() {
+            for e in entries.iter_mut() {
+                let tau = SHAPE_THICKNESSES[i] as f64;
+                e.energy.value = (1.0 - 0.4 * (0.25 / tau).sqrt()) * (1.0 - 0.02 * k as f64);
+            }
+        }
+    }
+    t
+}
+
+fn params(shape: Option<ShapeTable>) -> RenderParams {
+    RenderParams {
+        width: SIZE,
+        height: SIZE,
+        albedo: AlbedoMode::Post,
+        shading: [Shading {
+            shape,
+            ..Shading::default()
+        }; MAX_MATERIALS],
+        ..RenderParams::default()
+    }
+}
+
+fn centre(frame: &gpu::Frame) -> [f32; 4] {
+    let s = SIZE as usize;
+    frame.irradiance[(s / 2) * s + s / 2]
+}
+
+/// The slab y ∈ [−thickness, 0], seen from above, lit from above at 30° with an irradiance of 2.
+fn slab(thickness: f32) -> Scene {
+    let towards = Vec3::new(30f32.to_radians().sin(), 30f32.to_radians().cos(), 0.0);
+    let mut s = common::slab_scene(thickness, 100.0, towards);
+    s.lights = vec![Light::Directional {
+        towards,
+        irradiance: Vec3::splat(2.0),
+        shadow: true,
+    }];
+    s
+}
+
+#[test]
+fn a_thin_slab_keeps_what_the_slab_table_says() {
+    let Some(gpu) = gpu() else { return };
+    let t = table();
+    let cos = 30f32.to_radians().cos();
+    // Below the first node (τ < 0.25 in every channel), across the nodes, and beyond the last
+    // in blue (τ = 4.5 > 4: a half-space, 1). (The ray through the centre leaves by the bottom
+    // face: 18·tan 30° < 20 cm.)
+    for thickness in [0.5f32, 3.0, 8.0, 18.0] {
+        let frame = render(&gpu, &slab(thickness), Scatter::None, &params(Some(t))).unwrap();
+        let got = centre(&frame);
+        let want = t.slab_at(thickness, cos).energy.map(|e| 2.0 * cos * e);
+        for c in 0..3 {
+            assert!(
+                (got[c] - want[c]).abs() < 0.005 * want[c],
+                "t = {thickness} cm, channel {c}: {} against {}",
+                got[c],
+                want[c]
+            );
+        }
+        assert!(
+            want[0] < 0.99 * 2.0 * cos,
+            "the slab keeps less than a half-space"
+        );
+    }
+    // Without the shape table: the lit face's plain irradiance.
+    let frame = render(&gpu, &slab(0.5), Scatter::None, &params(None)).unwrap();
+    for c in 0..3 {
+        assert!((centre(&frame)[c] - 2.0 * cos).abs() < 1e-4, "channel {c}");
+    }
+}
+
+/// A sphere of radius `radius` [cm] seen and lit along +z (irradiance 1).
+fn sphere(radius: f32) -> Scene {
+    Scene {
+        mesh: Mesh::sphere(Vec3::ZERO, radius, [1.0; 3], 1.0),
+        camera: Camera {
+            position: Vec3::new(0.0, 0.0, 100.0),
+            target: Vec3::ZERO,
+            fov_y_deg: 1.0,
+        },
+        lights: vec![Light::Directional {
+            towards: Vec3::Z,
+            irradiance: Vec3::ONE,
+            shadow: true,
+        }],
+        ambient: Vec3::ZERO,
+        specular: 0.0,
+        shininess: 1.0,
+    }
+}
+
+#[test]
+fn a_sphere_keeps_its_light_and_a_plate_as_thick_does_not() {
+    let Some(gpu) = gpu() else { return };
+    let t = table();
+    // The sphere's chord along the light at its centre is its diameter, 10 cm: as a slab that
+    // would keep 1 − 0.4·(0.25/τ)^½, τ = 1 … 2.5 (0.80 … 0.87); as a sphere of its own
+    // curvature, all of E(κ) (here 1).
+    let frame = render(&gpu, &sphere(5.0), Scatter::None, &params(Some(t))).unwrap();
+    for (c, got) in centre(&frame)[..3].iter().enumerate() {
+        assert!((got - 1.0).abs() < 0.02, "channel {c}: {got}");
+    }
+    // A plate 10 cm thick lit along its normal keeps what the slab table says, well below 1.
+    let plate = common::slab_scene(10.0, 100.0, Vec3::Y);
+    let frame = render(&gpu, &plate, Scatter::None, &params(Some(t))).unwrap();
+    let keeps = t.slab_at(10.0, 1.0).energy;
+    for (c, (got, want)) in centre(&frame).iter().zip(keeps).enumerate() {
+        assert!(want < 0.9, "channel {c}: {want}");
+        assert!(
+            (got - want).abs() < 0.005 * want,
+            "channel {c}: {got} against {want}"
+        );
+    }
+}
