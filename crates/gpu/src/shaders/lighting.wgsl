@@ -195,24 +195,25 @@ fn chord(i: u32, world: vec3<f32>) -> f32 {
 
 // The body's shape for light i entering SSS material m at `world` (unit normal n, `l` the unit
 // direction towards the light, cos θ = cos_i, `loc` the surface's turn): E at the mean curvature
-// `curvature` [cm⁻¹] times what a body thinner along the light than its curvature keeps
+// curvature.x [cm⁻¹] times what a body thinner along the light than its curvature keeps
 // (sss_shape_thin at the chord, with the normal curvature in the plane of n and l: a sphere's
 // 1/R, a cylinder's 1/r across its axis and 0 along it, so that on both the chord is what the
-// curvature makes it; at normal incidence the mean curvature); ones where the material's shape
+// curvature makes it; at normal incidence the larger principal curvature curvature.y, whose
+// chord along the normal is the shorter: 2r on a cylinder); ones where the material's shape
 // table is off.
 fn shape_factor(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, loc: Local,
-                curvature: f32) -> vec3<f32> {
+                curvature: vec2<f32>) -> vec3<f32> {
     if g.materials[m].shape_params.w < 0.5 {
         return vec3<f32>(1.0);
     }
     let cos_i = dot(n, l);
     let along = l - cos_i * n;
-    var k = curvature;
+    var k = curvature.y;
     if dot(along, along) > 1e-8 {
         let t = normalize(along);
         k = dot(normal_derivative(loc, t), t);
     }
-    return sss_shape_energy(m, curvature, cos_i) * sss_shape_thin(m, k, chord(i, world), cos_i);
+    return sss_shape_energy(m, curvature.x, cos_i) * sss_shape_thin(m, k, chord(i, world), cos_i);
 }
 
 // π × the radiance a smooth dielectric boundary of index eta at `world` (unit normal n) reflects
@@ -272,18 +273,26 @@ fn normal_turn(loc: Local, d: vec3<f32>) -> vec3<f32> {
     return dn * min(1.0, 0.5 / max(length(dn), 1e-30));
 }
 
-// The mean curvature H = (κ₁ + κ₂)/2 [cm⁻¹] of the surface at a point of unit normal n: half the
-// trace of the shape operator, the normal's derivative along two orthonormal tangents t (Duff et
-// al. 2017's basis) projected on them, dn/ds·t. > 0 where the surface is convex (its normal turns
-// the way one moves: 1/R on a sphere of radius R), < 0 concave, 0 flat and where the derivatives
-// are unknown (the splats).
-fn mean_curvature(loc: Local, n: vec3<f32>) -> f32 {
+// The surface's curvatures [cm⁻¹] at a point of unit normal n: x the mean curvature
+// H = (κ₁ + κ₂)/2, y the larger principal curvature κ₁. From the shape operator, the normal's
+// derivative along two orthonormal tangents t (Duff et al. 2017's basis) projected on them
+// (dn/ds·t, symmetrised): H half its trace, κ₁ its larger eigenvalue. > 0 where the surface is
+// convex (its normal turns the way one moves: 1/R on a sphere of radius R), < 0 concave, 0 flat
+// and where the derivatives are unknown (the splats).
+fn curvatures(loc: Local, n: vec3<f32>) -> vec2<f32> {
     let sgn = select(-1.0, 1.0, n.z >= 0.0);
     let a = -1.0 / (sgn + n.z);
     let b = n.x * n.y * a;
     let t1 = vec3<f32>(1.0 + sgn * n.x * n.x * a, sgn * b, -sgn * n.x);
     let t2 = vec3<f32>(b, sgn + n.y * n.y * a, -n.y);
-    return 0.5 * (dot(normal_derivative(loc, t1), t1) + dot(normal_derivative(loc, t2), t2));
+    let d1 = normal_derivative(loc, t1);
+    let d2 = normal_derivative(loc, t2);
+    let s11 = dot(d1, t1);
+    let s22 = dot(d2, t2);
+    let s12 = 0.5 * (dot(d1, t2) + dot(d2, t1));
+    let h = 0.5 * (s11 + s22);
+    let half = 0.5 * (s11 - s22);
+    return vec2<f32>(h, h + sqrt(half * half + s12 * s12));
 }
 
 // Light i entering SSS material m where it leaves at `world` (unit normal n, `l` the unit
@@ -294,7 +303,7 @@ fn mean_curvature(loc: Local, n: vec3<f32>) -> f32 {
 // surface's curvature (normal_turn) and the shadow is that point's: the light's incidence there,
 // the incidence table at it, its shadow map. δ is read at the angle here (from behind, cos ≤ 0,
 // the 80° value: what enters just before the terminator reaches past it). `curvature`: the mean
-// curvature here [cm⁻¹] for the shape table's E (shape_factor).
+// and the larger principal curvature here [cm⁻¹] for the shape table (shape_factor).
 struct Entry {
     // The entering light (rgb), and without shadows (what weighs the exit law's entry angle).
     light: vec3<f32>,
@@ -304,7 +313,7 @@ struct Entry {
 };
 
 fn shifted_entry(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, scale: vec3<f32>,
-                 loc: Local, curvature: f32) -> Entry {
+                 loc: Local, curvature: vec2<f32>) -> Entry {
     let delta = sss_entry_shift(m, dot(n, l));
     // The shape's E at the angle here (as δ), the same for every channel's entry point.
     let energy = shape_factor(i, m, world, n, l, loc, curvature);
@@ -353,11 +362,11 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
     var through_light = vec3<f32>(0.0);
     let cos_o = dot(n, view_dir);
     let shifting = sss && g.materials[m].shift[0].w > 0.5;
-    // The mean curvature the shape table's E is read at (only where the table is on: WGSL's
+    // The curvatures the shape table is read at (only where the table is on: WGSL's
     // select would evaluate it on every pixel).
-    var curvature = 0.0;
+    var curvature = vec2<f32>(0.0);
     if sss && g.materials[m].shape_params.w > 0.5 {
-        curvature = mean_curvature(loc, n);
+        curvature = curvatures(loc, n);
     }
     for (var i = 0u; i < u32(g.params.x); i++) {
         let l4 = g.lights[i].pos_or_dir;
