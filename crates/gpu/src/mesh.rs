@@ -82,26 +82,26 @@ pub(crate) fn pipeline(
     label: &str,
     formats: &[wgpu::TextureFormat],
 ) -> wgpu::RenderPipeline {
+    let targets: Vec<Option<wgpu::ColorTargetState>> =
+        formats.iter().map(|&f| Some(f.into())).collect();
     pipeline_with(
         dev,
         module,
         label,
-        formats,
+        &targets,
         (!formats.is_empty()).then_some("fs"),
     )
 }
 
-/// [`pipeline`] with the fragment entry point `fragment` (None: no fragment stage): a depth-only
-/// pass may have one that discards.
+/// [`pipeline`] with the fragment entry point `fragment` (None: no fragment stage) writing
+/// `targets`: a depth-only pass may have one that discards, a pass may write some channels only.
 pub(crate) fn pipeline_with(
     dev: &wgpu::Device,
     module: &wgpu::ShaderModule,
     label: &str,
-    formats: &[wgpu::TextureFormat],
+    targets: &[Option<wgpu::ColorTargetState>],
     fragment: Option<&str>,
 ) -> wgpu::RenderPipeline {
-    let targets: Vec<Option<wgpu::ColorTargetState>> =
-        formats.iter().map(|&f| Some(f.into())).collect();
     dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: None,
@@ -118,7 +118,7 @@ pub(crate) fn pipeline_with(
             module,
             entry_point: Some(entry),
             compilation_options: Default::default(),
-            targets: &targets,
+            targets,
         }),
         multiview_mask: None,
         cache: None,

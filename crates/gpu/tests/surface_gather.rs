@@ -485,7 +485,10 @@ fn the_directional_table_lies_on_the_plane_through_both_points() {
 }
 
 /// On a plane every chord's curvature is 0: the shape-aware gather is the directional one (E = 1,
-/// w = 1). On the sphere scene (R = 5 cm), light entering a sphere returns E(1/(σ_tr·R)) > 1 times
+/// w = 1) where the body is thick (a 4 cm slab: τ > 4 in every channel), and where it is thin
+/// (a 1.5 mm slab lit at 30°, chord 1.5 mm/cos 30°) that times what a slab that thin keeps,
+/// E_slab(0.15 cm, 30°) (the two share their samples, so the ratio is exact up to rounding).
+/// On the sphere scene (R = 5 cm), light entering a sphere returns E(1/(σ_tr·R)) > 1 times
 /// what a half-space returns (`mc` in spheres): the lit centre, where the light arriving around
 /// it is nearly uniform over the spread, is brighter by E (the stretch w moves light, it adds
 /// none), within 2 % (the two gathers share their samples; what remains is the light's fall-off
@@ -502,8 +505,9 @@ fn the_shape_aware_gather_is_the_directional_one_on_a_plane_and_brighter_on_a_sp
     }
     let plane = slab_scene(4.0, 200.0, towards(30.0));
     let sphere = gpu::Scene::sphere();
+    let thin = slab_scene(0.15, 200.0, towards(30.0));
     let mut means = Vec::new();
-    for scene in [&plane, &sphere] {
+    for scene in [&plane, &sphere, &thin] {
         let m: Vec<[f64; 3]> = [&directional, &shape]
             .map(|x| {
                 let frame = render(&gpu, scene, Scatter::SurfaceGather(x), &params()).unwrap();
@@ -514,9 +518,18 @@ fn the_shape_aware_gather_is_the_directional_one_on_a_plane_and_brighter_on_a_sp
     }
     let table = shape.shape.as_ref().unwrap();
     let energy = table.at(1.0 / 5.0, 1.0).energy;
+    let slab = table.slab_at(0.15, 30f32.to_radians().cos()).energy;
+    assert!(slab[0] < 0.8, "red, τ = 0.4: the slab keeps less: {slab:?}");
     for c in 0..3 {
         let (d, s) = (means[0][0][c], means[0][1][c]);
         assert!((s / d - 1.0).abs() < 1e-5, "plane, channel {c}: {s} vs {d}");
+        let (d, s) = (means[2][0][c], means[2][1][c]);
+        let keeps = slab[c].min(1.0) as f64;
+        assert!(
+            (s / d / keeps - 1.0).abs() < 1e-4,
+            "thin plane, channel {c}: shape/directional {} against E_slab {keeps}",
+            s / d
+        );
         let ratio = means[1][1][c] / means[1][0][c];
         eprintln!(
             "sphere, channel {c}: shape/directional {ratio:.4}, E(1/R) {:.4}",

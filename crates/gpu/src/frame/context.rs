@@ -129,6 +129,14 @@ pub(crate) fn bind(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<
     }
 }
 
+/// A texture view at `binding` of a bind group.
+pub(crate) fn bind_view(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: wgpu::BindingResource::TextureView(view),
+    }
+}
+
 /// A depth attachment cleared to the far plane (1) and kept.
 pub(crate) fn cleared_depth(
     view: &wgpu::TextureView,

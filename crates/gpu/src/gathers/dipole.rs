@@ -191,6 +191,7 @@ pub(crate) fn encode(
         label: "directional dipole",
         wgsl: DIPOLE_WGSL,
         buffers: vec![&ubuf],
+        chords: false,
     };
     crate::gathers::disc_gather::encode(rec, target, &setup.sampling, &model, pipelines)
 }

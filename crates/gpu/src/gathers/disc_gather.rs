@@ -24,7 +24,7 @@ use std::sync::{Mutex, OnceLock};
 use glam::Mat4;
 
 use crate::error::{GpuError, Result};
-use crate::frame::context::{cleared_depth, compute_pipeline};
+use crate::frame::context::{bind, bind_view, cleared_depth, compute_pipeline};
 use crate::frame::pool::Alloc;
 use crate::frame::recording::Recording;
 use crate::frame::target::Target;
@@ -134,6 +134,9 @@ pub(crate) struct Model<'a> {
     pub wgsl: &'static str,
     /// Buffers bound at 6, 7, ….
     pub buffers: Vec<&'a wgpu::Buffer>,
+    /// Whether the light maps carry the body's chord along the light (the normal map's w, from
+    /// `dipole_maps.wgsl`'s `fs_chord`; else 0).
+    pub chords: bool,
 }
 
 const MAP_FORMATS: [wgpu::TextureFormat; 2] = [
@@ -146,16 +149,25 @@ const MAP_FORMATS: [wgpu::TextureFormat; 2] = [
 /// pipeline per model's WGSL (the directional dipole's, the Monte Carlo BSSRDF's).
 #[derive(Default)]
 pub(crate) struct DiscPipelines {
-    maps: OnceLock<wgpu::RenderPipeline>,
+    maps: OnceLock<[wgpu::RenderPipeline; 2]>,
     models: Mutex<Vec<(&'static str, wgpu::ComputePipeline)>>,
 }
 
 impl DiscPipelines {
-    fn maps(&self, dev: &wgpu::Device) -> &wgpu::RenderPipeline {
+    /// The position/normal maps' pipeline and the chords' (which writes the normal map's w).
+    fn maps(&self, dev: &wgpu::Device) -> &[wgpu::RenderPipeline; 2] {
         self.maps.get_or_init(|| {
             let module =
                 dev.create_shader_module(wgpu::include_wgsl!("../shaders/dipole_maps.wgsl"));
-            crate::mesh::pipeline(dev, &module, "gather maps", &MAP_FORMATS)
+            let w = Some(wgpu::ColorTargetState {
+                format: MAP_FORMATS[1],
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALPHA,
+            });
+            [
+                crate::mesh::pipeline(dev, &module, "gather maps", &MAP_FORMATS),
+                crate::mesh::pipeline_with(dev, &module, "gather chords", &[w], Some("fs_chord")),
+            ]
         })
     }
 
@@ -205,11 +217,14 @@ impl Maps {
         }
     }
 
-    /// Records drawing `mesh` into layer k of the maps from `views[k]`.
+    /// Records drawing `mesh` into layer k of the maps from `views[k]`; with `chords` (the
+    /// chords' pipeline), then the body's chord along the view behind each texel's first surface
+    /// into the normal map's w.
     fn draw(
         &self,
         alloc: Alloc,
         pipeline: &wgpu::RenderPipeline,
+        chords: Option<&wgpu::RenderPipeline>,
         enc: &mut wgpu::CommandEncoder,
         mesh: &MeshBuffers,
         views: &[Mat4],
@@ -220,7 +235,7 @@ impl Maps {
                 "gather map view",
                 bytemuck::bytes_of(&vp.to_cols_array_2d()),
             );
-            let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            let group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: None,
                 layout: &pipeline.get_bind_group_layout(0),
                 entries: &[wgpu::BindGroupEntry {
@@ -259,9 +274,48 @@ impl Maps {
                 ..Default::default()
             });
             pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &bind, &[]);
+            pass.set_bind_group(0, &group, &[]);
+            mesh.draw(&mut pass);
+            drop(pass);
+            let Some(chords) = chords else { continue };
+            let (w, h, _) = self.size();
+            let peeled = alloc
+                .texture(
+                    "gather chord depth",
+                    (w, h, 1),
+                    wgpu::TextureFormat::Depth32Float,
+                    wgpu::TextureUsages::RENDER_ATTACHMENT,
+                )
+                .create_view(&Default::default());
+            let first = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: None,
+                layout: &chords.get_bind_group_layout(0),
+                entries: &[bind(0, &ubuf), bind_view(1, &dv), bind_view(2, &pv)],
+            });
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("gather chords"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &nv,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(cleared_depth(&peeled)),
+                ..Default::default()
+            });
+            pass.set_pipeline(chords);
+            pass.set_bind_group(0, &first, &[]);
             mesh.draw(&mut pass);
         }
+    }
+
+    /// The maps' width, height and layers [texels].
+    fn size(&self) -> (u32, u32, u32) {
+        let s = self.position.size();
+        (s.width, s.height, s.depth_or_array_layers)
     }
 }
 
@@ -336,7 +390,14 @@ pub(crate) fn encode(
     let scene = target.scene;
     let maps = pipelines.maps(dev);
     let cam = Maps::new(alloc, 1, (w, h));
-    cam.draw(alloc, maps, enc, target.mesh, &[target.camera_view_proj]);
+    cam.draw(
+        alloc,
+        &maps[0],
+        None,
+        enc,
+        target.mesh,
+        &[target.camera_view_proj],
+    );
     // At most DISC_LIGHTS emitters per frame: `Renderer::record` checked the lights. Area
     // lights are new points every frame, and their maps are drawn anew.
     let moving = area_slots(&scene.lights) > 0;
@@ -398,7 +459,8 @@ pub(crate) fn encode(
         }
         if frame == 0 || moving {
             vps = emitters.iter().map(|l| scene.light_view_proj(l)).collect();
-            lights.draw(alloc, maps, enc, target.mesh, &vps);
+            let chords = model.chords.then_some(&maps[1]);
+            lights.draw(alloc, &maps[0], chords, enc, target.mesh, &vps);
         }
         let uniform = uniform(frame, &emitters, &vps);
         let ubuf = alloc.uniform("gather frame", bytemuck::bytes_of(&uniform));

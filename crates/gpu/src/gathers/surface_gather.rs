@@ -235,10 +235,14 @@ struct TablesUniform {
     shape_params: [f32; 4],
     shape_grid: [[f32; 4]; 4],
     shape_entries: [[f32; 4]; SHAPE_ENTRIES],
+    shape_slab_grid: [[f32; 4]; 2],
+    shape_slab: [[f32; 4]; SLAB_ENTRIES],
 }
 
-/// The shape table's vec4 in `Tables` (as in `shading::PackedShading`).
+/// The shape table's vec4 in `Tables` (as in `shading::PackedShading`): the curved bodies', the
+/// slabs'.
 const SHAPE_ENTRIES: usize = 3 * shading::CURVATURE_STEPS * INCIDENCE_STEPS;
+const SLAB_ENTRIES: usize = shading::THICKNESS_STEPS * INCIDENCE_STEPS;
 
 /// The Monte Carlo model and the disc gather.
 pub(crate) const MC_BSSRDF_WGSL: &str = gather_wgsl!(
@@ -249,14 +253,16 @@ pub(crate) const MC_BSSRDF_WGSL: &str = gather_wgsl!(
 );
 
 /// WGSL's size of `Tables`: 5 vec4, 9 vec4 of incidence, 9 × 9 vec4 of exit, 10 vec4 of the
-/// directional tables' total reflectances and 1 + 4 + 405 of the shape table, 16 bytes each
-/// (checked against naga's layout in a test).
+/// directional tables' total reflectances and 1 + 4 + 405 + 2 + 45 of the shape table, 16 bytes
+/// each (checked against naga's layout in a test).
 pub(crate) const TABLES_UNIFORM_SIZE: usize = (5
     + INCIDENCE_STEPS
     + INCIDENCE_STEPS * INCIDENCE_STEPS
     + DIRECTIONAL_ANGLES.len()
     + 5
-    + SHAPE_ENTRIES)
+    + SHAPE_ENTRIES
+    + 2
+    + SLAB_ENTRIES)
     * 16;
 const _: () = assert!(std::mem::size_of::<TablesUniform>() == TABLES_UNIFORM_SIZE);
 
@@ -312,6 +318,8 @@ pub(crate) fn encode(
         shape_params: shape.shape_params,
         shape_grid: shape.shape_grid,
         shape_entries: shape.shape,
+        shape_slab_grid: shape.shape_slab_grid,
+        shape_slab: shape.shape_slab,
     };
     // The cumulative share of each channel's ∫Rd dA, exactly 1 at the last bin.
     let dr = setup.dr_cm;
@@ -353,6 +361,7 @@ pub(crate) fn encode(
         },
         wgsl: MC_BSSRDF_WGSL,
         buffers: vec![&ubuf, &pbuf, &cbuf, &dbuf],
+        chords: setup.bssrdf == Bssrdf::Shape,
     };
     crate::gathers::disc_gather::encode(rec, target, &setup.sampling, &model, pipelines)
 }

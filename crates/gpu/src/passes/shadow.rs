@@ -7,7 +7,7 @@
 //! light ray leaves the body it entered, so that the scene pass knows the body's chord along it.
 
 use crate::error::Result;
-use crate::frame::context::{Gpu, cleared_depth};
+use crate::frame::context::{Gpu, bind, bind_view, cleared_depth};
 use crate::frame::recording::Recording;
 use crate::frame::timing::Timer;
 use crate::mesh::MeshBuffers;
@@ -87,13 +87,10 @@ impl Pass for ShadowPass {
         for (i, light) in emitters.iter().enumerate() {
             let vp = scene.light_view_proj(light);
             let ubuf = alloc.uniform("light", bytemuck::bytes_of(&vp.to_cols_array_2d()));
-            let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            let group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: None,
                 layout: &self.pipeline.get_bind_group_layout(0),
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: ubuf.as_entire_binding(),
-                }],
+                entries: &[bind(0, &ubuf)],
             });
             let view = maps.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2),
@@ -101,24 +98,15 @@ impl Pass for ShadowPass {
                 array_layer_count: Some(1),
                 ..Default::default()
             });
-            let draw = |pipeline, bind| light.shadow.then_some((pipeline, bind, mesh));
+            let draw = |pipeline, group| light.shadow.then_some((pipeline, group, mesh));
             let label = format!("shadow map {}", i + 1);
-            depth_pass(enc, timer, &label, &view, draw(&self.pipeline, &bind));
+            depth_pass(enc, timer, &label, &view, draw(&self.pipeline, &group));
             let Some(peeled) = &peeled else { continue };
             // The back map: cleared (depth 1, "none") for an emitter without shadows.
             let first = dev.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: None,
                 layout: &self.peel.get_bind_group_layout(0),
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: ubuf.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::TextureView(&view),
-                    },
-                ],
+                entries: &[bind(0, &ubuf), bind_view(1, &view)],
             });
             let target = peeled.create_view(&Default::default());
             let label = format!("back map {}", i + 1);
@@ -162,9 +150,9 @@ fn depth_pass(
         timestamp_writes: timer.as_mut().map(|t| t.render_writes(label)),
         ..Default::default()
     });
-    if let Some((pipeline, bind, mesh)) = draw {
+    if let Some((pipeline, group, mesh)) = draw {
         pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, bind, &[]);
+        pass.set_bind_group(0, group, &[]);
         mesh.draw(&mut pass);
     }
 }

@@ -64,8 +64,14 @@ fn uniform01(state: ptr<function, u32>) -> f32 {
 struct Entry {
     x: vec3<f32>,
     n: vec3<f32>,
+    // The body's chord along the light through x [cm] (the nearest texel's normal.w; 0 where the
+    // maps do not carry it).
+    chord: f32,
     ok: u32,
 };
+
+// The current sample's Entry.chord, for the model's response (mc_bssrdf.wgsl).
+var<private> gather_entry_chord: f32;
 
 // The lit entry point where the light ray (origin ray_o, unit direction ray_d) through the
 // disc point meets the surface, from the light's maps at continuous texel coordinate t. Where
@@ -101,6 +107,7 @@ fn entry_point(t: vec2<f32>, layer: i32, ray_o: vec3<f32>, ray_d: vec3<f32>) -> 
         let n01 = textureLoad(light_normal, vec2<i32>(i00.x, i11.y), layer, 0).xyz;
         let n11 = textureLoad(light_normal, i11, layer, 0).xyz;
         e.n = normalize(mix(mix(n00, n10, f.x), mix(n01, n11, f.x), f.y));
+        e.chord = textureLoad(light_normal, clamp(vec2<i32>(floor(t)), vec2<i32>(0), size - 1), layer, 0).w;
         e.ok = 1u;
         return e;
     }
@@ -109,7 +116,9 @@ fn entry_point(t: vec2<f32>, layer: i32, ray_o: vec3<f32>, ray_d: vec3<f32>) -> 
     if pc.w < 0.5 {
         return e;
     }
-    e.n = normalize(textureLoad(light_normal, near, layer, 0).xyz);
+    let nc = textureLoad(light_normal, near, layer, 0);
+    e.n = normalize(nc.xyz);
+    e.chord = nc.w;
     e.x = pc.xyz;
     let facing = dot(ray_d, e.n);
     if abs(facing) > 0.01 {
@@ -193,6 +202,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if cos_i <= 0.0 {
                 continue;
             }
+            gather_entry_chord = hit.chord;
             sum += flux * model_response(xi, ni, wi, cos_i, xo, no) * model_exit(cos_o, cos_i)
                 / model_pdf_area(r);
         }

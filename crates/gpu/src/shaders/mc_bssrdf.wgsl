@@ -19,7 +19,10 @@
 //   the signed curvature of the chord from x_i to x_o, κ = (n_o − n_i)·d/|d|², d = x_o − x_i
 //   (on a sphere of radius R, n = (x − c)/R: (n_o − n_i)·d = |d|²/R for any two points, so κ =
 //   1/R exactly; −1/R around a cavity; 0 on a plane): E(κ, θ_i)·Rd(x/w, y/w; θ)/w² per channel,
-//   w = ⟨s⟩(κ)/⟨s⟩(0), which returns E times the half-space's light spread w times as wide.
+//   w = ⟨s⟩(κ)/⟨s⟩(0), which returns E times the half-space's light spread w times as wide;
+//   and where the body is thinner along the light at x_i than the chord's curvature makes it,
+//   times sss_shape_thin at the body's chord there (the light maps' normal.w, disc_gather.wgsl's
+//   gather_entry_chord): what a slab that thin keeps (1 on a sphere; E_slab on a flat plate).
 // All leave with h(θ_o; θ_i) (the exit table, at each sample's entry angle). Radii are drawn
 // from a mixture of the profile's own area density per channel (its CDF) and a share of uniform
 // disc sampling, which keeps the density positive wherever the 3-D distance may make the
@@ -47,6 +50,9 @@ struct Tables {
     shape_params: vec4<f32>,
     shape_grid: array<vec4<f32>, 4>,
     shape_entries: array<vec4<f32>, 405>,
+    // Its slabs: their τ nodes, four per vec4; E at [9·k + θ index] (rgb).
+    shape_slab_grid: array<vec4<f32>, 2>,
+    shape_slab: array<vec4<f32>, 45>,
 };
 
 @group(0) @binding(6) var<uniform> tb: Tables;
@@ -79,13 +85,12 @@ fn sss_shape_entry(m: u32, q: u32, i: u32, k: u32) -> vec3<f32> {
     return tb.shape_entries[135u * q + 9u * i + k].rgb;
 }
 
-// The gather does not read the slabs (sss_shape_thin): their E reads as ones, the grid as 1.
 fn sss_shape_slab_grid(m: u32, j: u32) -> vec4<f32> {
-    return vec4<f32>(1.0);
+    return tb.shape_slab_grid[j];
 }
 
 fn sss_shape_slab_entry(m: u32, i: u32, k: u32) -> vec3<f32> {
-    return vec3<f32>(1.0);
+    return tb.shape_slab[9u * i + k].rgb;
 }
 
 fn model_sample_radius(state: ptr<function, u32>) -> f32 {
@@ -204,7 +209,8 @@ fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: v
     var w = vec3<f32>(1.0);
     if tb.shape.x == 2u && r > 0.0 {
         let curvature = dot(no - ni, d) / (r * r);
-        energy = sss_shape_energy(0u, curvature, cos_i);
+        energy = sss_shape_energy(0u, curvature, cos_i)
+            * sss_shape_thin(0u, curvature, gather_entry_chord, cos_i);
         w = max(sss_shape_width(0u, curvature, cos_i), vec3<f32>(1e-3));
     }
     var result = vec3<f32>(0.0);
