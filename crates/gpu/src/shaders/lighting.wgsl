@@ -25,6 +25,8 @@ struct Globals {
     // x: light count, y: albedo mode (0 pre, 1 post, 2 pre+post), z: specular intensity,
     // w: Blinn–Phong exponent.
     params: vec4<f32>,
+    // rgb: the ambient irradiance; w: the layer where the back maps start in shadow_maps (0:
+    // none; gpu's shadow::back_layers).
     ambient: vec4<f32>,
     lights: array<Light, 64>,
     // Per SSS material (the vertices' material index): shading::PackedShading.
