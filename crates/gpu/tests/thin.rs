@@ -102,17 +102,18 @@ fn a_thin_slab_keeps_what_the_slab_table_says() {
     }
 }
 
-/// A sphere of radius `radius` [cm] seen and lit along +z (irradiance 1).
-fn sphere(radius: f32) -> Scene {
+/// `mesh` around the origin seen along +z from 100 cm (1° field: its centre fills the frame),
+/// under a directional light of irradiance 1 from `towards`.
+fn seen_along_z(mesh: Mesh, towards: Vec3) -> Scene {
     Scene {
-        mesh: Mesh::sphere(Vec3::ZERO, radius, [1.0; 3], 1.0),
+        mesh,
         camera: Camera {
             position: Vec3::new(0.0, 0.0, 100.0),
             target: Vec3::ZERO,
             fov_y_deg: 1.0,
         },
         lights: vec![Light::Directional {
-            towards: Vec3::Z,
+            towards,
             irradiance: Vec3::ONE,
             shadow: true,
         }],
@@ -120,6 +121,11 @@ fn sphere(radius: f32) -> Scene {
         specular: 0.0,
         shininess: 1.0,
     }
+}
+
+/// A sphere of radius `radius` [cm] seen and lit along +z (irradiance 1).
+fn sphere(radius: f32) -> Scene {
+    seen_along_z(Mesh::sphere(Vec3::ZERO, radius, [1.0; 3], 1.0), Vec3::Z)
 }
 
 #[test]
@@ -168,22 +174,7 @@ fn cylinder(radius: f32, towards: Vec3) -> Scene {
         let (a, b) = (2 * j, 2 * j + 2);
         mesh.indices.extend([a, a + 1, b, a + 1, b + 1, b]);
     }
-    Scene {
-        mesh,
-        camera: Camera {
-            position: Vec3::new(0.0, 0.0, 100.0),
-            target: Vec3::ZERO,
-            fov_y_deg: 1.0,
-        },
-        lights: vec![Light::Directional {
-            towards,
-            irradiance: Vec3::ONE,
-            shadow: true,
-        }],
-        ambient: Vec3::ZERO,
-        specular: 0.0,
-        shininess: 1.0,
-    }
+    seen_along_z(mesh, towards)
 }
 
 #[test]

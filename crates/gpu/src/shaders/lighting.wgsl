@@ -420,8 +420,11 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
             spec += mirror(i, world, n, view_dir, eta) * vis;
         }
         if !shifting {
-            let entering = scale * n_dot_l
-                * select(vec3<f32>(1.0), sss_incidence(m, n_dot_l) * shape_factor(i, m, world, n, l, loc, curvature), sss);
+            // Only SSS surfaces read the tables (the shape's chord is a texture read).
+            var entering = scale * n_dot_l;
+            if sss {
+                entering *= sss_incidence(m, n_dot_l) * shape_factor(i, m, world, n, l, loc, curvature);
+            }
             irradiance += entering * vis;
             let w = entering.r + entering.g + entering.b;
             entry_w += w;
