@@ -147,13 +147,14 @@ class Frame {
     this.depth = target("depth32float");
     this.sampler = d.createSampler({ compare: "less-equal", magFilter: "linear", minFilter: "linear" });
     const vertexLayout = {
-      arrayStride: 44,
+      arrayStride: 56,
       attributes: [
         { shaderLocation: 0, offset: 0, format: "float32x3" },
         { shaderLocation: 1, offset: 12, format: "float32x3" },
         { shaderLocation: 2, offset: 24, format: "float32x3" },
         { shaderLocation: 3, offset: 36, format: "float32" },
         { shaderLocation: 4, offset: 40, format: "uint32" },
+        { shaderLocation: 5, offset: 44, format: "float32x3" },
       ],
     };
     const depthStencil = { format: "depth32float", depthWriteEnabled: true, depthCompare: "less" };

@@ -201,3 +201,18 @@ def package(
     "thickness_cm" (16,), "tt_over_rho" (16 × 3), "exit" (16 × 9 × 3), "rho", "rho_se" (3,)),
     "eta" and "notes". Needs no GPU; raises SssError naming the argument on bad input."""
     ...
+
+def light_scale_curvature(
+    positions: npt.ArrayLike,
+    normals: npt.ArrayLike,
+    triangles: npt.ArrayLike,
+    mean_cm: npt.ArrayLike,
+) -> npt.NDArray[np.float32]:
+    """The curvature [cm⁻¹] of a triangle mesh at the scale light travels in a material, per
+    vertex and channel (n × 3): each vertex's chord curvatures (n_y − n_x)·(y − x)/|y − x|² to the
+    other vertices of its body facing its way, weighted e^{−r/s}/r per unit area, s = `mean_cm`
+    per channel (the half-space's mean exit distance, the shape table's ⟨s⟩ at κ = 0 and θ = 0).
+    1/R on a sphere at any scale, 0 on a plane: what `sss_shape_energy` reads per channel.
+    `positions` and `normals` (n × 3, cm and unit outward), `triangles` (m × 3 indices). Raises
+    SssError naming the argument on bad input."""
+    ...

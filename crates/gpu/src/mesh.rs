@@ -24,11 +24,16 @@ pub struct Vertex {
     /// [`crate::MAX_MATERIALS`]; a triangle takes its first vertex's, so vertices without SSS
     /// (strength 0) need a material with a kernel too (0, the default).
     pub material: u32,
+    /// The surface's curvature at the scale light travels in its material, per channel [cm⁻¹]
+    /// (`shading::light_scale_curvature`: the chord curvatures averaged over where the light
+    /// leaves): what the scene pass reads the shape table at. 0 until
+    /// [`Mesh::bake_shape_curvature`] sets it.
+    pub curvature: [f32; 3],
 }
 
 impl Vertex {
-    const ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
-        0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32, 4 => Uint32
+    const ATTRIBUTES: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
+        0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32, 4 => Uint32, 5 => Float32x3
     ];
 
     /// The vertex buffer layout every pass that draws meshes uses.
@@ -164,6 +169,59 @@ impl Mesh {
         self
     }
 
+    /// Sets each SSS vertex's [`Vertex::curvature`] for its material's shape table in `shading`
+    /// (`shading::light_scale_curvature` at the table's [`shading::ShapeTable::light_scale`],
+    /// over the vertices of that material): what `sss render --shape on` reads E at. Vertices
+    /// without SSS (strength 0) or whose material has no shape table keep theirs. Errors: a
+    /// vertex's material beyond `shading`, a mesh the bake refuses (named).
+    pub fn bake_shape_curvature(&mut self, shading: &[shading::Shading]) -> Result<()> {
+        if let Some(v) = self
+            .vertices
+            .iter()
+            .find(|v| v.material as usize >= shading.len())
+        {
+            return Err(GpuError::invalid(
+                "vertex material",
+                v.material,
+                format!("must be below the {} materials shaded", shading.len()),
+            ));
+        }
+        for (m, s) in shading.iter().enumerate() {
+            let Some(table) = &s.shape else {
+                continue;
+            };
+            let of = |v: &Vertex| v.strength > 0.0 && v.material as usize == m;
+            // The material's vertices, renumbered, and the triangles among them.
+            let mut index = vec![u32::MAX; self.vertices.len()];
+            let mut positions = Vec::new();
+            let mut normals = Vec::new();
+            for (i, v) in self.vertices.iter().enumerate().filter(|(_, v)| of(v)) {
+                index[i] = positions.len() as u32;
+                positions.push(v.pos);
+                normals.push(glam::Vec3::from(v.normal).normalize_or_zero().into());
+            }
+            if positions.is_empty() {
+                continue;
+            }
+            let triangles: Vec<[u32; 3]> = (self.indices.chunks_exact(3))
+                .map(|t| [0, 1, 2].map(|k| index[t[k] as usize]))
+                .filter(|t| t.iter().all(|&i| i != u32::MAX))
+                .collect();
+            let mesh = shading::SurfaceMesh {
+                positions: &positions,
+                normals: &normals,
+                triangles: &triangles,
+            };
+            let baked = shading::light_scale_curvature(mesh, table.light_scale())?;
+            for (v, &i) in self.vertices.iter_mut().zip(&index) {
+                if i != u32::MAX {
+                    v.curvature = baked[i as usize];
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// A UV sphere.
     pub fn sphere(centre: Vec3, radius: f32, albedo: [f32; 3], strength: f32) -> Mesh {
         let (rings, segments) = (96u32, 192u32);
@@ -183,6 +241,7 @@ impl Mesh {
                     albedo,
                     strength,
                     material: 0,
+                    curvature: [0.0; 3],
                 });
             }
         }
@@ -219,6 +278,7 @@ impl Mesh {
                     albedo,
                     strength,
                     material: 0,
+                    curvature: [0.0; 3],
                 });
             }
             // Counter-clockwise seen from outside (u × v = n).
@@ -237,6 +297,7 @@ impl Mesh {
             albedo,
             strength: 0.0,
             material: 0,
+            curvature: [0.0; 3],
         };
         Mesh {
             vertices: vec![
@@ -324,6 +385,7 @@ impl Mesh {
                     albedo,
                     strength,
                     material: 0,
+                    curvature: [0.0; 3],
                 });
             }
             m.indices.extend(mesh.indices.iter().map(|i| i + base));

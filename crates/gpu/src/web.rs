@@ -62,8 +62,8 @@ pub struct WebFrame {
     pub width: u32,
     /// Image height [px].
     pub height: u32,
-    /// Indices to draw (`indices.bin`, u32; `vertices.bin`: 44-byte vertices, position, normal
-    /// and albedo as float32x3, strength float32, material uint32).
+    /// Indices to draw (`indices.bin`, u32; `vertices.bin`: 56-byte vertices, position, normal
+    /// and albedo as float32x3, strength float32, material uint32, curvature float32x3).
     pub index_count: u32,
     /// Side of each shadow map [texels] (a depth32float 2D array, one layer per emitter).
     pub shadow_size: u32,

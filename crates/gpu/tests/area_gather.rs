@@ -310,6 +310,7 @@ fn grid(half: f32, y: f32, normal_y: f32, n: u32) -> Mesh {
                 albedo: [1.0; 3],
                 strength: 1.0,
                 material: 0,
+                curvature: [0.0; 3],
             });
         }
     }

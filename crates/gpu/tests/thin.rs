@@ -1,4 +1,7 @@
-//! Thin bodies in the scene pass (issue 47): where a material has a shape table, the light
+//! The shape table in the scene pass (issue 47). Curved bodies: the light entering an SSS
+//! surface is multiplied by E per channel at the curvature its vertices were baked with
+//! (`Mesh::bake_shape_curvature`: on a sphere 1/R at any scale), and by 1 where nothing was
+//! baked. Thin bodies: where a material has a shape table, the light
 //! entering an SSS surface is multiplied by what a slab as thin as the body's chord along the
 //! light keeps of a half-space's light, relative to what the sphere of the surface's curvature
 //! keeps (`shading::ShapeTable::thin_factor`); the chord comes from each light's back map (the
@@ -167,6 +170,7 @@ fn cylinder(radius: f32, towards: Vec3) -> Scene {
                 albedo: [1.0; 3],
                 strength: 1.0,
                 material: 0,
+                curvature: [0.0; 3],
             });
         }
     }
@@ -199,6 +203,49 @@ fn a_cylinder_lit_across_its_axis_keeps_its_light() {
                 "{deg}°, channel {c}: {} of the plain irradiance",
                 got / lambert
             );
+        }
+    }
+}
+
+/// A shape table whose curved bodies return E = 1 + (c + 1)·κ/8 in channel c (κ = 1/(σ_tr·R), at
+/// every angle, between the nodes exactly as linear interpolation reads it) and whose
+/// half-space's exits lie 0.3 cm from the entry on average.
+fn curved_table() -> ShapeTable {
+    let mut t = ShapeTable::ones(SIGMA_TR);
+    for (i, row) in t.curvature.iter_mut().enumerate() {
+        for entries in row.iter_mut() {
+            for (c, e) in entries.iter_mut().enumerate() {
+                e.energy.value = 1.0 + (c + 1) as f64 * shading::SHAPE_CURVATURES[i] as f64 / 8.0;
+                e.width_cm.value = 0.3;
+            }
+        }
+    }
+    t
+}
+
+#[test]
+fn a_sphere_reads_e_at_its_baked_curvature() {
+    let Some(gpu) = gpu() else { return };
+    let t = curved_table();
+    let p = params(Some(t));
+    // A 2 cm sphere: κ = 1/(σ_tr·2 cm) = 5, 3.3 and 2 per channel, at or beyond the last node
+    // (2): E = 1.25, 1.5 and 1.75. A 20 cm one: κ = 0.5, 0.33, 0.2: E = 1.06, 1.08, 1.08.
+    for radius in [2.0f32, 20.0] {
+        let mut scene = sphere(radius);
+        let unbaked = render(&gpu, &scene, Scatter::None, &p).unwrap();
+        scene.mesh.bake_shape_curvature(&p.shading).unwrap();
+        let baked = render(&gpu, &scene, Scatter::None, &p).unwrap();
+        let want = t.at(1.0 / radius, 1.0).energy;
+        for (c, &want) in want.iter().enumerate() {
+            // The sphere's chord keeps all (thin factor 1, as above) within 2 %.
+            let (got, plain) = (centre(&baked)[c], centre(&unbaked)[c]);
+            assert!(
+                (got / plain - want).abs() < 0.005 * want,
+                "R = {radius} cm, channel {c}: {} against E = {want}",
+                got / plain
+            );
+            assert!(want > 1.05, "the table reads E > 1 here");
+            assert!((plain - 1.0).abs() < 0.02, "unbaked: E(0) = 1, {plain}");
         }
     }
 }

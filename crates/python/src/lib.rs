@@ -8,6 +8,7 @@
 use pyo3::prelude::*;
 
 mod args;
+mod curvature;
 mod kernels;
 mod mcml;
 mod package;
@@ -45,5 +46,6 @@ fn sss(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(kernels::engine_params, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(package::package, m)?)?;
+    m.add_function(wrap_pyfunction!(curvature::light_scale_curvature, m)?)?;
     Ok(())
 }

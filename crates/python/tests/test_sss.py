@@ -396,3 +396,40 @@ def test_package_holds_the_tables_the_renderer_reads():
         sss.package("unobtainium")
     with pytest.raises(sss.SssError, match="incidence_photons"):
         sss.package("skin1", incidence_photons=-1)
+
+
+def uv_sphere(radius, rings=48, segments=96):
+    t = np.linspace(0, np.pi, rings + 1)
+    p = np.linspace(0, 2 * np.pi, segments + 1)
+    T, P = np.meshgrid(t, p, indexing="ij")
+    n = np.stack([np.sin(T) * np.cos(P), np.cos(T), np.sin(T) * np.sin(P)], -1).reshape(-1, 3)
+    row = segments + 1
+    tri = [(i * row + j, i * row + j + 1, (i + 1) * row + j) for i in range(rings) for j in range(segments)]
+    tri += [(i * row + j + 1, (i + 1) * row + j + 1, (i + 1) * row + j) for i in range(rings) for j in range(segments)]
+    return radius * n, n, np.array(tri)
+
+
+def test_light_scale_curvature_is_one_over_a_spheres_radius():
+    # Every chord of a sphere has (n_y − n_x)·(y − x)/|y − x|² = 1/R: so has their average.
+    for radius in (0.5, 3.0):
+        p, n, tri = uv_sphere(radius)
+        k = sss.light_scale_curvature(p, n, tri, [0.3, 0.1, 0.05])
+        assert k.shape == (len(p), 3) and k.dtype == np.float32
+        np.testing.assert_allclose(k, 1.0 / radius, rtol=2e-3)
+    # Seen from inside (normals in), a cavity: −1/R.
+    k = sss.light_scale_curvature(p, -n, tri, [0.3, 0.1, 0.05])
+    np.testing.assert_allclose(k, -1.0 / 3.0, rtol=2e-3)
+
+
+@pytest.mark.parametrize("args, field", [
+    (dict(positions=np.zeros((3, 2))), "positions"),
+    (dict(normals=np.zeros((2, 3))), "normals"),
+    (dict(triangles=[[0, 1, 5]]), "triangles"),
+    (dict(triangles=[[0, 1, 1.5]]), "triangles"),
+    (dict(mean_cm=[0.1, 0.1]), "mean_cm"),
+    (dict(mean_cm=[0.1, -0.1, 0.1]), "channel 1"),
+])
+def test_light_scale_curvature_refuses_bad_meshes_naming_them(args, field):
+    base = dict(positions=np.eye(3), normals=[[0, 1, 0]] * 3, triangles=[[0, 1, 2]], mean_cm=[0.1, 0.1, 0.1])
+    with pytest.raises(sss.SssError, match=field):
+        sss.light_scale_curvature(**{**base, **args})

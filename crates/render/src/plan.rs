@@ -126,7 +126,7 @@ impl Plan {
         profiles: &mut dyn Profiles,
         progress: &dyn Progress,
     ) -> Result<Plan> {
-        let scene = request.check()?;
+        let mut scene = request.check()?;
         let shading = request.resolved_shading();
         let mut notes = Vec::new();
         let gather = gather(request, profiles, progress, &mut notes)?;
@@ -140,6 +140,8 @@ impl Plan {
             *s = t.shading(shading.exit, m.material.eta);
             tables.push(t);
         }
+        // The curvature the shape tables are read at, per vertex (none without them).
+        scene.mesh.bake_shape_curvature(&params.shading)?;
         if let Some(j) = request.frame.jitter {
             params.jitter = j;
         } else if let Some(k) = &request.kernel {

@@ -44,7 +44,7 @@ pub struct ShadingOptions {
     /// Add the light the material transmits through thin parts (separable method only).
     pub translucency: Option<bool>,
     /// Multiply the light entering SSS surfaces by the shape table's E(κ, θ) at the surface's
-    /// mean curvature, and by what a slab as thin as the body's chord along the light keeps
+    /// curvature at the scale the light travels (baked per vertex), and by what a slab as thin as the body's chord along the light keeps
     /// where it is thinner than its curvature makes it (separable method only; default off).
     pub shape: Option<bool>,
 }
@@ -61,7 +61,7 @@ pub struct ResolvedShading {
     /// Translucency table on.
     pub translucency: bool,
     /// Shape table on (`shading::ShapeTable`: what curved and thin bodies return against the
-    /// half-space), read by the scene pass at the surface's mean curvature.
+    /// half-space), read by the scene pass at the vertices' baked curvature.
     pub shape: bool,
 }
 

@@ -11,7 +11,8 @@
 //!   ([`translucency`]);
 //! - [`ShapeTable`]: what a sphere, a cavity or a slab returns near the entry against the
 //!   half-space, over curvature and thickness in diffusion lengths, with its shift and width
-//!   ([`shape`]);
+//!   ([`shape`]), and the curvature a mesh has at the scale light travels in it, per vertex
+//!   ([`curvature`]: what a real-time pass reads the shape table at);
 //! - [`DirectionalTable`]: `mc`'s Rd(x, y; θ) for the directional surface gather
 //!   ([`directional`]);
 //! - [`KernelTaps`]: a separable kernel's taps as uploaded ([`kernel`]);
@@ -34,6 +35,7 @@
 pub mod angle_tables;
 pub mod angles;
 pub mod check;
+pub mod curvature;
 pub mod directional;
 pub mod entry_shift;
 mod error;
@@ -51,6 +53,7 @@ pub use angle_tables::{
 };
 pub use angles::{ANGLES_WGSL, INCIDENCE_STEPS, incidence_ratio};
 pub use check::{CHECK_INPUTS, CHECK_OUTPUTS, CHECK_WGSL, CheckSample};
+pub use curvature::{SurfaceMesh, light_scale_curvature};
 pub use directional::{
     Bssrdf, DIRECTIONAL_ANGLES, DIRECTIONAL_HALF_WIDTH, DirectionalTable, GatherTables,
     gather_batch_runs, gather_tables,

@@ -36,8 +36,8 @@ pub struct Shading {
     pub entry_shift: EntryShift,
     /// Shape-aware shading (None: off): light entering a curved body returns E(κ, θ) times what
     /// a half-space returns near its entry ([`ShapeTable`]); the scene pass multiplies each
-    /// light's entering light on SSS surfaces by E at the surface's mean curvature there (the
-    /// screen-space derivatives of position and normal), which makes a convex part brighter and
+    /// light's entering light on SSS surfaces by E at the surface's curvature at the scale the
+    /// light travels (baked per vertex, [`crate::curvature`]), which makes a convex part brighter and
     /// a concave one darker before the blur spreads the light; and where the body is thinner
     /// along the light than its curvature makes it (its chord from a back-face depth map per
     /// light), by [`ShapeTable::thin_factor`]: the light a slab that thin loses through its far

@@ -379,6 +379,14 @@ impl ShapeTable {
         Ok(())
     }
 
+    /// The mean distance from the entry at which a half-space returns light entering along the
+    /// normal, ⟨s⟩ at κ = 0 and θ = 0, per channel [cm] (0 where a channel does not scatter): the
+    /// scale [`crate::curvature::light_scale_curvature`] averages a surface's curvature over.
+    pub fn light_scale(&self) -> [f32; 3] {
+        let half = &self.curvature[HALF_SPACE_NODE][0];
+        [0, 1, 2].map(|c| half[c].width_cm.value.max(0.0) as f32)
+    }
+
     /// κ = curvature/σ_tr per channel [-] for a signed curvature `curvature_per_cm` = ±1/R
     /// [cm⁻¹] (> 0 convex).
     pub fn kappa(&self, curvature_per_cm: f32) -> [f32; 3] {

@@ -416,6 +416,7 @@ mod tests {
             albedo: [1.0; 3],
             strength: 1.0,
             material: 0,
+            curvature: [0.0; 3],
         };
         let mut scene = Scene::named("sphere").unwrap();
         scene.mesh = Mesh {

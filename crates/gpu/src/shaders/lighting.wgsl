@@ -196,26 +196,30 @@ fn chord(i: u32, world: vec3<f32>) -> f32 {
 }
 
 // The body's shape for light i entering SSS material m at `world` (unit normal n, `l` the unit
-// direction towards the light, cos θ = cos_i, `loc` the surface's turn): E at the mean curvature
-// curvature.x [cm⁻¹] times what a body thinner along the light than its curvature keeps
-// (sss_shape_thin at the chord, with the normal curvature in the plane of n and l: a sphere's
-// 1/R, a cylinder's 1/r across its axis and 0 along it, so that on both the chord is what the
-// curvature makes it; at normal incidence the larger principal curvature curvature.y, whose
-// chord along the normal is the shorter: 2r on a cylinder); ones where the material's shape
+// direction towards the light, cos θ = cos_i, `loc` the surface's turn): E per channel at the
+// curvature the light travels over, `light_scale` [cm⁻¹] (the vertices' baked chord curvature,
+// shading::light_scale_curvature), times what a body thinner along the light than its curvature
+// keeps (sss_shape_thin at the chord, with the normal curvature in the plane of n and l: a
+// sphere's 1/R, a cylinder's 1/r across its axis and 0 along it, so that on both the chord is
+// what the curvature makes it; at normal incidence the larger principal curvature `principal`,
+// whose chord along the normal is the shorter: 2r on a cylinder); ones where the material's shape
 // table is off.
 fn shape_factor(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, loc: Local,
-                curvature: vec2<f32>) -> vec3<f32> {
+                light_scale: vec3<f32>, principal: f32) -> vec3<f32> {
     if g.materials[m].shape_params.w < 0.5 {
         return vec3<f32>(1.0);
     }
     let cos_i = dot(n, l);
     let along = l - cos_i * n;
-    var k = curvature.y;
+    var k = principal;
     if dot(along, along) > 1e-8 {
         let t = normalize(along);
         k = dot(normal_derivative(loc, t), t);
     }
-    return sss_shape_energy(m, curvature.x, cos_i) * sss_shape_thin(m, k, chord(i, world), cos_i);
+    let energy = vec3<f32>(sss_shape_energy(m, light_scale.r, cos_i).r,
+                           sss_shape_energy(m, light_scale.g, cos_i).g,
+                           sss_shape_energy(m, light_scale.b, cos_i).b);
+    return energy * sss_shape_thin(m, k, chord(i, world), cos_i);
 }
 
 // π × the radiance a smooth dielectric boundary of index eta at `world` (unit normal n) reflects
@@ -275,13 +279,12 @@ fn normal_turn(loc: Local, d: vec3<f32>) -> vec3<f32> {
     return dn * min(1.0, 0.5 / max(length(dn), 1e-30));
 }
 
-// The surface's curvatures [cm⁻¹] at a point of unit normal n: x the mean curvature
-// H = (κ₁ + κ₂)/2, y the larger principal curvature κ₁. From the shape operator, the normal's
-// derivative along two orthonormal tangents t (Duff et al. 2017's basis) projected on them
-// (dn/ds·t, symmetrised): H half its trace, κ₁ its larger eigenvalue. > 0 where the surface is
+// The surface's larger principal curvature κ₁ [cm⁻¹] at a point of unit normal n, from the shape
+// operator: the normal's derivative along two orthonormal tangents t (Duff et al. 2017's basis)
+// projected on them (dn/ds·t, symmetrised), its larger eigenvalue. > 0 where the surface is
 // convex (its normal turns the way one moves: 1/R on a sphere of radius R), < 0 concave, 0 flat
 // and where the derivatives are unknown (the splats).
-fn curvatures(loc: Local, n: vec3<f32>) -> vec2<f32> {
+fn larger_curvature(loc: Local, n: vec3<f32>) -> f32 {
     let sgn = select(-1.0, 1.0, n.z >= 0.0);
     let a = -1.0 / (sgn + n.z);
     let b = n.x * n.y * a;
@@ -292,9 +295,8 @@ fn curvatures(loc: Local, n: vec3<f32>) -> vec2<f32> {
     let s11 = dot(d1, t1);
     let s22 = dot(d2, t2);
     let s12 = 0.5 * (dot(d1, t2) + dot(d2, t1));
-    let h = 0.5 * (s11 + s22);
     let half = 0.5 * (s11 - s22);
-    return vec2<f32>(h, h + sqrt(half * half + s12 * s12));
+    return 0.5 * (s11 + s22) + sqrt(half * half + s12 * s12);
 }
 
 // Light i entering SSS material m where it leaves at `world` (unit normal n, `l` the unit
@@ -304,8 +306,8 @@ fn curvatures(loc: Local, n: vec3<f32>) -> vec2<f32> {
 // here entered δ behind, at world − δ·t (per channel), where the normal has turned by the
 // surface's curvature (normal_turn) and the shadow is that point's: the light's incidence there,
 // the incidence table at it, its shadow map. δ is read at the angle here (from behind, cos ≤ 0,
-// the 80° value: what enters just before the terminator reaches past it). `curvature`: the mean
-// and the larger principal curvature here [cm⁻¹] for the shape table (shape_factor).
+// the 80° value: what enters just before the terminator reaches past it). `light_scale` and
+// `principal`: the curvatures the shape table is read at (shape_factor).
 struct Entry {
     // The entering light (rgb), and without shadows (what weighs the exit law's entry angle).
     light: vec3<f32>,
@@ -315,10 +317,10 @@ struct Entry {
 };
 
 fn shifted_entry(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, scale: vec3<f32>,
-                 loc: Local, curvature: vec2<f32>) -> Entry {
+                 loc: Local, light_scale: vec3<f32>, principal: f32) -> Entry {
     let delta = sss_entry_shift(m, dot(n, l));
     // The shape's E at the angle here (as δ), the same for every channel's entry point.
-    let energy = shape_factor(i, m, world, n, l, loc, curvature);
+    let energy = shape_factor(i, m, world, n, l, loc, light_scale, principal);
     var e = Entry(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
     for (var c = 0u; c < 3u; c++) {
         var p = world;
@@ -351,11 +353,12 @@ struct Lit {
 
 // What arrives at `world` with unit normal `n`, seen from `view_dir`: the diffuse irradiance (on
 // SSS surfaces of material m with its incidence table and, with `through`, the light that crosses
-// thin parts from behind; entry-shifted where the material says so, `loc` the surface's turn)
-// and the specular: Blinn–Phong, plus on SSS surfaces the mirror image of area lights in their
-// dielectric boundary.
+// thin parts from behind; entry-shifted where the material says so, `loc` the surface's turn,
+// `light_scale` its curvature at the scale light travels [cm⁻¹], per channel, for the shape
+// table) and the specular: Blinn–Phong, plus on SSS surfaces the mirror image of area lights in
+// their dielectric boundary.
 fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool, through: bool,
-         loc: Local) -> Lit {
+         loc: Local, light_scale: vec3<f32>) -> Lit {
     var irradiance = g.ambient.rgb * select(vec3<f32>(1.0), g.materials[m].incidence_ambient.rgb, sss);
     var spec = vec3<f32>(0.0);
     var entry_w = 0.0;
@@ -364,11 +367,11 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
     var through_light = vec3<f32>(0.0);
     let cos_o = dot(n, view_dir);
     let shifting = sss && g.materials[m].shift[0].w > 0.5;
-    // The curvatures the shape table is read at (only where the table is on: WGSL's
+    // The principal curvature the thin factor is read at (only where the table is on: WGSL's
     // select would evaluate it on every pixel).
-    var curvature = vec2<f32>(0.0);
+    var principal = 0.0;
     if sss && g.materials[m].shape_params.w > 0.5 {
-        curvature = curvatures(loc, n);
+        principal = larger_curvature(loc, n);
     }
     for (var i = 0u; i < u32(g.params.x); i++) {
         let l4 = g.lights[i].pos_or_dir;
@@ -401,7 +404,7 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
         let eta = g.materials[m].translucency_params.w;
         let mirrored = cell && sss && eta != 1.0;
         if shifting {
-            let e = shifted_entry(i, m, world, n, l, scale, loc, curvature);
+            let e = shifted_entry(i, m, world, n, l, scale, loc, light_scale, principal);
             irradiance += e.light;
             entry_w += e.unshadowed.r + e.unshadowed.g + e.unshadowed.b;
             entry_c += e.cos_weighted;
@@ -423,7 +426,8 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
             // Only SSS surfaces read the tables (the shape's chord is a texture read).
             var entering = scale * n_dot_l;
             if sss {
-                entering *= sss_incidence(m, n_dot_l) * shape_factor(i, m, world, n, l, loc, curvature);
+                entering *= sss_incidence(m, n_dot_l)
+                    * shape_factor(i, m, world, n, l, loc, light_scale, principal);
             }
             irradiance += entering * vis;
             let w = entering.r + entering.g + entering.b;

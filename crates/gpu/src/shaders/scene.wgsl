@@ -9,6 +9,7 @@ struct VIn {
     @location(2) albedo: vec3<f32>,
     @location(3) strength: f32,
     @location(4) material: u32,
+    @location(5) curvature: vec3<f32>,
 };
 
 struct VOut {
@@ -19,6 +20,7 @@ struct VOut {
     @location(3) strength: f32,
     @location(4) view_depth: f32,
     @location(5) @interpolate(flat) material: u32,
+    @location(6) curvature: vec3<f32>,
 };
 
 @vertex
@@ -30,6 +32,7 @@ fn vs(v: VIn) -> VOut {
     o.albedo = v.albedo;
     o.strength = v.strength;
     o.material = v.material;
+    o.curvature = v.curvature;
     o.view_depth = -(g.view * vec4<f32>(v.pos, 1.0)).z;
     return o;
 }
@@ -55,7 +58,9 @@ fn fs(v: VOut, @builtin(front_facing) front: bool) -> FOut {
     let view_dir = normalize(g.camera_pos.xyz - v.world);
     let sss = v.strength > 0.0;
     let m = min(v.material, 3u);
-    let lit = shade(v.world, n, view_dir, m, sss, true, loc);
+    // The curvature the light travels over (the vertices' bake; a back face sees it mirrored).
+    let curvature = select(-1.0, 1.0, front) * v.curvature;
+    let lit = shade(v.world, n, view_dir, m, sss, true, loc, curvature);
     let split = albedo_split(v.albedo);
     var o: FOut;
     // Alpha: the material index (unpack.wgsl moves it next to depth and strength).

@@ -64,7 +64,7 @@ fn light(@builtin(global_invocation_id) id: vec3<u32>) {
     let m = u32(t.albedo.w);
     // A triangle's centre: the surface's turn unknown, read as flat.
     let flat = Local(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
-    let e = shade(c, n, n, m, true, false, flat).diffuse * albedo_split(t.albedo.rgb)[0];
+    let e = shade(c, n, n, m, true, false, flat, vec3<f32>(0.0)).diffuse * albedo_split(t.albedo.rgb)[0];
     // Turned away, off screen or behind the camera: not seen, so splatted.
     var hidden = true;
     let v = normalize(sp.camera_pos.xyz - c);

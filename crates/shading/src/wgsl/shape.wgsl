@@ -2,8 +2,9 @@
 // medium around a spherical cavity of radius R (concave) at θ returns E(κ, θ) times what a
 // half-space returns within 8 diffusion lengths of its entry, centred ⟨x⟩(κ, θ) [cm] ahead of it
 // and ⟨s⟩(κ, θ) [cm] from it on average, κ = 1/(σ_tr·R) per channel, signed (> 0 convex). The
-// scene pass multiplies the light entering an SSS surface by E at the surface's mean curvature
-// there; the shape-aware surface gather scales the half-space's Rd(x, y; θ) by E and its width
+// scene pass multiplies the light entering an SSS surface by E at the surface's curvature at the
+// scale the light travels (shading::light_scale_curvature, baked per vertex, per channel: read
+// each channel's E at its own curvature); the shape-aware surface gather scales the half-space's Rd(x, y; θ) by E and its width
 // by ⟨s⟩(κ)/⟨s⟩(0) at the curvature of the chord from entry to exit.
 // A slab of thickness t returns E_slab(τ, θ), τ = σ_tr·t, within the same window: a body thinner
 // along the light than its curvature makes it loses light through its far side
