@@ -8,7 +8,9 @@ Entry points (run by path, e.g. `python3 scripts/references/run.py --quick`):
 The image comparison's modules, one concern each:
   scenes    scene definitions (cameras, lights, geometry, the generated bust), the models each
             compares, a run's size and sample budgets (Setup)
-  mitsuba3  building and running Mitsuba 3's renders of a scene
+  mitsuba3  building and running Mitsuba 3's renders of a scene (centred on what its camera
+            looks at)
+  halfspace the medium check: Mitsuba's half-space against Chandrasekhar's exact reflectance
   ours      running `sss` (`materials`, `simulate`, `fit`, `render`) and reading its outputs
   scoring   noise-corrected RMSE ± SE on 2×2 blocks, SSIM, paired block comparisons, the
             calibration test, the compared blocks (coverage, silhouettes)
