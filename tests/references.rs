@@ -46,7 +46,11 @@ fn mitsuba_references_agree() {
         // The medium's transport itself against exact theory: Mitsuba's half-space of Skin1
         // (isotropic, index-matched) against Chandrasekhar's exact reflectance at the origin,
         // within 3 standard errors + 0.5 % per channel (scripts/references/halfspace.py).
-        assert_eq!(v["medium_check"]["pass"], true, "{scene}: {}", v["medium_check"]);
+        assert_eq!(
+            v["medium_check"]["pass"], true,
+            "{scene}: {}",
+            v["medium_check"]
+        );
         for e in v["negative_control"]["energy_ratio"].as_array().unwrap() {
             assert!((e.as_f64().unwrap() - 0.8).abs() < 0.01, "{scene}: {e}");
         }
