@@ -248,4 +248,21 @@ fn a_sphere_reads_e_at_its_baked_curvature() {
             assert!((plain - 1.0).abs() < 0.02, "unbaked: E(0) = 1, {plain}");
         }
     }
+    // Each channel reads E at its own curvature: 0.05, 0.1 and −0.2 cm⁻¹ set on every vertex
+    // (κ = 0.5, 0.67 and −0.8: E = 1.06, 1.17, 0.7).
+    let mut scene = sphere(20.0);
+    let plain = render(&gpu, &scene, Scatter::None, &p).unwrap();
+    let curvature = [0.05f32, 0.1, -0.2];
+    for v in &mut scene.mesh.vertices {
+        v.curvature = curvature;
+    }
+    let set = render(&gpu, &scene, Scatter::None, &p).unwrap();
+    for (c, &k) in curvature.iter().enumerate() {
+        let want = t.at(k, 1.0).energy[c];
+        let got = centre(&set)[c] / centre(&plain)[c];
+        assert!(
+            (got - want).abs() < 0.005 * want,
+            "channel {c} at {k} cm⁻¹: {got} against E = {want}"
+        );
+    }
 }

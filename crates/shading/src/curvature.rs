@@ -24,6 +24,8 @@
 
 use std::collections::HashMap;
 
+use rayon::prelude::*;
+
 use crate::error::{Result, ShadingError};
 
 /// Exits farther than this many mean distances s are not summed (p·2πr = 2π e^{−r/s}: e⁻⁸ =
@@ -116,7 +118,6 @@ pub fn light_scale_curvature(mesh: SurfaceMesh, mean_cm: [f32; 3]) -> Result<Vec
             }
         })
     };
-    use rayon::prelude::*;
     Ok((0..n).into_par_iter().map(of_vertex).collect())
 }
 

@@ -216,10 +216,8 @@ fn shape_factor(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, lo
         let t = normalize(along);
         k = dot(normal_derivative(loc, t), t);
     }
-    let energy = vec3<f32>(sss_shape_energy(m, light_scale.r, cos_i).r,
-                           sss_shape_energy(m, light_scale.g, cos_i).g,
-                           sss_shape_energy(m, light_scale.b, cos_i).b);
-    return energy * sss_shape_thin(m, k, chord(i, world), cos_i);
+    // E with each channel at its own curvature: one lookup (the table is on, checked above).
+    return sss_shape_at(m, 0u, light_scale, cos_i) * sss_shape_thin(m, k, chord(i, world), cos_i);
 }
 
 // π × the radiance a smooth dielectric boundary of index eta at `world` (unit normal n) reflects

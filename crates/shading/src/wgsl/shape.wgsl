@@ -40,17 +40,18 @@ fn sss_curvature_position(m: u32, kappa: f32) -> vec2<f32> {
     return vec2<f32>(f32(i), (k - lo) / (sss_shape_node(m, i + 1u) - lo));
 }
 
-// Quantity q (rgb) where the surface's signed curvature is `curvature` [cm⁻¹] (±1/R, > 0 convex)
-// and the light enters at cos θ = cos_i: linear in κ = curvature/σ_tr between the nodes, linear
-// in θ as the angle tables (shading::ShapeTable::at is the CPU twin).
-fn sss_shape_at(m: u32, q: u32, curvature: f32, cos_i: f32) -> vec3<f32> {
+// Quantity q (rgb) where the surface's signed curvature is `curvature` [cm⁻¹] per channel (±1/R,
+// > 0 convex; the scalar lookups below pass one to all three, the scene pass each channel's at
+// the scale its light travels) and the light enters at cos θ = cos_i: linear in κ = curvature/σ_tr
+// between the nodes, linear in θ as the angle tables (shading::ShapeTable::at is the CPU twin).
+fn sss_shape_at(m: u32, q: u32, curvature: vec3<f32>, cos_i: f32) -> vec3<f32> {
     let sigma_tr = sss_shape_params(m).rgb;
     let a = angle_index(cos_i);
     let k0 = u32(a.x);
     let k1 = min(k0 + 1u, 8u);
     var v = vec3<f32>(0.0);
     for (var c = 0u; c < 3u; c++) {
-        let s = sss_curvature_position(m, curvature / sigma_tr[c]);
+        let s = sss_curvature_position(m, curvature[c] / sigma_tr[c]);
         let i = u32(s.x);
         let lo = mix(sss_shape_entry(m, q, i, k0)[c], sss_shape_entry(m, q, i, k1)[c], a.y);
         let hi = mix(sss_shape_entry(m, q, i + 1u, k0)[c], sss_shape_entry(m, q, i + 1u, k1)[c], a.y);
@@ -64,7 +65,7 @@ fn sss_shape_energy(m: u32, curvature: f32, cos_i: f32) -> vec3<f32> {
     if sss_shape_params(m).w < 0.5 {
         return vec3<f32>(1.0);
     }
-    return sss_shape_at(m, 0u, curvature, cos_i);
+    return sss_shape_at(m, 0u, vec3<f32>(curvature), cos_i);
 }
 
 // ⟨x⟩ [cm] (rgb), the returned light's centroid ahead of its entry along the light's direction
@@ -73,7 +74,7 @@ fn sss_shape_shift(m: u32, curvature: f32, cos_i: f32) -> vec3<f32> {
     if sss_shape_params(m).w < 0.5 {
         return vec3<f32>(0.0);
     }
-    return sss_shape_at(m, 1u, curvature, cos_i);
+    return sss_shape_at(m, 1u, vec3<f32>(curvature), cos_i);
 }
 
 // ⟨s⟩(κ)/⟨s⟩(0) (rgb): how much wider than a half-space's the returned light spreads (its mean
@@ -82,8 +83,8 @@ fn sss_shape_width(m: u32, curvature: f32, cos_i: f32) -> vec3<f32> {
     if sss_shape_params(m).w < 0.5 {
         return vec3<f32>(1.0);
     }
-    let body = sss_shape_at(m, 2u, curvature, cos_i);
-    let half = sss_shape_at(m, 2u, 0.0, cos_i);
+    let body = sss_shape_at(m, 2u, vec3<f32>(curvature), cos_i);
+    let half = sss_shape_at(m, 2u, vec3<f32>(0.0), cos_i);
     return select(vec3<f32>(1.0), body / half, half > vec3<f32>(0.0));
 }
 
