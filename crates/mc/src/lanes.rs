@@ -26,10 +26,13 @@
 //! The lanes' arithmetic is compiled for the machine's vector width (`.cargo/config.toml`).
 //!
 //! Random numbers: each lane has its own PCG-64 stream, seeded from the chunk's stream, so a
-//! chunk's result depends on (seed, chunk) alone, never on threads or shards. A lane draws two
-//! 64-bit words per interaction: ξ of the free path from the first (52 bits, ξ ∈ (0, 1], so
-//! s ≤ 36 mean free paths: P(s > 36/μt) = e⁻³⁶ ≈ 2·10⁻¹⁶), the scattering angle and the azimuth
-//! from the two halves of the second (32 bits each, as the scalar walk's azimuth).
+//! chunk's result depends on (seed, chunk) alone, never on threads or shards; the scalar work
+//! draws from it. The draws of every interaction come from a second generator per lane,
+//! xoshiro256++ run in the vector registers (seeded from the lane's PCG stream: scalar PCG-64
+//! draws, one lane at a time, took a fifth of the walk). A lane draws two 64-bit words per
+//! interaction: ξ of the free path from the first (52 bits, ξ ∈ (0, 1], so s ≤ 36 mean free
+//! paths: P(s > 36/μt) = e⁻³⁶ ≈ 2·10⁻¹⁶), the scattering angle and the azimuth from the two
+//! halves of the second (32 bits each, as the scalar walk's azimuth), one step ahead of their use.
 
 use rand::{RngExt, SeedableRng};
 use wide::bytemuck::cast;
@@ -57,7 +60,8 @@ mod width {
     pub type WideBits = wide::u64x4;
     pub const LANES: usize = 4;
 }
-use width::{LANES, Wide, WideBits};
+use width::WideBits;
+pub(crate) use width::{LANES, Wide};
 
 /// Bits of 1.0: a 52-bit mantissa under this exponent is uniform in [1, 2).
 const ONE_BITS: u64 = 0x3FF0_0000_0000_0000;
@@ -186,6 +190,8 @@ struct Walk<'a, S> {
     m: &'a Medium,
     scorer: &'a mut S,
     rng: [Rng; LANES],
+    /// The per-interaction draws of every lane.
+    draws: LaneRng,
     /// Photons launched so far, and the chunk's total.
     launched: u64,
     photons: u64,
@@ -193,10 +199,13 @@ struct Walk<'a, S> {
 
 impl<'a, S: Scorer> Walk<'a, S> {
     fn new(m: &'a Medium, rng: &mut Rng, scorer: &'a mut S, photons: u64) -> Self {
+        let mut rng: [Rng; LANES] = std::array::from_fn(|_| Rng::from_rng(rng));
+        let draws = LaneRng::new(&mut rng);
         Walk {
             m,
             scorer,
-            rng: std::array::from_fn(|_| Rng::from_rng(rng)),
+            rng,
+            draws,
             launched: 0,
             photons,
         }
@@ -283,7 +292,6 @@ impl<'a, S: Scorer> Walk<'a, S> {
         let (tau0, mu_eff) = (splat(slab.tau0), splat(slab.mu_eff));
         let (depth, tau_total) = (splat(slab.z1 - slab.z0), splat(m.tau_total));
         let importance_threshold = splat(IMPORTANCE_THRESHOLD);
-        let importance_target = splat(IMPORTANCE_TARGET);
         let zero = [0.0; LANES];
         let mut u = Unpacked {
             x: zero,
@@ -301,29 +309,17 @@ impl<'a, S: Scorer> Walk<'a, S> {
             self.start(&mut u, k);
         }
         let mut v = Lanes::pack(&u);
+        // The next step's draws are made a step ahead: they depend on nothing the step does, so
+        // their logarithm's latency overlaps the step's work (the same numbers in the same order).
+        let mut next = self.draws.step(inv_mu_t);
         while v.busy.any() {
-            let mut xi_s = [0.0; LANES];
-            let mut xi_theta = [0.0; LANES];
-            let mut xi_psi = [0.0; LANES];
-            for k in 0..LANES {
-                let (a, b): (u64, u64) = (self.rng[k].random(), self.rng[k].random());
-                xi_s[k] = 2.0 - f64::from_bits((a >> 12) | ONE_BITS);
-                xi_theta[k] = f64::from_bits(((b >> 32) << 20) | ONE_BITS) - 1.0;
-                xi_psi[k] = f64::from_bits(((b & 0xFFFF_FFFF) << 20) | ONE_BITS) - 1.0;
-            }
+            let (s, xi_theta, psi) = next;
+            next = self.draws.step(inv_mu_t);
             // Hop: s = −ln ξ / μt; lanes whose step ends beyond a surface are boundary hits.
-            let s = -Wide::from(xi_s).ln() * inv_mu_t;
             let z_end = v.z + s * v.uz;
             let hit = z_end.simd_lt(z0) | z_end.simd_gt(z1);
             // Drop and spin on every lane; boundary hits keep their state.
-            let (ux, uy, uz) = scatter(
-                slab.g,
-                v.ux,
-                v.uy,
-                v.uz,
-                Wide::from(xi_theta),
-                Wide::from(xi_psi),
-            );
+            let (ux, uy, uz) = scatter(slab.g, v.ux, v.uy, v.uz, xi_theta, psi);
             let dw = v.w * absorb;
             v.x = hit.select(v.x, v.x + s * v.ux);
             v.y = hit.select(v.y, v.y + s * v.uy);
@@ -360,9 +356,10 @@ impl<'a, S: Scorer> Walk<'a, S> {
                 let low = if m.importance {
                     let tau = tau0 + mu_eff * (v.z - z0).clamp(Wide::ZERO, depth);
                     let weighted = v.w * (-tau).max(tau - tau_total).exp();
-                    let survival = (weighted / importance_target).max(v.w);
-                    (weighted.simd_lt(importance_threshold) & survival.simd_lt(Wide::ONE))
-                        .to_bitmask()
+                    // The survival max(w·I/target, w) is below 1 exactly when w is, as w·I is
+                    // below the threshold, half the target: no division needed.
+                    const { assert!(2.0 * IMPORTANCE_THRESHOLD <= IMPORTANCE_TARGET) };
+                    (weighted.simd_lt(importance_threshold) & v.w.simd_lt(Wide::ONE)).to_bitmask()
                 } else {
                     0
                 };
@@ -379,9 +376,109 @@ impl<'a, S: Scorer> Walk<'a, S> {
     }
 }
 
+/// xoshiro256++ (Blackman & Vigna 2021) in every lane: the walk's per-interaction draws.
+struct LaneRng {
+    s: [WideBits; 4],
+}
+
+impl LaneRng {
+    /// Each lane's state from four words of that lane's stream (never all zero).
+    fn new(rng: &mut [Rng; LANES]) -> Self {
+        let mut words = [[0u64; LANES]; 4];
+        for (k, r) in rng.iter_mut().enumerate() {
+            for w in words.iter_mut() {
+                w[k] = r.random();
+            }
+            words[0][k] |= u64::from(words.iter().all(|w| w[k] == 0));
+        }
+        LaneRng {
+            s: words.map(WideBits::from),
+        }
+    }
+
+    /// One interaction's draws: the free path s = −ln ξ / μt (ξ ∈ (0, 1] from 52 bits of the
+    /// first word) [cm], ξ_θ ∈ [0, 1) from the high half of the second and the azimuth's
+    /// (sin ψ, cos ψ) from its low half ([`azimuth`]).
+    #[inline(always)]
+    fn step(&mut self, inv_mu_t: Wide) -> (Wide, Wide, (Wide, Wide)) {
+        let (a, b) = (self.next(), self.next());
+        let one = WideBits::splat(ONE_BITS);
+        let xi_s = Wide::splat(2.0) - cast::<WideBits, Wide>((a >> 12) | one);
+        let xi_theta = cast::<WideBits, Wide>(((b >> 32) << 20) | one) - Wide::ONE;
+        (-xi_s.ln() * inv_mu_t, xi_theta, azimuth(b))
+    }
+
+    #[inline(always)]
+    fn next(&mut self) -> WideBits {
+        let rotl = |x: WideBits, k: u32| (x << k) | (x >> (64 - k));
+        let [mut s0, mut s1, mut s2, mut s3] = self.s;
+        let out = rotl(s0 + s3, 23) + s0;
+        let t = s1 << 17;
+        s2 ^= s0;
+        s3 ^= s1;
+        s1 ^= s2;
+        s0 ^= s3;
+        s2 ^= t;
+        s3 = rotl(s3, 45);
+        self.s = [s0, s1, s2, s3];
+        out
+    }
+}
+
+/// (sin ψ, cos ψ) of the azimuth ψ = 2π·u, u = (low 32 bits of `bits`)/2³² ∈ [0, 1).
+///
+/// The argument comes from bits, so its reduction is exact: 4u is split into the nearest whole
+/// quarter turn k and the rest f = 4u − k ∈ [−½, ½] (both exact in f64), and sin and cos of
+/// x = f·π/2 ∈ [−π/4, π/4] come from Cephes' minimax polynomials (as in `wide`'s `sin_cos`, whose
+/// general reduction of any argument took a quarter of the walk's time); the quarter turns then
+/// swap and negate them: ψ = kπ/2 + x.
+#[inline(always)]
+fn azimuth(bits: WideBits) -> (Wide, Wide) {
+    let one = Wide::ONE;
+    let u = cast::<WideBits, Wide>(((bits << 32) >> 12) | WideBits::splat(ONE_BITS)) - one;
+    let v = u * Wide::splat(4.0);
+    let k = v.round();
+    let x = (v - k) * Wide::splat(std::f64::consts::FRAC_PI_2);
+    let x2 = x * x;
+    let poly = |c: [f64; 6]| {
+        c.iter()
+            .rev()
+            .fold(Wide::ZERO, |acc, &ci| acc.mul_add(x2, Wide::splat(ci)))
+    };
+    let sin_x = (x * x2).mul_add(
+        poly([
+            -1.666_666_666_666_663e-1,
+            8.333_333_333_322_118e-3,
+            -1.984_126_982_958_954e-4,
+            2.755_731_362_138_572_2e-6,
+            -2.505_074_776_285_780_7e-8,
+            1.589_623_015_765_465_6e-10,
+        ]),
+        x,
+    );
+    let cos_x = (x2 * x2).mul_add(
+        poly([
+            4.166_666_666_666_659_5e-2,
+            -1.388_888_888_887_305_6e-3,
+            2.480_158_728_885_170_4e-5,
+            -2.755_731_417_929_674e-7,
+            2.087_570_084_197_473e-9,
+            -1.135_853_652_138_768_2e-11,
+        ]),
+        x2.mul_neg_add(Wide::splat(0.5), one),
+    );
+    // k ∈ {0, …, 4} as an integer: the low bits of k + 2⁵².
+    let q = cast::<Wide, WideBits>(k + Wide::splat(4_503_599_627_370_496.0));
+    let odd = cast::<WideBits, Wide>((q & WideBits::splat(1)).simd_eq(WideBits::splat(1)));
+    let (sin, cos) = (odd.select(cos_x, sin_x), odd.select(sin_x, cos_x));
+    // sin ψ is negative in quarters 2 and 3, cos ψ in quarters 1 and 2 (the sign bit's xor).
+    let sign = |m: WideBits| cast::<WideBits, Wide>((m & WideBits::splat(2)) << 62);
+    (sin ^ sign(q), cos ^ sign(q + WideBits::splat(1)))
+}
+
 /// New directions after a Henyey–Greenstein scattering of all lanes (the scalar walk's `spin`,
-/// without its branches): cos θ by inversion of the CDF from `xi_theta`, the azimuth
-/// ψ = π(2ξ − 1) from `xi_psi`, applied in the frame of the old direction (u_x, u_y, u_z), or
+/// without its branches): cos θ by inversion of the CDF from `xi_theta`, the azimuth's
+/// (sin ψ, cos ψ) from [`azimuth`], applied in the frame of the old direction (u_x, u_y, u_z), or
 /// about the z axis where |u_z| > [`COS_ZERO`] (MCML's `Spin`). Isotropic scattering (g = 0)
 /// draws cos θ = 1 − 2ξ directly in the fixed frame.
 #[inline(always)]
@@ -391,10 +488,9 @@ fn scatter(
     uy: Wide,
     uz: Wide,
     xi_theta: Wide,
-    xi_psi: Wide,
+    (sin_psi, cos_psi): (Wide, Wide),
 ) -> (Wide, Wide, Wide) {
     let one = Wide::ONE;
-    let (sin_psi, cos_psi) = ((xi_psi + xi_psi - one) * Wide::PI).sin_cos();
     if g == 0.0 {
         let cos_t = one - (xi_theta + xi_theta);
         // sin θ = √(1 − cos²θ) = 2√(ξ(1 − ξ)), exact near the poles.
@@ -427,4 +523,73 @@ fn scatter(
         on_axis.select(sy, gen_uy),
         on_axis.select(axis_uz, gen_uz),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand_xoshiro::Xoshiro256PlusPlus;
+    use rand_xoshiro::rand_core::{RngCore, SeedableRng};
+
+    /// Each lane's draws are the reference xoshiro256++ (rand_xoshiro) from the four words its
+    /// PCG stream gave first.
+    #[test]
+    fn each_lane_draws_xoshiro256_plus_plus() {
+        let mut pcg: [Rng; LANES] = std::array::from_fn(|k| crate::rng::chunk_rng(7, k as u64));
+        let mut reference: Vec<Xoshiro256PlusPlus> = pcg
+            .clone()
+            .iter_mut()
+            .map(|r| {
+                let mut seed = [0u8; 32];
+                for word in seed.chunks_mut(8) {
+                    word.copy_from_slice(&r.random::<u64>().to_le_bytes());
+                }
+                Xoshiro256PlusPlus::from_seed(seed)
+            })
+            .collect();
+        let mut lanes = LaneRng::new(&mut pcg);
+        for _ in 0..1000 {
+            let drawn = lanes.next().to_array();
+            for (k, r) in reference.iter_mut().enumerate() {
+                assert_eq!(drawn[k], r.next_u64(), "lane {k}");
+            }
+        }
+    }
+
+    /// The azimuth is (sin, cos) of 2π·u to 10⁻¹⁵ (the reference's own argument 2π·u is rounded
+    /// by up to 4.4·10⁻¹⁶; a wrong quarter turn or sign is off by order 1), on the quarter turns'
+    /// edges and between them.
+    #[test]
+    fn the_azimuth_is_the_sine_and_cosine_of_two_pi_u() {
+        let mut words: Vec<u64> = (0..=8u64)
+            .flat_map(|e| [e << 29, (e << 29).wrapping_sub(1), (e << 29) + 1])
+            .filter(|&w| w < 1 << 32)
+            .collect();
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        words.extend((0..100_000).map(|_| {
+            x = x.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            x >> 32
+        }));
+        for chunk in words.chunks(LANES) {
+            let mut bits = [0u64; LANES];
+            bits[..chunk.len()].copy_from_slice(chunk);
+            // High bits are not the azimuth's: they must not matter.
+            let high = bits.map(|b| b | 0xDEAD_BEEF << 32);
+            let (sin, cos) = azimuth(WideBits::from(high));
+            for (k, &w) in chunk.iter().enumerate() {
+                let psi = std::f64::consts::TAU * (w as f64 / 4_294_967_296.0);
+                let (s, c) = (sin.as_array()[k], cos.as_array()[k]);
+                assert!(
+                    (s - psi.sin()).abs() < 1e-15,
+                    "sin at {w}: {s} vs {}",
+                    psi.sin()
+                );
+                assert!(
+                    (c - psi.cos()).abs() < 1e-15,
+                    "cos at {w}: {c} vs {}",
+                    psi.cos()
+                );
+            }
+        }
+    }
 }
