@@ -354,12 +354,16 @@ impl<'a, S: Scorer> Walk<'a, S> {
                     .filter(|&k| n[k].is_multiple_of(PATH_ROULETTE_INTERVAL))
                     .fold(0, |bits, k| bits | 1 << k);
                 let low = if m.importance {
+                    // A prefilter (`importance` decides exactly): every lane whose w·I(z) may be
+                    // below the threshold, from a lower bound of I = e^{−τ} (τ the smaller of
+                    // the two attenuations) without an exponential (9 % of a white table).
                     let tau = tau0 + mu_eff * (v.z - z0).clamp(Wide::ZERO, depth);
-                    let weighted = v.w * (-tau).max(tau - tau_total).exp();
+                    let bound = attenuation_bound(tau.min(tau_total - tau));
                     // The survival max(w·I/target, w) is below 1 exactly when w is, as w·I is
-                    // below the threshold, half the target: no division needed.
+                    // below the threshold, half the target.
                     const { assert!(2.0 * IMPORTANCE_THRESHOLD <= IMPORTANCE_TARGET) };
-                    (weighted.simd_lt(importance_threshold) & v.w.simd_lt(Wide::ONE)).to_bitmask()
+                    ((v.w * bound).simd_lt(importance_threshold) & v.w.simd_lt(Wide::ONE))
+                        .to_bitmask()
                 } else {
                     0
                 };
@@ -423,6 +427,17 @@ impl LaneRng {
         self.s = [s0, s1, s2, s3];
         out
     }
+}
+
+/// A lower bound of e^{−τ} for τ ≥ 0 in five operations: (1 − τ/16)¹⁶ (as (1 − x/n)ⁿ ≤ e^{−x}),
+/// 0 from τ = 16; within 17 % of e^{−τ} where e^{−τ} ≥ 0.1.
+#[inline(always)]
+fn attenuation_bound(tau: Wide) -> Wide {
+    let mut bound = (Wide::ONE - tau * Wide::splat(1.0 / 16.0)).max(Wide::ZERO);
+    for _ in 0..4 {
+        bound = bound * bound;
+    }
+    bound
 }
 
 /// (sin ψ, cos ψ) of the azimuth ψ = 2π·u, u = (low 32 bits of `bits`)/2³² ∈ [0, 1).
@@ -552,6 +567,26 @@ mod tests {
             let drawn = lanes.next().to_array();
             for (k, r) in reference.iter_mut().enumerate() {
                 assert_eq!(drawn[k], r.next_u64(), "lane {k}");
+            }
+        }
+    }
+
+    /// The importance prefilter's bound never exceeds e^{−τ} (else it would skip roulettes that
+    /// are due) and stays close to it where the roulette's threshold lies.
+    #[test]
+    fn the_attenuation_bound_is_below_the_exponential() {
+        for i in 0..=200_000 {
+            let tau = i as f64 * 1e-4
+                + if i > 100_000 {
+                    1e3 * (i - 100_000) as f64
+                } else {
+                    0.0
+                };
+            let b = attenuation_bound(Wide::splat(tau)).as_array()[0];
+            let e = (-tau).exp();
+            assert!(b <= e && b >= 0.0, "τ = {tau}: {b} > {e}");
+            if e >= 0.1 {
+                assert!(b >= 0.83 * e, "τ = {tau}: {b} against {e}");
             }
         }
     }
