@@ -1,12 +1,14 @@
 //! The tables both test files build (`spec`: 12 albedos up to 0.999 at η = 1.4), and two builds
 //! of one profile table agree within noise (shared by mc's white tables and
-//! mc_gpu's tables): per albedo node above α = 0, χ²/dof ≤ 1.5 over the rings both resolve where
-//! there are at least 20 of them (albedos whose light is spread over fewer, g = 0.9 below
-//! α ≈ 0.9 with Rd < 1 %, are judged by their totals alone), the totals within 3 combined
-//! standard errors; at least 8 albedos judged by their rings, and χ²/dof ≤ 1.2 pooled over them:
-//! with ~500 rings a true agreement lies within 1 ± 0.07 (one standard deviation; a white
-//! table's albedos share a walk, which correlates their terms, not their means), so a bias of a
-//! few percent of the noise would show. α = 0 reflects nothing, exactly, in `a`.
+//! mc_gpu's tables): per albedo node above α = 0, χ²/dof over the rings both resolve, where there
+//! are at least 20 of them (albedos whose light is spread over fewer, g = 0.9 below α ≈ 0.9 with
+//! Rd < 1 %, are judged by their totals alone), at most 1.5 or, over fewer rings than 1.5 can
+//! judge, the value a true agreement exceeds with probability 10⁻⁴ ([`reduced_limit`]); the totals
+//! within 3 combined standard errors; at least 8 albedos judged by their rings, and χ²/dof ≤ 1.2
+//! pooled over them (or the 10⁻⁴ quantile over fewer rings than 1.2 can judge): with ~500 rings a
+//! true agreement lies within 1 ± 0.07 (one standard deviation; a white table's albedos share a
+//! walk, which correlates their terms, not their means), so a bias of a few percent of the noise
+//! would show. α = 0 reflects nothing, exactly, in `a`.
 
 use mc::table::{Table, TableSpec, default_albedos};
 
@@ -29,9 +31,10 @@ pub fn agree(what: &str, a: &Table, b: &Table) {
         let alpha = a.albedo[i];
         if n.dof >= 20 {
             let reduced = n.chi2 / n.dof as f64;
+            let limit = reduced_limit(n.dof, 1.5);
             assert!(
-                reduced <= 1.5,
-                "{what}, α = {alpha}: χ²/dof = {reduced:.2} over {} rings",
+                reduced <= limit,
+                "{what}, α = {alpha}: χ²/dof = {reduced:.2} over {} rings (limit {limit:.2})",
                 n.dof
             );
             judged += 1;
@@ -50,5 +53,23 @@ pub fn agree(what: &str, a: &Table, b: &Table) {
     );
     let reduced = pooled / pooled_dof as f64;
     eprintln!("{what}: pooled χ²/dof {reduced:.3} over {pooled_dof} annuli, {judged} albedos");
-    assert!(reduced <= 1.2, "{what}: pooled χ²/dof = {reduced:.3}");
+    let limit = reduced_limit(pooled_dof, 1.2);
+    assert!(
+        reduced <= limit,
+        "{what}: pooled χ²/dof = {reduced:.3} (limit {limit:.3})"
+    );
+}
+
+/// The largest χ²/dof over `dof` rings: `bound`, or where `dof` is too small for that to be rare,
+/// the value a true agreement exceeds with probability 10⁻⁴ (Wilson–Hilferty's cube-root normal
+/// approximation of the χ² quantile, within 10 % of that probability from 20 dof up: 2.17 over
+/// 34 rings, 1.92 over 50, 1.34 over 288, 1.22 over 635). Over 34 rings a true agreement exceeds
+/// 1.5 with probability 2.5 %, so a fixed 1.5 per albedo failed a correct table of 11 albedos
+/// about one time in four; it did (1.53, pooled 1.23 over 288 rings at g = 0.5, GPU per albedo
+/// against the CPU's white table) when the CPU tracer's streams changed, where eight other seed
+/// pairs of the CPU's builds pooled 0.80–1.12.
+pub fn reduced_limit(dof: usize, bound: f64) -> f64 {
+    let a = 2.0 / (9.0 * dof as f64);
+    let quantile = (1.0 - a + 3.719 * a.sqrt()).powi(3);
+    quantile.max(bound)
 }
