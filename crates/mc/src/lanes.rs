@@ -406,10 +406,8 @@ impl LaneRng {
     #[inline(always)]
     fn step(&mut self, inv_mu_t: Wide) -> (Wide, Wide, (Wide, Wide)) {
         let (a, b) = (self.next(), self.next());
-        let one = WideBits::splat(ONE_BITS);
-        let xi_s = Wide::splat(2.0) - cast::<WideBits, Wide>((a >> 12) | one);
-        let xi_theta = cast::<WideBits, Wide>(((b >> 32) << 20) | one) - Wide::ONE;
-        (-xi_s.ln() * inv_mu_t, xi_theta, azimuth(b))
+        let xi_s = Wide::ONE - fraction(a >> 12);
+        (-xi_s.ln() * inv_mu_t, fraction((b >> 32) << 20), azimuth(b))
     }
 
     #[inline(always)]
@@ -427,6 +425,12 @@ impl LaneRng {
         self.s = [s0, s1, s2, s3];
         out
     }
+}
+
+/// The number in [0, 1) whose 52-bit binary fraction is `mantissa` (exact: 1 + it, less 1).
+#[inline(always)]
+fn fraction(mantissa: WideBits) -> Wide {
+    cast::<WideBits, Wide>(mantissa | WideBits::splat(ONE_BITS)) - Wide::ONE
 }
 
 /// A lower bound of e^{−τ} for τ ≥ 0 in five operations: (1 − τ/16)¹⁶ (as (1 − x/n)ⁿ ≤ e^{−x}),
@@ -450,8 +454,7 @@ fn attenuation_bound(tau: Wide) -> Wide {
 #[inline(always)]
 fn azimuth(bits: WideBits) -> (Wide, Wide) {
     let one = Wide::ONE;
-    let u = cast::<WideBits, Wide>(((bits << 32) >> 12) | WideBits::splat(ONE_BITS)) - one;
-    let v = u * Wide::splat(4.0);
+    let v = fraction((bits << 32) >> 12) * Wide::splat(4.0);
     let k = v.round();
     let x = (v - k) * Wide::splat(std::f64::consts::FRAC_PI_2);
     let x2 = x * x;
