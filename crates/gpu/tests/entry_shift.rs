@@ -4,14 +4,18 @@
 //! - On a flat surface under a distant light that is an exact translation of the irradiance by
 //!   δ along the propagation: across a straight shadow edge, ∫(E − E′) dx = δ·E_lit, whatever
 //!   the shadow filter does to the edge's shape.
-//! - On a sphere the normal turns: a point past the terminator gets the light of the point δ
-//!   behind it, I·max(n′·l, 0) with n′ that point's normal, and the unshifted shading leaves it
-//!   black.
+//! - Seen obliquely, by reciprocity, the light leaving towards the camera at θ_o last scattered
+//!   δ(θ_o) further along the view ray's propagation over the surface: seen from the side the
+//!   light comes from, the edge moves forward by δ(θ_i) + δ(θ_o), from the other side by
+//!   δ(θ_i) − δ(θ_o).
+//! - On a sphere the normal turns: a point past the terminator gets the light of the point
+//!   δ(θ_i) behind it and δ(θ_o) away from the camera, I·max(n′·l, 0) with n′ that point's
+//!   normal, and the unshifted shading leaves it black.
 //!
 //! Under CI=true a missing adapter fails.
 
 use glam::Vec3;
-use gpu::{AlbedoMode, Light, MAX_MATERIALS, RenderParams, Scatter, Scene, render};
+use gpu::{AlbedoMode, Camera, Light, MAX_MATERIALS, RenderParams, Scatter, Scene, render};
 use shading::{EntryShift, INCIDENCE_STEPS, Shading};
 
 mod common;
@@ -88,6 +92,61 @@ fn a_flat_surface_moves_its_shadow_edge_forward_by_the_shift() {
 }
 
 #[test]
+fn an_oblique_view_moves_the_shadow_edge_by_the_exit_angles_shift_too() {
+    let Some(gpu) = gpu() else { return };
+    // The edge of `a_flat_surface_moves_its_shadow_edge_forward_by_the_shift` seen at θ_o = 45°
+    // from far (θ_o within 0.2° over the frame), from the side the light comes from (−x) and
+    // from the other (+x). The camera's up is y, so image rows run along x, each spanning
+    // px/cos θ_o of it.
+    let (sin60, theta_o) = (60f32.to_radians().sin(), 45f32.to_radians());
+    let (size, distance, half_view) = (256u32, 400.0f32, 1.5f32);
+    let px = 2.0 * half_view as f64 / size as f64 / theta_o.cos() as f64; // [cm of x]
+    let d = [0.05f32, 0.1, 0.2];
+    let w = size as usize;
+    let row = |f: &gpu::Frame, y: usize, c: usize| {
+        (0..w)
+            .map(|x| f.irradiance[y * w + x][c] as f64)
+            .sum::<f64>()
+            / w as f64
+    };
+    for side in [-1.0f32, 1.0] {
+        let mut scene = shadow_edge_scene(half_view);
+        scene.camera = Camera {
+            position: distance * Vec3::new(side * theta_o.sin(), theta_o.cos(), 0.0),
+            target: Vec3::ZERO,
+            fov_y_deg: 2.0 * (half_view / distance).atan().to_degrees(),
+        };
+        let plain = render(
+            &gpu,
+            &scene,
+            Scatter::None,
+            &params(size, size, EntryShift::NONE),
+        )
+        .unwrap();
+        let shifted = render(&gpu, &scene, Scatter::None, &params(size, size, table(d))).unwrap();
+        let lit = row(&plain, 2, 0).max(row(&plain, w - 3, 0));
+        for (c, dc) in d.iter().enumerate() {
+            let moved: f64 = (0..w)
+                .map(|y| row(&plain, y, c) - row(&shifted, y, c))
+                .sum::<f64>()
+                * px
+                / lit;
+            let (entry, exit) = ((dc * sin60) as f64, (dc * theta_o.sin()) as f64);
+            let want = entry + side as f64 * exit;
+            eprintln!(
+                "camera on the {} side, channel {c}: the edge moved {moved:.4} cm forward; \
+                 δ(60°) ± δ(45°) = {want:.4} cm",
+                if side > 0.0 { "+x" } else { "light's" }
+            );
+            assert!(
+                (moved - want).abs() < 0.02 * (entry + exit),
+                "side {side}, channel {c}: {moved} vs {want}"
+            );
+        }
+    }
+}
+
+#[test]
 fn a_sphere_is_lit_past_its_terminator_by_the_shift() {
     let Some(gpu) = gpu() else { return };
     let mut scene = Scene::sphere();
@@ -121,12 +180,15 @@ fn a_sphere_is_lit_past_its_terminator_by_the_shift() {
             ((0.5 - clip.y / clip.w * 0.5) * h as f32) as usize,
         );
         let i = py * w as usize + px;
-        // The entry δ behind along the propagation over the surface, on the sphere.
+        // The entry δ(θ_i) behind along the propagation over the surface and δ(θ_o) along the
+        // view ray's, on the sphere.
         let t = (-towards + n.dot(towards) * n).normalize();
+        let to_eye = (scene.camera.position - x).normalize();
+        let t_view = (-to_eye + n.dot(to_eye) * n).normalize();
         let cos_i = n.dot(towards);
         for c in 0..3 {
-            let delta = shift.at(cos_i)[c];
-            let n2 = (x - delta * t - centre).normalize();
+            let (delta, delta_o) = (shift.at(cos_i)[c], shift.at(n.dot(to_eye))[c]);
+            let n2 = (x - delta * t + delta_o * t_view - centre).normalize();
             let want = n2.dot(towards).max(0.0);
             let got = shifted.irradiance[i][c];
             eprintln!(
