@@ -19,7 +19,7 @@ use gpu::{AlbedoMode, Camera, Light, MAX_MATERIALS, RenderParams, Scatter, Scene
 use shading::{EntryShift, INCIDENCE_STEPS, Shading};
 
 mod common;
-use common::{gpu, shadow_edge_scene};
+use common::{EdgeView, gpu, shadow_edge_scene};
 
 /// A table δ(θ) = d_c·sin θ [cm] at the incidence table's angles.
 fn table(d: [f32; 3]) -> EntryShift {
@@ -44,49 +44,61 @@ fn params(width: u32, height: u32, shift: EntryShift) -> RenderParams {
     }
 }
 
-#[test]
-fn a_flat_surface_moves_its_shadow_edge_forward_by_the_shift() {
-    let Some(gpu) = gpu() else { return };
-    // The edge at x = 0, its shadow on the −x side, the light's propagation towards +x.
-    let scene = shadow_edge_scene(1.5);
-    let (sin, cos) = 60f32.to_radians().sin_cos();
-    let size = 256u32;
-    let px = 3.0 / size as f64; // [cm]
-    let d = [0.05, 0.1, 0.2];
+/// How far forward [cm] the shift `d` (δ(θ) = d·sin θ) moves the straight shadow edge of
+/// `scene` (`shadow_edge_scene`: the edge at x = 0, its shadow on the −x side, light from −x at
+/// 60°) per channel, seen as `view` says: ∫ (E − E′) dx over the lit irradiance, which a
+/// translation by δ makes δ whatever the shadow filter does to the edge's shape. Also the lit
+/// irradiance.
+fn edge_moved(gpu: &gpu::Gpu, scene: &gpu::Scene, view: &EdgeView, d: [f32; 3]) -> ([f64; 3], f64) {
+    let size = view.size;
     let plain = render(
-        &gpu,
-        &scene,
+        gpu,
+        scene,
         Scatter::None,
         &params(size, size, EntryShift::NONE),
     )
     .unwrap();
-    let shifted = render(&gpu, &scene, Scatter::None, &params(size, size, table(d))).unwrap();
+    let shifted = render(gpu, scene, Scatter::None, &params(size, size, table(d))).unwrap();
     let w = size as usize;
-    let column = |f: &gpu::Frame, x: usize, c: usize| {
+    let line = |f: &gpu::Frame, i: usize, c: usize| view.line_mean(&f.irradiance, i, c);
+    // The lit end of the image (the edge is in the middle).
+    let lit = line(&plain, 2, 0).max(line(&plain, w - 3, 0));
+    let moved = std::array::from_fn(|c| {
         (0..w)
-            .map(|y| f.irradiance[y * w + x][c] as f64)
+            .map(|i| line(&plain, i, c) - line(&shifted, i, c))
             .sum::<f64>()
-            / w as f64
+            * view.px
+            / lit
+    });
+    (moved, lit)
+}
+
+#[test]
+fn a_flat_surface_moves_its_shadow_edge_forward_by_the_shift() {
+    let Some(gpu) = gpu() else { return };
+    let (sin, cos) = 60f32.to_radians().sin_cos();
+    let size = 256u32;
+    let d = [0.05, 0.1, 0.2];
+    let view = EdgeView {
+        size,
+        px: 3.0 / size as f64,
+        along_rows: false,
     };
-    // Which side is lit in the image (the edge is in the middle column).
-    let lit_left = column(&plain, 2, 0) > column(&plain, w - 3, 0);
-    let lit_x = if lit_left { 2 } else { w - 3 };
+    let (moved, lit) = edge_moved(&gpu, &shadow_edge_scene(1.5), &view, d);
+    assert!(
+        (lit - cos as f64).abs() < 1e-3,
+        "lit irradiance {lit} vs cos 60° {cos}"
+    );
     for (c, dc) in d.iter().enumerate() {
-        let lit = column(&plain, lit_x, c);
-        assert!(
-            (lit - cos as f64).abs() < 1e-3,
-            "lit irradiance {lit} vs cos 60° {cos}"
-        );
-        let lost: f64 = (0..w)
-            .map(|x| column(&plain, x, c) - column(&shifted, x, c))
-            .sum::<f64>()
-            * px
-            / lit;
         let want = (dc * sin) as f64;
-        eprintln!("channel {c}: the shadow edge moved {lost:.4} cm forward; δ(60°) = {want:.4} cm");
+        eprintln!(
+            "channel {c}: the shadow edge moved {:.4} cm forward; δ(60°) = {want:.4} cm",
+            moved[c]
+        );
         assert!(
-            (lost / want - 1.0).abs() < 0.02,
-            "channel {c}: {lost} vs {want}"
+            (moved[c] / want - 1.0).abs() < 0.02,
+            "channel {c}: {} vs {want}",
+            moved[c]
         );
     }
 }
@@ -94,21 +106,17 @@ fn a_flat_surface_moves_its_shadow_edge_forward_by_the_shift() {
 #[test]
 fn an_oblique_view_moves_the_shadow_edge_by_the_exit_angles_shift_too() {
     let Some(gpu) = gpu() else { return };
-    // The edge of `a_flat_surface_moves_its_shadow_edge_forward_by_the_shift` seen at θ_o = 45°
-    // from far (θ_o within 0.2° over the frame), from the side the light comes from (−x) and
-    // from the other (+x). The camera's up is y, so image rows run along x, each spanning
-    // px/cos θ_o of it.
+    // The same edge seen at θ_o = 45° from far (θ_o within 0.2° over the frame), from the side
+    // the light comes from (−x) and from the other (+x). The camera's up is y, so image rows run
+    // along x, each spanning px/cos θ_o of it.
     let (sin60, theta_o) = (60f32.to_radians().sin(), 45f32.to_radians());
     let (size, distance, half_view) = (256u32, 400.0f32, 1.5f32);
-    let px = 2.0 * half_view as f64 / size as f64 / theta_o.cos() as f64; // [cm of x]
-    let d = [0.05f32, 0.1, 0.2];
-    let w = size as usize;
-    let row = |f: &gpu::Frame, y: usize, c: usize| {
-        (0..w)
-            .map(|x| f.irradiance[y * w + x][c] as f64)
-            .sum::<f64>()
-            / w as f64
+    let view = EdgeView {
+        size,
+        px: 2.0 * half_view as f64 / size as f64 / theta_o.cos() as f64,
+        along_rows: true,
     };
+    let d = [0.05f32, 0.1, 0.2];
     for side in [-1.0f32, 1.0] {
         let mut scene = shadow_edge_scene(half_view);
         scene.camera = Camera {
@@ -116,31 +124,20 @@ fn an_oblique_view_moves_the_shadow_edge_by_the_exit_angles_shift_too() {
             target: Vec3::ZERO,
             fov_y_deg: 2.0 * (half_view / distance).atan().to_degrees(),
         };
-        let plain = render(
-            &gpu,
-            &scene,
-            Scatter::None,
-            &params(size, size, EntryShift::NONE),
-        )
-        .unwrap();
-        let shifted = render(&gpu, &scene, Scatter::None, &params(size, size, table(d))).unwrap();
-        let lit = row(&plain, 2, 0).max(row(&plain, w - 3, 0));
+        let (moved, _) = edge_moved(&gpu, &scene, &view, d);
         for (c, dc) in d.iter().enumerate() {
-            let moved: f64 = (0..w)
-                .map(|y| row(&plain, y, c) - row(&shifted, y, c))
-                .sum::<f64>()
-                * px
-                / lit;
             let (entry, exit) = ((dc * sin60) as f64, (dc * theta_o.sin()) as f64);
             let want = entry + side as f64 * exit;
             eprintln!(
-                "camera on the {} side, channel {c}: the edge moved {moved:.4} cm forward; \
+                "camera on the {} side, channel {c}: the edge moved {:.4} cm forward; \
                  δ(60°) ± δ(45°) = {want:.4} cm",
-                if side > 0.0 { "+x" } else { "light's" }
+                if side > 0.0 { "+x" } else { "light's" },
+                moved[c]
             );
             assert!(
-                (moved - want).abs() < 0.02 * (entry + exit),
-                "side {side}, channel {c}: {moved} vs {want}"
+                (moved[c] - want).abs() < 0.02 * (entry + exit),
+                "side {side}, channel {c}: {} vs {want}",
+                moved[c]
             );
         }
     }

@@ -19,7 +19,7 @@ use shading::Bssrdf;
 use std::f64::consts::PI;
 
 mod common;
-use common::{centre_mean, gpu, shadow_edge_scene, slab_scene};
+use common::{EdgeView, centre_mean, gpu, shadow_edge_scene, slab_scene};
 
 const SIZE: u32 = 48;
 const PHOTONS: u64 = 100_000;
@@ -167,7 +167,7 @@ fn quadrature(setup: &SurfaceGatherSetup, towards: Vec3, thickness: f64) -> [f64
             let d = xo - xi;
             let response = match &setup.directional {
                 None => setup.radial_response(d.length(), cos_i),
-                Some(t) => t.response(d, glam::DVec3::Y, l),
+                Some(t) => t.response(d, glam::DVec3::Y, l, [glam::DVec3::ZERO; 3]),
             };
             for c in 0..3 {
                 out[c] += response[c] * r * dr * 2.0 * PI / nphi as f64;
@@ -243,16 +243,9 @@ fn the_error_to_the_limit_falls_as_one_over_root_frames() {
     assert!((ratio / want - 1.0).abs() < 0.15, "{ratio} vs {want}");
 }
 
-/// The orientation of the directional BSSRDF against `mc`'s physics: light entering at 60°
-/// exits shifted forward along the light's tangential propagation, mc's Rd(x, y; 60°) having its
-/// centroid δ ahead of the entry (as Wang & Jacques' far-field centre). Across a straight shadow
-/// edge with the lit side ahead, an exitance profile across the edge is M·G(x − e), G the
-/// distribution function of the exit offset's x, so the difference of two BSSRDFs' profiles
-/// integrates to M·(mean_radial − mean_directional) = −M·δ over a window holding both tails,
-/// wherever the edge e lies: the directional gather keeps δ·M per unit length of the edge out of
-/// the lit region's border; a reversed table would add it.
-#[test]
-fn the_directional_bssrdf_carries_light_forward_across_a_shadow_edge() {
+/// The radial and directional setups of Skin1 at η = 1 for the shadow-edge tests, sampled
+/// densely (16 samples × 16 frames, 8192² light maps).
+fn edge_setups() -> (SurfaceGatherSetup, SurfaceGatherSetup) {
     let material = shading::Material {
         eta: 1.0,
         ..skin1()
@@ -268,72 +261,137 @@ fn the_directional_bssrdf_carries_light_forward_across_a_shadow_edge() {
     .profile;
     let mut radial = setup(&s, &p, Bssrdf::Radial);
     let mut directional = setup(&s, &p, Bssrdf::Directional);
-    // The centroid of mc's table at 60° (index 6) per channel [cm]: the mean of the exit
-    // offset along the propagation, x.
-    let t = directional.directional.as_ref().unwrap();
-    let n = t.half_width as i64;
-    let delta: [f64; 3] = std::array::from_fn(|c| {
-        let cell = t.cell_cm[c];
-        let (mut sx, mut sw) = (0.0, 0.0);
-        for iy in 0..=n {
-            for ix in -n..=n {
-                let (x, y) = (ix as f64 * cell, iy as f64 * cell);
-                let w = t.at(6, c, x, y) * if iy == 0 { 1.0 } else { 2.0 };
-                sx += w * x;
-                sw += w;
-            }
-        }
-        sx / sw
-    });
-    let Some(gpu) = gpu() else { return };
-    // Light from −x at 60° propagates towards +x; the shadow edge at x = 0, the shadow on its
-    // −x side.
-    let scene = shadow_edge_scene(3.0);
-    // Pixels of 1/64 cm: the blue exit distribution is about 0.1 cm wide.
-    let size = 384u32;
-    let px = 6.0 / size as f64; // [cm]
-    let params = RenderParams {
-        width: size,
-        height: size,
-        ..RenderParams::default()
-    };
     for s in [&mut radial, &mut directional] {
         s.sampling.samples = 16;
         s.sampling.frames = 16;
         s.sampling.map_size = 8192;
     }
-    let rad = render(&gpu, &scene, Scatter::SurfaceGather(&radial), &params).unwrap();
-    let dir = render(&gpu, &scene, Scatter::SurfaceGather(&directional), &params).unwrap();
-    // Which side of the image is lit: the brighter one in the radial image (the edge is in the
-    // middle column).
-    let w = size as usize;
-    let column_mean = |f: &gpu::Frame, x: usize, c: usize| {
-        (0..w)
-            .map(|y| f.scattered[y * w + x][c] as f64)
-            .sum::<f64>()
-            / w as f64
+    (radial, directional)
+}
+
+/// How far forward [cm] of lit exitance per channel the directional gather moves light across
+/// the straight shadow edge of `scene` (light from −x at 60°, the edge at x = 0, its shadow on
+/// the −x side) against the radial gather, seen as `view` says: ∫ (M_radial − M_directional) dx
+/// over lit exitance. Each profile is taken over its own lit exitance: the two totals come from
+/// different mc runs.
+fn edge_moved(
+    gpu: &gpu::Gpu,
+    scene: &gpu::Scene,
+    view: &EdgeView,
+    (radial, directional): &(SurfaceGatherSetup, SurfaceGatherSetup),
+) -> [f64; 3] {
+    let params = RenderParams {
+        width: view.size,
+        height: view.size,
+        ..RenderParams::default()
     };
-    let lit_left = column_mean(&rad, 2, 0) > column_mean(&rad, w - 3, 0);
-    for (c, &shift) in delta.iter().enumerate() {
-        // Each profile over its own lit exitance: the two totals come from different mc runs.
-        let far = if lit_left { 2..10 } else { w - 10..w - 2 };
-        let lit = |f: &gpu::Frame| far.clone().map(|x| column_mean(f, x, c)).sum::<f64>() / 8.0;
+    let rad = render(gpu, scene, Scatter::SurfaceGather(radial), &params).unwrap();
+    let dir = render(gpu, scene, Scatter::SurfaceGather(directional), &params).unwrap();
+    let w = view.size as usize;
+    let line = |f: &gpu::Frame, i: usize, c: usize| view.line_mean(&f.scattered, i, c);
+    // Which end of the image is lit: the brighter one in the radial image.
+    let lit_first = line(&rad, 2, 0) > line(&rad, w - 3, 0);
+    std::array::from_fn(|c| {
+        let far = if lit_first { 2..10 } else { w - 10..w - 2 };
+        let lit = |f: &gpu::Frame| far.clone().map(|i| line(f, i, c)).sum::<f64>() / 8.0;
         let (lit_rad, lit_dir) = (lit(&rad), lit(&dir));
-        let lost: f64 = (0..w)
-            .map(|x| column_mean(&rad, x, c) / lit_rad - column_mean(&dir, x, c) / lit_dir)
-            .sum();
-        let measured = lost * px;
+        (0..w)
+            .map(|i| line(&rad, i, c) / lit_rad - line(&dir, i, c) / lit_dir)
+            .sum::<f64>()
+            * view.px
+    })
+}
+
+/// The orientation of the directional BSSRDF against `mc`'s physics: light entering at 60°
+/// exits shifted forward along the light's tangential propagation, mc's Rd(x, y; 60°) having its
+/// centroid δ ahead of the entry (as Wang & Jacques' far-field centre). Across a straight shadow
+/// edge with the lit side ahead, an exitance profile across the edge is M·G(x − e), G the
+/// distribution function of the exit offset's x, so the difference of two BSSRDFs' profiles
+/// integrates to M·(mean_radial − mean_directional) = −M·δ over a window holding both tails,
+/// wherever the edge e lies: the directional gather keeps δ·M per unit length of the edge out of
+/// the lit region's border; a reversed table would add it. Seen from straight above, the view's
+/// exit shift is 0.
+#[test]
+fn the_directional_bssrdf_carries_light_forward_across_a_shadow_edge() {
+    let setups = edge_setups();
+    // The centroid of mc's table at 60° (index 6) per channel [cm]: the mean of the exit
+    // offset along the propagation, x.
+    let delta = setups.1.directional.as_ref().unwrap().centroid_cm(6);
+    let Some(gpu) = gpu() else { return };
+    // Pixels of 1/64 cm: the blue exit distribution is about 0.1 cm wide.
+    let size = 384u32;
+    let view = EdgeView {
+        size,
+        px: 6.0 / size as f64,
+        along_rows: false,
+    };
+    let moved = edge_moved(&gpu, &shadow_edge_scene(3.0), &view, &setups);
+    for (c, (&measured, &shift)) in moved.iter().zip(&delta).enumerate() {
         eprintln!(
-            "channel {c}: light the directional BSSRDF moves forward = {measured:.4} cm of lit exitance; mc's centroid at 60° {:.4} cm",
-            shift
+            "channel {c}: light the directional BSSRDF moves forward = {measured:.4} cm of lit exitance; mc's centroid at 60° {shift:.4} cm"
         );
         assert!(shift > 0.0, "mc's table is not shifted forward");
         assert!(
             (measured / shift - 1.0).abs() < 0.2,
-            "channel {c}: {measured} vs {}",
-            shift
+            "channel {c}: {measured} vs {shift}"
         );
     }
+}
+
+/// The view's exit shift (reciprocity: light seen at θ_o last scattered δ(θ_o) further along the
+/// view ray's propagation over the surface): the edge of the test above seen at θ_o = 45°
+/// from far, from the side the light comes from and from the other, moves by δ(60°) − δ(45°)
+/// and δ(60°) + δ(45°), the table's centroids; without the exit shift by δ(60°) from both.
+#[test]
+fn an_oblique_view_moves_the_gathers_shadow_edge_by_the_exit_angles_centroid_too() {
+    let setups = edge_setups();
+    let t = setups.1.directional.as_ref().unwrap();
+    let entry = t.centroid_cm(6);
+    // δ(45°), between the table's 40° and 50°, as the shader reads it (its CPU twin), pointing
+    // away from the camera.
+    let wo = glam::DVec3::new(0.5f64.sqrt(), 0.5f64.sqrt(), 0.0);
+    let shift = t.exit_shift(glam::DVec3::Y, wo);
+    let exit: [f64; 3] = std::array::from_fn(|c| {
+        assert!(
+            shift[c].x < 0.0 && shift[c].y.abs() < 1e-12,
+            "{:?}",
+            shift[c]
+        );
+        shift[c].length()
+    });
+    let Some(gpu) = gpu() else { return };
+    let (size, distance, half_view) = (384u32, 400.0f32, 2.0f32);
+    let theta_o = 45f32.to_radians();
+    // The camera's up is y: rows run along x, each px/cos θ_o of it.
+    let view = EdgeView {
+        size,
+        px: 2.0 * half_view as f64 / size as f64 / theta_o.cos() as f64,
+        along_rows: true,
+    };
+    let mut failed = Vec::new();
+    for side in [-1.0f32, 1.0] {
+        let mut scene = shadow_edge_scene(half_view);
+        scene.camera = gpu::Camera {
+            position: distance * Vec3::new(side * theta_o.sin(), theta_o.cos(), 0.0),
+            target: Vec3::ZERO,
+            fov_y_deg: 2.0 * (half_view / distance).atan().to_degrees(),
+        };
+        let moved = edge_moved(&gpu, &scene, &view, &setups);
+        for c in 0..3 {
+            let want = entry[c] + side as f64 * exit[c];
+            eprintln!(
+                "camera on the {} side, channel {c}: moved {:.4} cm; δ(60°) ± δ(45°) = {want:.4} cm ({:.4} ± {:.4})",
+                if side > 0.0 { "far" } else { "light's" },
+                moved[c],
+                entry[c],
+                exit[c]
+            );
+            if (moved[c] - want).abs() >= 0.2 * (entry[c] + exit[c]) {
+                failed.push(format!("side {side}, channel {c}: {} vs {want}", moved[c]));
+            }
+        }
+    }
+    assert!(failed.is_empty(), "{failed:?}");
 }
 
 /// A square area light 10 cm from a thick flat slab, 37° off its normal and turned 39° away from
@@ -454,8 +512,8 @@ fn the_directional_table_lies_on_the_plane_through_both_points() {
     );
     let d = radius * (no - ni);
     let bisector = (ni + no).normalize();
-    let got = t.response(d, ni, wi);
-    let flat = t.response(d, bisector, wi);
+    let got = t.response(d, ni, wi, [glam::DVec3::ZERO; 3]);
+    let flat = t.response(d, bisector, wi, [glam::DVec3::ZERO; 3]);
     for c in 0..3 {
         let want = flat[c] * t.totals[6][c].value / t.totals[3][c].value;
         assert!(flat[c] > 0.0);
@@ -467,7 +525,7 @@ fn the_directional_table_lies_on_the_plane_through_both_points() {
     }
     // The same pair turned anywhere.
     let turn = DMat3::from_axis_angle(DVec3::new(1.0, 2.0, -0.5).normalize(), 1.1);
-    let turned = t.response(turn * d, turn * ni, turn * wi);
+    let turned = t.response(turn * d, turn * ni, turn * wi, [glam::DVec3::ZERO; 3]);
     for c in 0..3 {
         assert!(
             (turned[c] / got[c] - 1.0).abs() < 1e-4,
@@ -479,7 +537,7 @@ fn the_directional_table_lies_on_the_plane_through_both_points() {
     for k in 0..36 {
         let a = (10.0 * k as f64).to_radians();
         let xo = DVec3::new(a.sin(), 0.0, a.cos());
-        let v = t.response(radius * (xo - ni), ni, wi);
+        let v = t.response(radius * (xo - ni), ni, wi, [glam::DVec3::ZERO; 3]);
         assert!(v.iter().all(|v| v.is_finite() && *v >= 0.0));
     }
 }

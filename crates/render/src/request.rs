@@ -2,7 +2,7 @@
 //! method), the materials, the kernel, the shading model around it, the Monte Carlo tables' run
 //! settings and the gathers' sampling. [`Request::default`] is the method the references measure
 //! closest to path tracing: pre-integration with the incidence table, the exit law at the entry
-//! angle, the entry shift and light through thin parts (the bust at 17.5 % of Mitsuba against
+//! angle, the entry shift and light through thin parts (the bust at 13.1 % of Mitsuba against
 //! 47.8 % for the kernel alone, docs/measurements.md). [`Request::check`] refuses what does not go
 //! together, naming the field.
 
@@ -39,7 +39,8 @@ pub struct ShadingOptions {
     pub incidence: Option<bool>,
     /// Which exit law h(θ_o; θ_i) multiplies the scattered light.
     pub exit: Option<ExitLaw>,
-    /// Shade each pixel with the light that entered δ(θ) behind it.
+    /// Shade each pixel with the light that entered δ(θ_i) behind it and δ(θ_o) along the view
+    /// ray's propagation over the surface.
     pub entry_shift: Option<bool>,
     /// Add the light the material transmits through thin parts (separable method only).
     pub translucency: Option<bool>,

@@ -174,7 +174,17 @@ impl DirectionalTable {
     /// times Rd(θ_i)/Rd(θ*), `mc`'s total reflectances (each linear in θ between the table's
     /// angles). On a flat surface
     /// (d ⊥ n_i) this is the table at θ_i in the plane of incidence.
-    pub fn response(&self, d: glam::DVec3, ni: glam::DVec3, wi: glam::DVec3) -> [f64; 3] {
+    ///
+    /// `exit` moves the exit point per channel ([`DirectionalTable::exit_shift`]; zeros for the
+    /// separable BSSRDF): channel c reads the table at the in-plane coordinates of d + exit[c]
+    /// on the plane that d defines.
+    pub fn response(
+        &self,
+        d: glam::DVec3,
+        ni: glam::DVec3,
+        wi: glam::DVec3,
+        exit: [glam::DVec3; 3],
+    ) -> [f64; 3] {
         let r = d.length();
         let mut n_star = ni;
         if r > 0.0 {
@@ -194,12 +204,14 @@ impl DirectionalTable {
             };
             along = axis - axis.dot(n_star) * n_star;
         }
-        let x = d.dot(along.normalize());
-        let y = (r * r - x * x).max(0.0).sqrt();
+        let along = along.normalize();
         let (k, f) = Self::angle_index(cos_star);
         let (star, entry) = (self.total_at(cos_star), self.total_at(wi.dot(ni)));
         std::array::from_fn(|c| {
             if star[c] > 0.0 {
+                let dc = d + exit[c];
+                let x = dc.dot(along);
+                let y = (dc.length_squared() - x * x).max(0.0).sqrt();
                 let v = (1.0 - f) * self.at(k, c, x, y) + f * self.at((k + 1).min(9), c, x, y);
                 v * entry[c] / star[c]
             } else {
@@ -232,19 +244,54 @@ impl DirectionalTable {
     /// ∫∫ Rd dx dy over the table at angle index `k` per channel [-] (the unfolded plane: rows
     /// y > 0 count twice).
     pub fn integral(&self, k: usize) -> [f64; 3] {
+        self.moments(k).map(|(m0, _)| m0)
+    }
+
+    /// The centroid δ = ∫∫ x·Rd dx dy / ∫∫ Rd dx dy [cm] of the table at angle index `k` per
+    /// channel (0 where it holds nothing): how far ahead of its entry, along the propagation, the
+    /// light entering at that angle returns (`crate::EntryShift`'s moment, on this table's
+    /// grid). By reciprocity also how far along the view ray's propagation over the surface the
+    /// light seen at that exit angle last scattered ([`DirectionalTable::exit_shift`]).
+    pub fn centroid_cm(&self, k: usize) -> [f64; 3] {
+        self.moments(k)
+            .map(|(m0, m1)| if m0 > 0.0 { m1 / m0 } else { 0.0 })
+    }
+
+    /// ∫∫ Rd dx dy and ∫∫ x·Rd dx dy at angle index `k` per channel (rows y > 0 count twice).
+    fn moments(&self, k: usize) -> [(f64, f64); 3] {
         let n = self.half_width;
         std::array::from_fn(|c| {
             let s = self.cell_cm[c];
-            let mut sum = 0.0;
+            let (mut m0, mut m1) = (0.0, 0.0);
             for iy in 0..=n {
                 let mult = if iy == 0 { 1.0 } else { 2.0 };
                 for ix in 0..=2 * n {
                     let i = ((k * 3 + c) * (n + 1) + iy) * (2 * n + 1) + ix;
-                    sum += mult * self.rd[i] as f64;
+                    let w = mult * self.rd[i] as f64;
+                    m0 += w;
+                    m1 += w * (ix as f64 - n as f64) * s;
                 }
             }
-            sum * s * s
+            (m0 * s * s, m1 * s * s)
         })
+    }
+
+    /// Where the light a camera sees leaving at x_o (unit normal `no`, unit direction towards
+    /// the camera `wo`) last scattered, relative to x_o, per channel [cm]: δ(θ_o) along the view
+    /// ray's propagation over the surface, t_v = −wo less its part along `no` (zero where the
+    /// camera looks along the normal, |t_v| ≤ 1e-4), δ the table's centroid at θ_o (linear in θ
+    /// between its angles). The reciprocal of the entry's shift: a separable BSSRDF Rd(x_o −
+    /// x_i; θ_i)·h(θ_o; θ_i) leaves it out, and the gathers evaluate Rd at x_o plus this offset.
+    pub fn exit_shift(&self, no: glam::DVec3, wo: glam::DVec3) -> [glam::DVec3; 3] {
+        let cos_o = no.dot(wo);
+        let t = -wo + cos_o * no;
+        if t.length() <= 1e-4 {
+            return [glam::DVec3::ZERO; 3];
+        }
+        let (k, f) = Self::angle_index(cos_o.max(0.0));
+        let (a, b) = (self.centroid_cm(k), self.centroid_cm((k + 1).min(9)));
+        let t = t.normalize();
+        std::array::from_fn(|c| ((1.0 - f) * a[c] + f * b[c]) * t)
     }
 
     /// The reach [cm] of each channel's table for a material: ln(10⁸)/σtr (where diffusion has
@@ -334,4 +381,81 @@ pub fn gather_batch_runs(bssrdf: Bssrdf) -> u64 {
         _ => 0,
     };
     (angle_runs + table_runs) as u64 + shape_runs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    /// A table whose angle k holds one cell, at x = (k − 2)·s in channel c (s = 0.01·(c + 1) cm),
+    /// once on the axis and once off it (y = 2s, which stands for ±y).
+    fn table() -> DirectionalTable {
+        let n = 4;
+        let mut rd = vec![0.0f32; DIRECTIONAL_ANGLES.len() * 3 * (n + 1) * (2 * n + 1)];
+        for k in 0..DIRECTIONAL_ANGLES.len() {
+            for c in 0..3 {
+                let ix = (n + k).min(2 * n) - 2;
+                for iy in [0, 2] {
+                    rd[((k * 3 + c) * (n + 1) + iy) * (2 * n + 1) + ix] = 1.0;
+                }
+            }
+        }
+        DirectionalTable {
+            half_width: n,
+            cell_cm: [0.01, 0.02, 0.03],
+            rd,
+            totals: vec![
+                [mc::Estimate {
+                    value: 1.0,
+                    se: 0.0
+                }; 3];
+                DIRECTIONAL_ANGLES.len()
+            ],
+        }
+    }
+
+    #[test]
+    fn the_centroid_is_the_first_moment_along_the_propagation() {
+        let t = table();
+        for k in 0..DIRECTIONAL_ANGLES.len() {
+            let cells = ((4 + k).min(8) - 2) as f64 - 4.0;
+            for c in 0..3 {
+                let want = cells * t.cell_cm[c];
+                assert!((t.centroid_cm(k)[c] - want).abs() < 1e-12, "{k} {c}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_exit_shift_points_away_from_the_camera_by_the_centroid_at_the_view_angle() {
+        let t = table();
+        let n = DVec3::Y;
+        // Straight above: no tangential direction, no shift.
+        assert_eq!(t.exit_shift(n, n), [DVec3::ZERO; 3]);
+        // At 30° from +y (index 3: 1 cell) and at 25° (half-way between 2 and 3: 0.5 cell),
+        // along −x, away from the camera.
+        for (deg, cells) in [(30.0f64, 1.0), (25.0, 0.5)] {
+            let wo = DVec3::new(deg.to_radians().sin(), deg.to_radians().cos(), 0.0);
+            for (c, s) in t.exit_shift(n, wo).iter().enumerate() {
+                let want = DVec3::new(-cells * t.cell_cm[c], 0.0, 0.0);
+                assert!((*s - want).length() < 1e-9, "{deg}° {c}: {s:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_response_reads_each_channel_at_its_moved_exit() {
+        let t = table();
+        // Normal incidence (angle 0: the cell at x = −2s), the exit 2 cells ahead of it.
+        let (ni, wi) = (DVec3::Y, DVec3::Y);
+        for c in 0..3 {
+            let s = t.cell_cm[c];
+            let d = DVec3::new(-2.0 * s, 0.0, 0.0);
+            let mut exit = [DVec3::ZERO; 3];
+            assert!(t.response(d, ni, wi, exit)[c] > 0.0);
+            exit[c] = DVec3::new(s, 0.0, 0.0);
+            assert_eq!(t.response(d, ni, wi, exit)[c], 0.0);
+        }
+    }
 }

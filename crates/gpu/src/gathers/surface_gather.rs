@@ -10,7 +10,9 @@
 //!   laid on the modified tangent plane of Frisvad et al. 2014 (the plane through x_i that holds
 //!   x_o, closest to x_i's tangent plane; [`DirectionalTable::response`]) and carrying the true
 //!   entry angle's reflectance: the exact half-space BSSRDF for the entry direction on a flat
-//!   surface;
+//!   surface, read at the exit moved by the view's shift (by reciprocity light seen at θ_o last
+//!   scattered δ(θ_o), the table's centroid, further along the view ray over the surface;
+//!   [`DirectionalTable::exit_shift`]), which a separable BSSRDF leaves out;
 //! - [`Bssrdf::Shape`]: the directional BSSRDF scaled for the body's shape ([`ShapeTable`]):
 //!   at the signed curvature of the chord from x_i to x_o, κ = (n_o − n_i)·(x_o − x_i)/|x_o −
 //!   x_i|² (1/R on a sphere of radius R and −1/R around a cavity, for any two points of it;
@@ -232,6 +234,7 @@ struct TablesUniform {
     incidence: [[f32; 4]; INCIDENCE_STEPS],
     exit: [[f32; 4]; INCIDENCE_STEPS * INCIDENCE_STEPS],
     directional_total: [[f32; 4]; DIRECTIONAL_ANGLES.len()],
+    exit_shift: [[f32; 4]; DIRECTIONAL_ANGLES.len()],
     shape_params: [f32; 4],
     shape_grid: [[f32; 4]; 4],
     shape_entries: [[f32; 4]; SHAPE_ENTRIES],
@@ -253,12 +256,12 @@ pub(crate) const MC_BSSRDF_WGSL: &str = gather_wgsl!(
 );
 
 /// WGSL's size of `Tables`: 5 vec4, 9 vec4 of incidence, 9 × 9 vec4 of exit, 10 vec4 of the
-/// directional tables' total reflectances and 1 + 4 + 405 + 2 + 45 of the shape table, 16 bytes
-/// each (checked against naga's layout in a test).
+/// directional tables' total reflectances and 10 of their centroids, and 1 + 4 + 405 + 2 + 45 of
+/// the shape table, 16 bytes each (checked against naga's layout in a test).
 pub(crate) const TABLES_UNIFORM_SIZE: usize = (5
     + INCIDENCE_STEPS
     + INCIDENCE_STEPS * INCIDENCE_STEPS
-    + DIRECTIONAL_ANGLES.len()
+    + 2 * DIRECTIONAL_ANGLES.len()
     + 5
     + SHAPE_ENTRIES
     + 2
@@ -315,6 +318,9 @@ pub(crate) fn encode(
         directional_total: std::array::from_fn(|k| {
             rgb(directional.map_or([0.0; 3], |t| t.totals[k].map(|e| e.value)))
         }),
+        exit_shift: std::array::from_fn(
+            |k| rgb(directional.map_or([0.0; 3], |t| t.centroid_cm(k))),
+        ),
         shape_params: shape.shape_params,
         shape_grid: shape.shape_grid,
         shape_entries: shape.shape,

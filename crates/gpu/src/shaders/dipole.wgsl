@@ -79,6 +79,11 @@ fn model_pdf_area(r: f32) -> f32 {
     return p / (3.0 * 2.0 * PI * r);
 }
 
+// The disc around x_o itself.
+fn model_centre(xo: vec3<f32>, no: vec3<f32>) -> vec3<f32> {
+    return xo;
+}
+
 // T(ω_i)·S_d with ω₁₂ the refracted direction of light arriving from wi.
 fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: vec3<f32>,
                   no: vec3<f32>) -> vec3<f32> {

@@ -1,7 +1,7 @@
 // The disc gather shared by the methods that integrate a BSSRDF over the lit surface (the
 // directional dipole, draft §4.2–4.3, and the Monte Carlo BSSRDF), one progressive frame: for
-// each SSS pixel x_o and each light, `samples` points p on a disc of radius r* around x_o in the
-// plane perpendicular to the light ray, radii drawn by the model (`model_sample_radius`, density
+// each SSS pixel x_o and each light, `samples` points p on a disc of radius r* around x_o (the
+// model's centre for it) in the plane perpendicular to the light ray, radii drawn by the model (`model_sample_radius`, density
 // per unit disc area `model_pdf_area`); each p is carried along the light ray onto the first
 // surface the light sees (the light's position/normal map), the lit entry point x_i. The flux
 // through the disc element dA⊥ is E⊥·dA⊥ (directional) or I·cos α·dA⊥/|p − x_light|² (point;
@@ -15,7 +15,8 @@
 // separable pipeline).
 //
 // The model's file (prepended in Rust) defines model_sample_radius, model_pdf_area,
-// model_response and model_exit, and its own bindings from 6 on.
+// model_response, model_exit and model_centre (the disc's centre for the pixel: x_o, or where
+// the model's response peaks), and its own bindings from 6 on.
 
 struct Light {
     view_proj: mat4x4<f32>,
@@ -72,6 +73,9 @@ struct Entry {
 
 // The current sample's Entry.chord, for the model's response (mc_bssrdf.wgsl).
 var<private> gather_entry_chord: f32;
+// The unit direction from the pixel's surface point towards the camera, for the model's
+// response (mc_bssrdf.wgsl's exit shift).
+var<private> gather_view: vec3<f32>;
 
 // The lit entry point where the light ray (origin ray_o, unit direction ray_d) through the
 // disc point meets the surface, from the light's maps at continuous texel coordinate t. Where
@@ -142,10 +146,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let xo = po.xyz;
     let no = normalize(textureLoad(cam_normal, vec2<i32>(id.xy), 0).xyz);
     let wo = normalize(u.camera_pos.xyz - xo);
+    gather_view = wo;
     let cos_o = dot(wo, no);
     var state = pcg(i ^ pcg(u.frame.x * 9781u + pcg(u.frame.y)));
     var sum = vec3<f32>(0.0);
     let map = f32(u.frame.z);
+    let centre = model_centre(xo, no);
     for (var l = 0u; l < u.size.z; l++) {
         let light = u.lights[l];
         let point = light.pos_or_dir.w > 0.5;
@@ -165,7 +171,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if !(r > 0.0) {
                 continue;
             }
-            let p = xo + r * (cos(phi) * t1 + sin(phi) * t2);
+            let p = centre + r * (cos(phi) * t1 + sin(phi) * t2);
             let clip = light.view_proj * vec4<f32>(p, 1.0);
             if clip.w <= 0.0 {
                 continue;

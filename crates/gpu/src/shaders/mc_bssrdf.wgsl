@@ -23,6 +23,10 @@
 //   and where the body is thinner along the light at x_i than the chord's curvature makes it,
 //   times sss_shape_thin at the body's chord there (the light maps' normal.w, disc_gather.wgsl's
 //   gather_entry_chord): what a slab that thin keeps (1 on a sphere; E_slab on a flat plate).
+// The directional and shape-aware responses are read at the exit moved by the view's shift: by
+// reciprocity light leaving towards the camera at θ_o last scattered δ(θ_o) (the table's
+// centroid at θ_o) further along the view ray's propagation over the surface, which a separable
+// BSSRDF leaves out (exit_shift; docs/measurements.md, "The exit shift").
 // All leave with h(θ_o; θ_i) (the exit table, at each sample's entry angle). Radii are drawn
 // from a mixture of the profile's own area density per channel (its CDF) and a share of uniform
 // disc sampling, which keeps the density positive wherever the 3-D distance may make the
@@ -45,6 +49,9 @@ struct Tables {
     exit: array<vec4<f32>, 81>,
     // rgb: mc's total diffuse reflectance at each of the directional table's 10 angles [-].
     directional_total: array<vec4<f32>, 10>,
+    // rgb: the directional table's centroid δ at each of its angles [cm] (0 for the radial
+    // BSSRDF): the view's exit shift.
+    exit_shift: array<vec4<f32>, 10>,
     // The shape table as shading::PackedShading holds it (rgb σ_tr, w on; curvature nodes; E,
     // ⟨x⟩, ⟨s⟩ at [135·q + 9·i + θ index]).
     shape_params: vec4<f32>,
@@ -170,6 +177,37 @@ fn directional_total_at(a: vec2<f32>) -> vec3<f32> {
     return mix(tb.directional_total[k].rgb, tb.directional_total[min(k + 1u, 9u)].rgb, a.y);
 }
 
+// The view's exit shift per channel at x_o (normal no) seen from gather_view
+// (shading::DirectionalTable::exit_shift is the CPU twin): δ(θ_o) along the view ray's
+// propagation over the surface.
+fn exit_shift(no: vec3<f32>) -> array<vec3<f32>, 3> {
+    let cos_o = dot(no, gather_view);
+    let t = -gather_view + cos_o * no;
+    var out = array<vec3<f32>, 3>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
+    if length(t) > 1e-4 {
+        let a = directional_index(max(cos_o, 0.0));
+        let k = u32(a.x);
+        let delta = mix(tb.exit_shift[k].rgb, tb.exit_shift[min(k + 1u, 9u)].rgb, a.y);
+        let tn = normalize(t);
+        for (var c = 0u; c < 3u; c++) {
+            out[c] = delta[c] * tn;
+        }
+    }
+    return out;
+}
+
+// The disc's centre: x_o moved by the channels' exit shifts weighted by their shares of the
+// sampling, so the drawn radii follow the shifted response (x_o for the radial BSSRDF).
+fn model_centre(xo: vec3<f32>, no: vec3<f32>) -> vec3<f32> {
+    let s = tb.share.rgb;
+    let total = s.r + s.g + s.b;
+    if tb.shape.x == 0u || !(total > 0.0) {
+        return xo;
+    }
+    let e = exit_shift(no);
+    return xo + (s.r * e[0] + s.g * e[1] + s.b * e[2]) / total;
+}
+
 fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: vec3<f32>,
                   no: vec3<f32>) -> vec3<f32> {
     let d = xo - xi;
@@ -197,8 +235,8 @@ fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: v
         along = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(n_star.x) > 0.9);
         along = along - dot(along, n_star) * n_star;
     }
-    let x = dot(d, normalize(along));
-    let y = sqrt(max(r * r - x * x, 0.0));
+    let along_n = normalize(along);
+    let exit = exit_shift(no);
     let a = directional_index(cos_star);
     let k0 = u32(a.x);
     let k1 = min(k0 + 1u, 9u);
@@ -216,6 +254,10 @@ fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: v
     var result = vec3<f32>(0.0);
     for (var c = 0u; c < 3u; c++) {
         if at_star[c] > 0.0 {
+            // Channel c's exit moved by the view's shift, on the plane d defines.
+            let dc = d + exit[c];
+            let x = dot(dc, along_n);
+            let y = sqrt(max(dot(dc, dc) - x * x, 0.0));
             let xs = x / w[c];
             let ys = y / w[c];
             let v = mix(directional_at(k0, c, xs, ys), directional_at(k1, c, xs, ys), a.y);

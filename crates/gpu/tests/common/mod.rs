@@ -100,3 +100,28 @@ pub fn centre_mean(frame: &gpu::Frame, size: u32) -> [f64; 3] {
     }
     acc
 }
+
+/// How a shadow-edge test's `size`² image maps onto x: each line (a column, or a row with
+/// `along_rows`) spans `px` cm of x.
+pub struct EdgeView {
+    pub size: u32,
+    pub px: f64,
+    pub along_rows: bool,
+}
+
+impl EdgeView {
+    /// The mean of channel `c` of per-pixel values `v` over line `i`.
+    pub fn line_mean(&self, v: &[[f32; 4]], i: usize, c: usize) -> f64 {
+        let w = self.size as usize;
+        (0..w)
+            .map(|j| {
+                v[if self.along_rows {
+                    i * w + j
+                } else {
+                    j * w + i
+                }][c] as f64
+            })
+            .sum::<f64>()
+            / w as f64
+    }
+}
