@@ -80,7 +80,7 @@ fn model_pdf_area(r: f32) -> f32 {
 }
 
 // The disc around x_o itself.
-fn model_centre(xo: vec3<f32>, no: vec3<f32>) -> vec3<f32> {
+fn model_centre(xo: vec3<f32>, no: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     return xo;
 }
 

@@ -15,8 +15,9 @@
 // separable pipeline).
 //
 // The model's file (prepended in Rust) defines model_sample_radius, model_pdf_area,
-// model_response, model_exit and model_centre (the disc's centre for the pixel: x_o, or where
-// the model's response peaks), and its own bindings from 6 on.
+// model_response, model_exit and model_centre (called once per pixel with x_o, its normal and the
+// direction to the camera before the samples: the disc's centre, x_o or where the model's
+// response peaks), and its own bindings from 6 on.
 
 struct Light {
     view_proj: mat4x4<f32>,
@@ -73,9 +74,6 @@ struct Entry {
 
 // The current sample's Entry.chord, for the model's response (mc_bssrdf.wgsl).
 var<private> gather_entry_chord: f32;
-// The unit direction from the pixel's surface point towards the camera, for the model's
-// response (mc_bssrdf.wgsl's exit shift).
-var<private> gather_view: vec3<f32>;
 
 // The lit entry point where the light ray (origin ray_o, unit direction ray_d) through the
 // disc point meets the surface, from the light's maps at continuous texel coordinate t. Where
@@ -146,12 +144,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let xo = po.xyz;
     let no = normalize(textureLoad(cam_normal, vec2<i32>(id.xy), 0).xyz);
     let wo = normalize(u.camera_pos.xyz - xo);
-    gather_view = wo;
     let cos_o = dot(wo, no);
     var state = pcg(i ^ pcg(u.frame.x * 9781u + pcg(u.frame.y)));
     var sum = vec3<f32>(0.0);
     let map = f32(u.frame.z);
-    let centre = model_centre(xo, no);
+    let centre = model_centre(xo, no, wo);
     for (var l = 0u; l < u.size.z; l++) {
         let light = u.lights[l];
         let point = light.pos_or_dir.w > 0.5;

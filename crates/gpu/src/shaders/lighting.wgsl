@@ -309,8 +309,8 @@ fn larger_curvature(loc: Local, n: vec3<f32>) -> f32 {
 // n·v) last scattered, on average, δ(θ_o) further along the view ray's propagation into the
 // surface (away from the camera) than where it leaves, just as light entering at θ_o would
 // return δ(θ_o) ahead; so the light the camera sees here entered at world − δ(θ_i)·t +
-// δ(θ_o)·t_v, t_v = −v less its part along n. `light_scale` and `principal`: the curvatures the
-// shape table is read at (shape_factor).
+// δ(θ_o)·t_v, t_v = −v less its part along n (`exit`, per channel: the pixel's, exit_offsets).
+// `light_scale` and `principal`: the curvatures the shape table is read at (shape_factor).
 struct Entry {
     // The entering light (rgb), and without shadows (what weighs the exit law's entry angle).
     light: vec3<f32>,
@@ -319,17 +319,25 @@ struct Entry {
     cos_weighted: f32,
 };
 
-fn shifted_entry(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, view_dir: vec3<f32>,
-                 scale: vec3<f32>, loc: Local, light_scale: vec3<f32>, principal: f32) -> Entry {
-    let delta = sss_entry_shift(m, dot(n, l));
+// The view's part of the shifted entry per channel, the same for every light: δ(θ_o)·t_v.
+fn exit_offsets(m: u32, n: vec3<f32>, view_dir: vec3<f32>) -> array<vec3<f32>, 3> {
     let delta_o = sss_entry_shift(m, max(dot(n, view_dir), 0.0));
+    return array<vec3<f32>, 3>(sss_entry_offset(n, view_dir, -delta_o.r),
+                               sss_entry_offset(n, view_dir, -delta_o.g),
+                               sss_entry_offset(n, view_dir, -delta_o.b));
+}
+
+fn shifted_entry(i: u32, m: u32, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>,
+                 exit: array<vec3<f32>, 3>, scale: vec3<f32>, loc: Local, light_scale: vec3<f32>,
+                 principal: f32) -> Entry {
+    let delta = sss_entry_shift(m, dot(n, l));
     // The shape's E at the angle here (as δ), the same for every channel's entry point.
     let energy = shape_factor(i, m, world, n, l, loc, light_scale, principal);
     var e = Entry(vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
     for (var c = 0u; c < 3u; c++) {
         var p = world;
         var nc = n;
-        let d = sss_entry_offset(n, l, delta[c]) + sss_entry_offset(n, view_dir, -delta_o[c]);
+        let d = sss_entry_offset(n, l, delta[c]) + exit[c];
         if any(d != vec3<f32>(0.0)) {
             p = world + d;
             nc = normalize(n + normal_turn(loc, d));
@@ -377,6 +385,10 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
     if sss && g.materials[m].shape_params.w > 0.5 {
         principal = larger_curvature(loc, n);
     }
+    var exit_offset = array<vec3<f32>, 3>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
+    if shifting {
+        exit_offset = exit_offsets(m, n, view_dir);
+    }
     for (var i = 0u; i < u32(g.params.x); i++) {
         let l4 = g.lights[i].pos_or_dir;
         var l = normalize(l4.xyz);
@@ -408,7 +420,7 @@ fn shade(world: vec3<f32>, n: vec3<f32>, view_dir: vec3<f32>, m: u32, sss: bool,
         let eta = g.materials[m].translucency_params.w;
         let mirrored = cell && sss && eta != 1.0;
         if shifting {
-            let e = shifted_entry(i, m, world, n, l, view_dir, scale, loc, light_scale, principal);
+            let e = shifted_entry(i, m, world, n, l, exit_offset, scale, loc, light_scale, principal);
             irradiance += e.light;
             entry_w += e.unshadowed.r + e.unshadowed.g + e.unshadowed.b;
             entry_c += e.cos_weighted;

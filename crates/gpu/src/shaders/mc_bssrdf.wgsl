@@ -177,14 +177,17 @@ fn directional_total_at(a: vec2<f32>) -> vec3<f32> {
     return mix(tb.directional_total[k].rgb, tb.directional_total[min(k + 1u, 9u)].rgb, a.y);
 }
 
-// The view's exit shift per channel at x_o (normal no) seen from gather_view
+// The view's exit shift per channel at the current pixel, set once per pixel by model_centre.
+var<private> pixel_exit: array<vec3<f32>, 3>;
+
+// The view's exit shift per channel at x_o (unit normal no) seen from the unit direction wo
 // (shading::DirectionalTable::exit_shift is the CPU twin): δ(θ_o) along the view ray's
 // propagation over the surface.
-fn exit_shift(no: vec3<f32>) -> array<vec3<f32>, 3> {
-    let cos_o = dot(no, gather_view);
-    let t = -gather_view + cos_o * no;
+fn exit_shift(no: vec3<f32>, wo: vec3<f32>) -> array<vec3<f32>, 3> {
+    let cos_o = dot(no, wo);
+    let t = -wo + cos_o * no;
     var out = array<vec3<f32>, 3>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
-    if length(t) > 1e-4 {
+    if tb.shape.x != 0u && length(t) > 1e-4 {
         let a = directional_index(max(cos_o, 0.0));
         let k = u32(a.x);
         let delta = mix(tb.exit_shift[k].rgb, tb.exit_shift[min(k + 1u, 9u)].rgb, a.y);
@@ -196,15 +199,17 @@ fn exit_shift(no: vec3<f32>) -> array<vec3<f32>, 3> {
     return out;
 }
 
-// The disc's centre: x_o moved by the channels' exit shifts weighted by their shares of the
-// sampling, so the drawn radii follow the shifted response (x_o for the radial BSSRDF).
-fn model_centre(xo: vec3<f32>, no: vec3<f32>) -> vec3<f32> {
+// The pixel's exit shift (kept for model_response) and the disc's centre: x_o moved by the
+// channels' shifts weighted by their shares of the sampling, so the drawn radii follow the
+// shifted response (x_o for the radial BSSRDF, which has no shift).
+fn model_centre(xo: vec3<f32>, no: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
+    pixel_exit = exit_shift(no, wo);
     let s = tb.share.rgb;
     let total = s.r + s.g + s.b;
-    if tb.shape.x == 0u || !(total > 0.0) {
+    if !(total > 0.0) {
         return xo;
     }
-    let e = exit_shift(no);
+    let e = pixel_exit;
     return xo + (s.r * e[0] + s.g * e[1] + s.b * e[2]) / total;
 }
 
@@ -236,7 +241,6 @@ fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: v
         along = along - dot(along, n_star) * n_star;
     }
     let along_n = normalize(along);
-    let exit = exit_shift(no);
     let a = directional_index(cos_star);
     let k0 = u32(a.x);
     let k1 = min(k0 + 1u, 9u);
@@ -255,7 +259,7 @@ fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: v
     for (var c = 0u; c < 3u; c++) {
         if at_star[c] > 0.0 {
             // Channel c's exit moved by the view's shift, on the plane d defines.
-            let dc = d + exit[c];
+            let dc = d + pixel_exit[c];
             let x = dot(dc, along_n);
             let y = sqrt(max(dot(dc, dc) - x * x, 0.0));
             let xs = x / w[c];
