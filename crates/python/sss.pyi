@@ -174,6 +174,7 @@ def render(
     radius: Optional[float] = None,
     dipole_energy: str = "monte-carlo",
     light_map: int = 1024,
+    denoise: Union[bool, str, None] = None,
 ) -> npt.NDArray[np.float32]:
     """A scene drawn with the material's subsurface scattering: linear radiance (height × width ×
     3, float32, top row first), equal to the render.pfm `sss render` writes for the same

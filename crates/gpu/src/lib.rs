@@ -57,6 +57,7 @@ pub use light::{AREA_CELLS, Emitter, Light, MAX_EMITTERS, emitters};
 pub use mesh::{Mesh, Vertex};
 pub use params::{MAX_MATERIALS, RenderParams};
 pub use passes::blur::{BlurParams, DepthMode, blur_image};
+pub use passes::denoise::LEVELS as DENOISE_LEVELS;
 pub use render::{Frame, FrameTime, Renderer, SUBPIXEL_PX, Scatter, kernel_footprint_px, render};
 pub use request::{Method, RenderRequest};
 pub use scene::{AlbedoMode, Camera, Scene};
@@ -69,7 +70,12 @@ mod tests {
     /// Rust twin uploaded into it (None: no uniform twin).
     type Shader = (&'static str, &'static str, Option<(&'static str, usize)>);
 
-    const SHADERS: [Shader; 14] = [
+    const SHADERS: [Shader; 15] = [
+        (
+            "denoise.wgsl",
+            include_str!("shaders/denoise.wgsl"),
+            Some(("Denoise", crate::passes::denoise::DENOISE_UNIFORM_SIZE)),
+        ),
         (
             "scene.wgsl",
             crate::passes::gbuffer::SCENE_WGSL,

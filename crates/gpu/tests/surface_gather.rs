@@ -19,44 +19,12 @@ use shading::Bssrdf;
 use std::f64::consts::PI;
 
 mod common;
-use common::{EdgeView, centre_mean, gpu, shadow_edge_scene, slab_scene};
+use common::{
+    EdgeView, centre_mean, gpu, profile, setup, shadow_edge_scene, skin1, slab_scene, spec,
+};
 
 const SIZE: u32 = 48;
 const PHOTONS: u64 = 100_000;
-
-fn skin1() -> shading::Material {
-    shading::Material {
-        name: "Skin1".into(),
-        source: String::new(),
-        sigma_a: [0.32, 1.7, 4.8],
-        sigma_s: [7.4, 8.8, 10.1],
-        g: [0.0; 3],
-        eta: 1.3,
-        thickness: None,
-    }
-}
-
-fn spec(photons: u64, seed: u64) -> shading::BatchSpec {
-    let config = shading::SimConfig::thesis().unwrap();
-    config.batch(&[&skin1()], photons, seed, true).unwrap()
-}
-
-/// Skin1's Monte Carlo profile (independent of the tables' runs: another seed).
-fn profile() -> fit::Profile {
-    shading::profile::simulate(&spec(4 * PHOTONS, 101), "mc", &|_| {})
-        .unwrap()
-        .profile
-}
-
-/// The gather of `bssrdf` with the tables of `spec` (`shading::gather_tables`) and `profile`.
-fn setup(spec: &shading::BatchSpec, profile: &fit::Profile, bssrdf: Bssrdf) -> SurfaceGatherSetup {
-    let r_max = SurfaceGatherSetup::table_radius_cm(profile);
-    let t = shading::gather_tables(spec, bssrdf, r_max, &|_| {}).unwrap();
-    let mut setup = SurfaceGatherSetup::new(profile, t.angles, t.directional).unwrap();
-    setup.shape = t.shape;
-    setup.bssrdf = bssrdf;
-    setup
-}
 
 fn setups() -> (SurfaceGatherSetup, SurfaceGatherSetup) {
     let (s, p) = (spec(PHOTONS, 7), profile());

@@ -224,7 +224,7 @@ fn draw(request: &Request) -> ::render::Result<gpu::Frame> {
     specular = None, ambient = None, no_sss = false,
     photons = None, seed = None, incidence_photons = None, translucency_photons = None,
     bssrdf = "directional", samples = 16, frames = 16, frame_seed = None, radius = None,
-    dipole_energy = "monte-carlo", light_map = 1024
+    dipole_energy = "monte-carlo", light_map = 1024, denoise = None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
@@ -270,6 +270,7 @@ pub fn render<'py>(
     radius: Option<f32>,
     dipole_energy: &str,
     light_map: u32,
+    denoise: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, numpy::PyArray3<f32>>> {
     let materials = match material {
         Some(m) if !m.is_none() => materials(m)?,
@@ -329,6 +330,7 @@ pub fn render<'py>(
             radius_cm: radius,
             dipole_energy: choice("dipole_energy", dipole_energy)?,
             light_map,
+            denoise: switch("denoise", denoise)?.unwrap_or(false),
             ..Default::default()
         },
         no_sss,

@@ -256,6 +256,7 @@ fn gather(
         s.samples = g.samples;
         s.frames = g.frames;
         s.map_size = g.light_map;
+        s.denoise = g.denoise;
         s.seed = g.frame_seed.unwrap_or(r.tables.seed as u32);
         if let Some(radius) = g.radius_cm {
             s.radius_cm = radius;
@@ -336,11 +337,17 @@ fn gather(
 pub fn describe(plan: &Plan) -> String {
     match (&plan.gather, plan.kernels.first()) {
         (Some(Gather::Surface(s)), _) => format!(
-            "surface gather of the {} Monte Carlo BSSRDF ({} samples × {} frames per pixel and light, r* = {:.3} cm)",
+            "surface gather of the {} Monte Carlo BSSRDF ({} samples × {} frames per pixel and light, r* = {:.3} cm{})",
             s.bssrdf.name(),
             s.sampling.samples,
             s.sampling.frames,
-            s.sampling.radius_cm
+            s.sampling.radius_cm,
+            if s.sampling.denoise {
+                let [r, g, b] = s.denoise_widths_cm();
+                format!(", denoised at σ = {r:.3} / {g:.3} / {b:.3} cm")
+            } else {
+                String::new()
+            }
         ),
         (Some(Gather::Area(s)), _) => format!(
             "area gather ({} taps reaching {:.0} px{})",

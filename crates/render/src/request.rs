@@ -111,6 +111,9 @@ pub struct GatherOptions {
     pub dipole_energy: DipoleEnergy,
     /// Directional dipole, surface gather: side of each light's position/normal map [texels].
     pub light_map: u32,
+    /// Surface gather: the frames' mean through the edge-aware denoiser
+    /// (`gpu::passes::denoise`), its width per channel half the profile's median exit radius.
+    pub denoise: bool,
     /// Area gather: half-width n [px] of the inner block of (2n+1)² taps.
     pub inner: u32,
     /// Area gather: layers of 16 taps around the inner block.
@@ -131,6 +134,7 @@ impl Default for GatherOptions {
             radius_cm: None,
             dipole_energy: DipoleEnergy::MonteCarlo,
             light_map: 1024,
+            denoise: false,
             inner: 2,
             layers: 10,
             brighten: false,
@@ -280,6 +284,16 @@ impl Request {
                 }
             }
         }
+        if self.gather.denoise && method != gpu::Method::SurfaceGather {
+            return Err(RenderError::invalid(
+                "denoise",
+                "on",
+                format!(
+                    "is for the surface gather: its widths come from the Monte Carlo profile, which the {} does not read",
+                    describe(method)
+                ),
+            ));
+        }
         if method.gathers_lit_surface() {
             let g = &self.gather;
             gpu::Sampling {
@@ -288,6 +302,7 @@ impl Request {
                 radius_cm: g.radius_cm.unwrap_or(1.0),
                 map_size: g.light_map,
                 seed: 0,
+                denoise: g.denoise,
             }
             .validate()?;
         }

@@ -213,6 +213,12 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1024)]
     pub light_map: u32,
 
+    /// surface-gather: pass the frames' mean through an edge-aware denoiser (world-space
+    /// widths per channel, half the profile's median exit radius [cm]; never across silhouettes,
+    /// depth steps or non-SSS surfaces), for a gather of a few samples in one frame
+    #[arg(long, value_parser = on_off(), default_value = "off")]
+    pub denoise: bool,
+
     /// area-gather: half-width n [px] of the inner block of (2n+1)² taps at full resolution
     #[arg(long, default_value_t = 2)]
     pub gather_inner: u32,
@@ -340,6 +346,7 @@ pub fn request(a: &RenderArgs, materials: Vec<render::NamedMaterial>) -> Result<
             radius_cm: a.dipole_radius,
             dipole_energy: a.dipole_energy,
             light_map: a.light_map,
+            denoise: a.denoise,
             inner: a.gather_inner,
             layers: a.gather_layers,
             brighten: a.gather_brighten,

@@ -51,6 +51,7 @@ impl DipoleSetup {
                 radius_cm: default_radius(&channels, media) as f32,
                 map_size: 1024,
                 seed: 1,
+                denoise: false,
             },
             scale: [1.0; 3],
         })
@@ -192,6 +193,7 @@ pub(crate) fn encode(
         wgsl: DIPOLE_WGSL,
         buffers: vec![&ubuf],
         chords: false,
+        denoise_cm: None,
     };
     crate::gathers::disc_gather::encode(rec, target, &setup.sampling, &model, pipelines)
 }

@@ -30,6 +30,8 @@ use crate::frame::recording::Recording;
 use crate::frame::target::Target;
 use crate::light::{Emitter, Light};
 use crate::mesh::MeshBuffers;
+use crate::passes::Pass;
+use crate::passes::denoise::{Denoise, DenoiseInput};
 
 /// The emitters the disc gather holds per frame: directional and point lights count one each,
 /// and the slots left are shared by the area lights, each drawn as that many points per frame
@@ -49,6 +51,9 @@ pub struct Sampling {
     pub map_size: u32,
     /// Seed of the per-pixel random numbers.
     pub seed: u32,
+    /// Whether the frames' mean goes through the edge-aware denoiser
+    /// ([`crate::passes::denoise`]) at the model's widths.
+    pub denoise: bool,
 }
 
 impl Sampling {
@@ -137,6 +142,9 @@ pub(crate) struct Model<'a> {
     /// Whether the light maps carry the body's chord along the light (the normal map's w, from
     /// `dipole_maps.wgsl`'s `fs_chord`; else 0).
     pub chords: bool,
+    /// The denoiser's width σ per channel [cm] ([`crate::passes::denoise`]); None where the
+    /// model has none.
+    pub denoise_cm: Option<[f32; 3]>,
 }
 
 const MAP_FORMATS: [wgpu::TextureFormat; 2] = [
@@ -151,6 +159,7 @@ const MAP_FORMATS: [wgpu::TextureFormat; 2] = [
 pub(crate) struct DiscPipelines {
     maps: OnceLock<[wgpu::RenderPipeline; 2]>,
     models: Mutex<Vec<(&'static str, wgpu::ComputePipeline)>>,
+    denoise: OnceLock<Denoise>,
 }
 
 impl DiscPipelines {
@@ -374,7 +383,8 @@ pub(crate) fn frame_emitters(lights: &[Light], frame: u32, seed: u32) -> Vec<Emi
 
 /// Encodes the gather's passes: the camera's and each light's position/normal maps, then
 /// `sampling.frames` accumulation passes of `model` adding π·L_o/frames into the target's
-/// scattered light (which is cleared first).
+/// scattered light (which is cleared first), then, with `sampling.denoise`, the denoiser over
+/// their mean at the model's widths.
 pub(crate) fn encode(
     rec: &mut Recording,
     target: &Target,
@@ -382,9 +392,20 @@ pub(crate) fn encode(
     model: &Model,
     pipelines: &DiscPipelines,
 ) -> Result<()> {
+    sampling.validate()?;
+    let denoise_cm = match (sampling.denoise, model.denoise_cm) {
+        (false, _) => None,
+        (true, Some(widths)) => Some(widths),
+        (true, None) => {
+            return Err(GpuError::invalid(
+                "denoise",
+                "on",
+                format!("the {} has no denoiser widths", model.label),
+            ));
+        }
+    };
     let (alloc, enc, timer) = (rec.alloc, &mut rec.enc, &mut rec.timer.as_mut());
     let out = target.scattered;
-    sampling.validate()?;
     let dev = &alloc.gpu.device;
     let (w, h) = target.size;
     let scene = target.scene;
@@ -502,6 +523,18 @@ pub(crate) fn encode(
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+    }
+    if let Some(widths_cm) = denoise_cm {
+        let denoise = pipelines.denoise.get_or_init(|| Denoise::new(alloc.gpu));
+        let input = DenoiseInput {
+            size: (w, h),
+            camera: &scene.camera,
+            position: &views[0],
+            normal: &views[1],
+            widths_cm,
+            image: out,
+        };
+        denoise.encode(rec, input)?;
     }
     Ok(())
 }

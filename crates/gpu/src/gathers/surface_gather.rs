@@ -42,6 +42,13 @@ use shading::{
 /// The share of uniform disc sampling in the radius mixture.
 pub const UNIFORM_SHARE: f64 = 0.1;
 
+/// The denoiser's width per channel as a share of that channel's median exit radius
+/// ([`SurfaceGatherSetup::denoise_widths_cm`]). On a flat surface the denoised gather is the
+/// gather of Rd convolved with a Gaussian of that width, which widens the exit distribution's
+/// second moment ⟨r²⟩ by 2σ²; at half the median radius that is a quarter of r₅₀², against the
+/// ⟨r²⟩ ≥ r₅₀² of any profile (and several times it for the long-tailed ones of skin).
+pub const DENOISE_SHARE: f64 = 0.5;
+
 /// The surface gather of one material: its Monte Carlo tables and the sampling.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SurfaceGatherSetup {
@@ -91,6 +98,7 @@ impl SurfaceGatherSetup {
                 radius_cm: Self::default_radius_cm(profile),
                 map_size: 1024,
                 seed: 1,
+                denoise: false,
             },
         };
         setup.validate()?;
@@ -168,6 +176,35 @@ impl SurfaceGatherSetup {
                 .map(|(i, v)| v[c] * std::f64::consts::PI * dr * dr * (2 * i + 1) as f64)
                 .sum()
         })
+    }
+
+    /// The radius [cm] within which each channel returns `fraction` of its ∫Rd dA, uniform in
+    /// area within a bin; 0 for a channel that reflects nothing.
+    pub fn radius_holding(&self, fraction: f64) -> [f64; 3] {
+        let (dr, total) = (self.dr_cm, self.profile_total());
+        std::array::from_fn(|c| {
+            if !(total[c] > 0.0) {
+                return 0.0;
+            }
+            let goal = fraction.clamp(0.0, 1.0) * total[c];
+            let mut acc = 0.0;
+            for (i, v) in self.profile.iter().enumerate() {
+                let (inner, outer) = (i as f64 * dr, (i + 1) as f64 * dr);
+                let bin = v[c] * std::f64::consts::PI * (outer * outer - inner * inner);
+                if acc + bin >= goal && bin > 0.0 {
+                    let t = (goal - acc) / bin;
+                    return (inner * inner + t * (outer * outer - inner * inner)).sqrt();
+                }
+                acc += bin;
+            }
+            dr * self.profile.len() as f64
+        })
+    }
+
+    /// The denoiser's width σ per channel [cm]: [`DENOISE_SHARE`] of the channel's median exit
+    /// radius ([`SurfaceGatherSetup::radius_holding`] of ½).
+    pub fn denoise_widths_cm(&self) -> [f32; 3] {
+        self.radius_holding(0.5).map(|r| (DENOISE_SHARE * r) as f32)
     }
 
     /// Each channel's share of the radius mixture: (1 − [`UNIFORM_SHARE`]) split over the
@@ -368,6 +405,7 @@ pub(crate) fn encode(
         wgsl: MC_BSSRDF_WGSL,
         buffers: vec![&ubuf, &pbuf, &cbuf, &dbuf],
         chords: setup.bssrdf == Bssrdf::Shape,
+        denoise_cm: Some(setup.denoise_widths_cm()),
     };
     crate::gathers::disc_gather::encode(rec, target, &setup.sampling, &model, pipelines)
 }

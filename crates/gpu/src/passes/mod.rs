@@ -2,7 +2,7 @@
 //! frame's recording ([`Pass`]; the gathers of [`crate::gathers`] too): the shadow maps
 //! ([`shadow`]), the scene pass with the shading tables ([`gbuffer`]), the separable kernels
 //! ([`separable`]: the blur of [`blur`] at full or half resolution, [`half`]), the
-//! recombination ([`combine`]) and the splats of light entering where the camera does not see
+//! recombination ([`combine`]), the disc gathers' denoiser ([`denoise`]) and the splats of light entering where the camera does not see
 //! ([`splat`]).
 
 use crate::error::Result;
@@ -11,6 +11,7 @@ use crate::frame::recording::Recording;
 
 pub mod blur;
 pub(crate) mod combine;
+pub mod denoise;
 pub(crate) mod gbuffer;
 pub(crate) mod half;
 pub(crate) mod separable;

@@ -1,8 +1,9 @@
 // The disc gather shared by the methods that integrate a BSSRDF over the lit surface (the
 // directional dipole, draft §4.2–4.3, and the Monte Carlo BSSRDF), one progressive frame: for
 // each SSS pixel x_o and each light, `samples` points p on a disc of radius r* around x_o (the
-// model's centre for it) in the plane perpendicular to the light ray, radii drawn by the model (`model_sample_radius`, density
-// per unit disc area `model_pdf_area`); each p is carried along the light ray onto the first
+// model's centre for it) in the plane perpendicular to the light ray, at the first points of
+// the R2 sequence rotated per pixel (radii drawn by the model from the first coordinate,
+// `model_sample_radius`, density per unit disc area `model_pdf_area`; the angle from the second); each p is carried along the light ray onto the first
 // surface the light sees (the light's position/normal map), the lit entry point x_i. The flux
 // through the disc element dA⊥ is E⊥·dA⊥ (directional) or I·cos α·dA⊥/|p − x_light|² (point;
 // I times the cosine off the light's normal for a point of an area light), so
@@ -61,6 +62,19 @@ fn pcg(v: u32) -> u32 {
 fn uniform01(state: ptr<function, u32>) -> f32 {
     *state = pcg(*state);
     return f32(*state >> 8u) / 16777216.0;
+}
+
+// Interleaved gradient noise (Jimenez 2014) at pixel p, in [0, 1): neighbouring pixels get
+// well-spread values, so the pixels' errors are of high frequency on screen, what the denoiser
+// takes out best.
+fn ign(p: vec2<f32>) -> f32 {
+    return fract(52.9829189 * fract(dot(p, vec2<f32>(0.06711056, 0.00583715))));
+}
+
+// Point k of the R2 sequence (Roberts 2018: k·(1/g, 1/g²) mod 1, g the plastic number), shifted
+// by `shift` (a Cranley–Patterson rotation): any number of points of it cover the square evenly.
+fn r2(k: u32, shift: vec2<f32>) -> vec2<f32> {
+    return fract(shift + f32(k) * vec2<f32>(0.75487766625, 0.56984029100));
 }
 
 struct Entry {
@@ -145,7 +159,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let no = normalize(textureLoad(cam_normal, vec2<i32>(id.xy), 0).xyz);
     let wo = normalize(u.camera_pos.xyz - xo);
     let cos_o = dot(wo, no);
-    var state = pcg(i ^ pcg(u.frame.x * 9781u + pcg(u.frame.y)));
+    // The samples of a pixel and light are the first points of R2, rotated by the pixel's
+    // interleaved gradient noise plus one uniform shift per frame, light and seed: each pixel's
+    // rotation is then uniform on the square, so its estimate is unbiased, and frames are
+    // independent of each other.
+    var state = pcg(u.frame.x * 9781u + pcg(u.frame.y));
+    let pixel = vec2<f32>(id.xy);
+    let noise = vec2<f32>(ign(pixel), ign(pixel.yx + vec2<f32>(17.0, 41.0)));
     var sum = vec3<f32>(0.0);
     let map = f32(u.frame.z);
     let centre = model_centre(xo, no, wo);
@@ -162,9 +182,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let b = axis.x * axis.y * a;
         let t1 = vec3<f32>(1.0 + sgn * axis.x * axis.x * a, sgn * b, -sgn * axis.x);
         let t2 = vec3<f32>(b, sgn + axis.y * axis.y * a, -axis.y);
+        let shift = fract(noise + vec2<f32>(uniform01(&state), uniform01(&state)));
         for (var k = 0u; k < u.size.w; k++) {
-            let r = model_sample_radius(&state);
-            let phi = 2.0 * PI * uniform01(&state);
+            let draw = r2(k, shift);
+            let r = model_sample_radius(draw.x);
+            let phi = 2.0 * PI * draw.y;
             if !(r > 0.0) {
                 continue;
             }

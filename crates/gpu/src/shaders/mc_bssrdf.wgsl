@@ -100,37 +100,44 @@ fn sss_shape_slab_entry(m: u32, i: u32, k: u32) -> vec3<f32> {
     return tb.shape_slab[9u * i + k].rgb;
 }
 
-fn model_sample_radius(state: ptr<function, u32>) -> f32 {
+// A radius from the mixture of uniform disc sampling and each channel's profile, from one
+// uniform number v in [0, 1): where v falls among the mixture's shares picks the component, what
+// is left of it within that share the profile's bin (its cumulative share) and what is left
+// within that bin the radius, uniform in area (so stratified v give stratified radii in every
+// component).
+fn model_sample_radius(v: f32) -> f32 {
     let r_max = u.disc.x;
-    let pick = uniform01(state);
-    if pick < tb.radial.z {
-        return r_max * sqrt(uniform01(state));
+    if v < tb.radial.z {
+        return r_max * sqrt(v / tb.radial.z);
     }
     var c = 2u;
     var acc = tb.radial.z;
     for (var k = 0u; k < 2u; k++) {
-        acc += tb.share[k];
-        if pick < acc {
+        if v < acc + tb.share[k] {
             c = k;
             break;
         }
+        acc += tb.share[k];
     }
-    // The first bin whose cumulative share exceeds v.
-    let v = uniform01(state);
+    let share = select(1.0 - acc, tb.share[c], c < 2u);
+    let w = clamp((v - acc) / max(share, 1e-30), 0.0, 0.99999994);
+    // The first bin whose cumulative share exceeds w.
     var lo = 0u;
     var hi = tb.shape.z - 1u;
     while lo < hi {
         let mid = (lo + hi) / 2u;
-        if cdf[mid][c] > v {
+        if cdf[mid][c] > w {
             hi = mid;
         } else {
             lo = mid + 1u;
         }
     }
+    let below = select(0.0, cdf[max(lo, 1u) - 1u][c], lo > 0u);
+    let within = clamp((w - below) / max(cdf[lo][c] - below, 1e-30), 0.0, 1.0);
     let dr = tb.radial.x;
     let r0 = f32(lo) * dr;
     let r1 = r0 + dr;
-    return sqrt(r0 * r0 + uniform01(state) * (r1 * r1 - r0 * r0));
+    return sqrt(r0 * r0 + within * (r1 * r1 - r0 * r0));
 }
 
 fn model_pdf_area(r: f32) -> f32 {

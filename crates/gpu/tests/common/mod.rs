@@ -1,9 +1,10 @@
 //! Shared by the GPU tests: the device, or a skip outside CI when there is none; the thick or
-//! thin slab scene of the disc gathers' tests and its central mean. (Not every test uses each.)
+//! thin slab scene of the disc gathers' tests and its central mean; Skin1's surface gather. (Not every test uses each.)
 #![allow(dead_code)]
 
 use glam::Vec3;
-use gpu::{Camera, Gpu, Light, Mesh, Scene};
+use gpu::{Camera, Gpu, Light, Mesh, Scene, SurfaceGatherSetup};
+use shading::Bssrdf;
 
 /// The adapter wgpu finds; None (test skipped) without one, except under CI=true, where a
 /// missing adapter is a failure.
@@ -124,4 +125,44 @@ impl EdgeView {
             .sum::<f64>()
             / w as f64
     }
+}
+
+/// Skin1 (the thesis's coefficients) with isotropic scattering, η = 1.3.
+pub fn skin1() -> shading::Material {
+    shading::Material {
+        name: "Skin1".into(),
+        source: String::new(),
+        sigma_a: [0.32, 1.7, 4.8],
+        sigma_s: [7.4, 8.8, 10.1],
+        g: [0.0; 3],
+        eta: 1.3,
+        thickness: None,
+    }
+}
+
+/// A batch of Skin1 at the thesis's settings.
+pub fn spec(photons: u64, seed: u64) -> shading::BatchSpec {
+    let config = shading::SimConfig::thesis().unwrap();
+    config.batch(&[&skin1()], photons, seed, true).unwrap()
+}
+
+/// Skin1's Monte Carlo profile, 4·10⁵ photons (independent of the tables' runs: another seed).
+pub fn profile() -> fit::Profile {
+    shading::profile::simulate(&spec(400_000, 101), "mc", &|_| {})
+        .unwrap()
+        .profile
+}
+
+/// The gather of `bssrdf` with the tables of `spec` (`shading::gather_tables`) and `profile`.
+pub fn setup(
+    spec: &shading::BatchSpec,
+    profile: &fit::Profile,
+    bssrdf: Bssrdf,
+) -> SurfaceGatherSetup {
+    let r_max = SurfaceGatherSetup::table_radius_cm(profile);
+    let t = shading::gather_tables(spec, bssrdf, r_max, &|_| {}).unwrap();
+    let mut setup = SurfaceGatherSetup::new(profile, t.angles, t.directional).unwrap();
+    setup.shape = t.shape;
+    setup.bssrdf = bssrdf;
+    setup
 }
