@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from references.scenes import GATHER_LABELS
+from references.scenes import FRAME_LABELS, FRAME_SCALE, GATHER_LABELS
 from references.scoring import blocks
 
 
@@ -163,13 +163,25 @@ def render_ours(sss, setup, files, medium, tmp):
         extra = [x.replace("{material}", medium.toml).replace("{profiles}", medium.folder)
                  .replace("{frames}", str(setup.gather_frames)).replace("{table_photons}", str(setup.table_photons))
                  for x in extra]
-        if label in GATHER_LABELS:
+        if label in FRAME_LABELS:
+            images[label] = render_frame(sss, setup, files, [*albedo, *extra], rdir)
+        elif label in GATHER_LABELS:
             halves = [render(sss, [*common, *albedo, *extra, "--frame-seed", str(seed)], rdir) for seed in (1, 2)]
             images[label] = 0.5 * (halves[0] + halves[1])
             gather_noise[label] = blocks(halves[0]) - blocks(halves[1])
         else:
             images[label] = render_model(sss, setup, medium, [*common, *albedo], label, fit_args, extra, rdir, tmp)
     return Renders(wrong, lambertian, images, gather_noise)
+
+
+def render_frame(sss, setup, files, args, out):
+    """A one-frame method as users see it: rendered at FRAME_SCALE times the Setup's size and
+    averaged onto its pixels (each the mean of the FRAME_SCALE² pixels it covers)."""
+    k = FRAME_SCALE
+    big = scene_args(setup, files)
+    big[big.index("--width") + 1], big[big.index("--height") + 1] = str(k * setup.width), str(k * setup.height)
+    image = render(sss, [*big, *args], out)
+    return image.reshape(setup.height, k, setup.width, k, 3).mean(axis=(1, 3))
 
 
 def explicit_off(args, flags):

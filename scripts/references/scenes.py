@@ -41,6 +41,20 @@ GATHERS = [("surface-gather-radial", [], [*GATHER_ARGS, "--bssrdf", "radial"]),
            ("surface-gather-directional", [], [*GATHER_ARGS, "--bssrdf", "directional"]),
            ("surface-gather-shape", [], [*GATHER_ARGS, "--bssrdf", "shape"])]
 GATHER_LABELS = [g[0] for g in GATHERS]
+# The shape-aware gather in one frame (issue 60): N samples per pixel and light, one frame, with
+# and without the edge-aware denoiser (`--denoise`), rendered as users see it, FRAME_SCALE times
+# the reference's size (1920×1080 at CI size), and averaged onto the reference's pixels (each
+# reference pixel the mean of the FRAME_SCALE² pixels it covers). Its own noise counts as error:
+# it is rendered once, and only the reference's noise is removed.
+FRAME_SCALE = 10
+FRAME_SAMPLES = (1, 2, 4, 8, 16)
+FRAME_ARGS = ["--method", "surface-gather", "--bssrdf", "shape", "--material", "{material}",
+              "--profiles", "{profiles}", "--frames", "1", "--light-map", "2048",
+              "--incidence-photons", "{table_photons}"]
+FRAMES = [(f"gather-frame-{n}spp{'-denoised' if d else ''}", [],
+           [*FRAME_ARGS, "--samples", str(n), "--denoise", "on" if d else "off"])
+          for n in FRAME_SAMPLES for d in (False, True)]
+FRAME_LABELS = [f[0] for f in FRAMES]
 MODELS = [  # label, `sss fit` arguments (None: no scattering), extra `sss render` arguments
     ("lambert", None, []),
     ("preint", ["--model", "preint"], []),
@@ -82,6 +96,7 @@ MODELS = [  # label, `sss fit` arguments (None: no scattering), extra `sss rende
                                    "--samples", "32", "--frames", "32", "--light-map", "2048"]),
     *AREA,
     *GATHERS,
+    *FRAMES,
 ]
 
 # Thin parts: gpu::Scene::fin()'s sphere and its 3 mm and 1 mm fins, seen from the default camera
@@ -113,6 +128,7 @@ FIN_MODELS = [
                                    "--samples", "32", "--frames", "32", "--light-map", "2048"]),
     *AREA,
     *GATHERS,
+    *FRAMES,
 ]
 
 # Small features and depth discontinuities: the depth tests, the incidence-aware shading.
@@ -120,7 +136,7 @@ BUST_MODELS = [m for m in MODELS if m[0] in (
     "lambert", "preint", "preint-reject", "preint-nodepth", "preint-gaussian", "svd1", "svd3",
     "preint-incidence",
     "preint-incidence-exit", "preint-incidence-exit-entry", "preint-incidence-exit-entry-shift",
-    "preint-incidence-exit-entry-shift-shape", "area-gather", *GATHER_LABELS)]
+    "preint-incidence-exit-entry-shift-shape", "area-gather", *GATHER_LABELS, *FRAME_LABELS)]
 
 # A smooth dielectric boundary (η = 1.3) lit by a square area light: what the index-matched scenes
 # leave out. Light enters through Fresnel transmission and leaves by refraction, so Mitsuba cannot

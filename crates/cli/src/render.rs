@@ -20,7 +20,7 @@ use flags::{flagged, request};
 
 pub fn run(mut a: RenderArgs) -> Result<()> {
     let names: Vec<&str> = a.material.split(',').map(str::trim).collect();
-    if names.len() > 1 && (a.compare_models || a.bench) {
+    if names.len() > 1 && (a.compare_models || a.bench.is_some()) {
         bail!(
             "--compare-models and --bench take a scene of one SSS material (--material names {})",
             names.len()
@@ -30,9 +30,6 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         bail!(
             "--compare-models compares the separable method's kernels: it takes --method separable"
         );
-    }
-    if a.method == gpu::Method::SurfaceGather && a.bench {
-        bail!("--bench does not time the surface gather");
     }
     let materials = names
         .iter()
@@ -52,7 +49,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     let gpu = Gpu::new()?;
     eprintln!("GPU: {}", gpu.adapter_name);
     let named = &request.materials[0];
-    if a.bench {
+    if a.bench.is_some() {
         bench(&gpu, &plan, &a.source.profile(named, &mut files)?, &a)?;
         return Ok(files.commit()?);
     }
@@ -85,18 +82,11 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         summary["compare"] = compare(&gpu, &plan, &p, &a, &mut files)?;
     }
     files.commit()?;
-    eprintln!(
-        "{what} on {} at {}×{} in {seconds:.2} s → {}",
-        a.scene,
-        a.width,
-        a.height,
-        png_path.display()
-    );
+    let (scene, w, h, png) = (&a.scene, a.width, a.height, png_path.display());
+    eprintln!("{what} on {scene} at {w}×{h} in {seconds:.2} s → {png}");
+    let sheet = a.out.join("compare_sheet.png");
     if a.compare_models {
-        eprintln!(
-            "comparison sheet → {}",
-            a.out.join("compare_sheet.png").display()
-        );
+        eprintln!("comparison sheet → {}", sheet.display());
     }
     if a.json {
         crate::common::print_json(&summary)?;
@@ -126,14 +116,17 @@ fn compare(
     Ok(c.add_files(&a.out, files))
 }
 
-/// `--bench`: the directional dipole's time per frame, or the separable passes' every
-/// configuration and skip (`report::render_checks::bench`), as a table (stdout, or stderr with
+/// `--bench`: this frame's time (`frame`, and the surface gather's), the directional dipole's
+/// time per frame, or the separable passes' every configuration and skip (`report::render_checks::bench`), as a table (stdout, or stderr with
 /// --json) and with --json as JSON on stdout.
 fn bench(gpu: &Gpu, plan: &Plan, p: &fit::Profile, a: &RenderArgs) -> Result<()> {
     let slug = &plan.materials[0].slug;
     let gathers = Gather::timed(&plan.gather);
     let scene = (&plan.scene, a.scene.as_str(), a.width, a.height);
-    let b = render_checks::bench(gpu, scene, (p, slug), &plan.params, gathers)?;
+    let what = render::describe(plan);
+    let surface = matches!(plan.gather, Some(Gather::Surface(_)));
+    let frame = (surface || a.bench.as_deref() == Some("frame")).then(|| (plan.scatter(), &*what));
+    let b = render_checks::bench(gpu, scene, (p, slug), &plan.params, gathers, frame)?;
     b.warnings.iter().for_each(|w| eprintln!("{w}"));
     for line in b.table {
         if a.json {

@@ -568,3 +568,37 @@ fn the_shape_aware_gather_is_the_directional_one_on_a_plane_and_brighter_on_a_sp
         );
     }
 }
+
+/// The radius mixture's shares: with a sample for every component they are whole numbers of a
+/// pixel's N samples (the samples are stratified over the mixture, so each component gets exactly
+/// its count in every pixel), at least one uniform, the rest within one of each other; with fewer
+/// the even split; always summing to 1.
+#[test]
+fn the_mixture_gives_each_component_whole_samples() {
+    let (mut radial, _) = setups();
+    for n in [1u32, 2, 3, 4, 5, 8, 16, 17, 64] {
+        radial.sampling.samples = n;
+        let (shares, uniform) = (radial.shares(), radial.uniform_share());
+        let sum = uniform + shares.iter().sum::<f64>();
+        assert!((sum - 1.0).abs() < 1e-12, "N = {n}: {sum}");
+        if n <= 3 {
+            assert_eq!(
+                uniform,
+                gpu::gathers::surface_gather::UNIFORM_SHARE,
+                "N = {n}"
+            );
+            continue;
+        }
+        let counts: Vec<f64> = shares.iter().map(|s| s * n as f64).collect();
+        assert!(
+            counts.iter().all(|c| (c - c.round()).abs() < 1e-9),
+            "N = {n}: {counts:?}"
+        );
+        assert!(uniform * n as f64 >= 1.0 - 1e-9, "N = {n}: {uniform}");
+        let (lo, hi) = (
+            counts.iter().cloned().fold(f64::MAX, f64::min),
+            counts.iter().cloned().fold(0.0, f64::max),
+        );
+        assert!(hi - lo <= 1.0 + 1e-9, "N = {n}: {counts:?}");
+    }
+}

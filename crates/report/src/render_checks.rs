@@ -7,7 +7,7 @@ use fit::taps::TapSpec;
 use fit::{KernelModel, Profile};
 use gpu::eval::bench::{DipoleRow, SeparableBench};
 use gpu::eval::compare::{ImageError, Shown};
-use gpu::{AreaGatherSetup, DipoleSetup, Gpu, RenderParams, Scene};
+use gpu::{AreaGatherSetup, DipoleSetup, Gpu, RenderParams, Scatter, Scene};
 use mc::outputs::Outputs;
 use serde_json::{Value, json};
 use std::path::Path;
@@ -253,17 +253,39 @@ pub struct Bench {
     pub json: Value,
 }
 
-/// The scene `scene_name` at `width` × `height` timed (`gpu::eval::bench`): the directional
-/// dipole's time per frame when `dipole` is given, else the separable passes' every
-/// configuration and skip of `p` (with the area gather's set-up `area`, if any).
+/// The scene `scene_name` at `width` × `height` timed (`gpu::eval::bench`): with `frame` (the
+/// frame's scattering and what it is) that frame alone, else the directional dipole's time per
+/// frame when `dipole` is given, else the separable passes' every configuration and skip of `p`
+/// (with the area gather's set-up `area`, if any).
 pub fn bench(
     gpu: &Gpu,
     (scene, scene_name, width, height): (&Scene, &str, u32, u32),
     (p, slug): (&Profile, &str),
     params: &RenderParams,
     (dipole, area): (Option<&DipoleSetup>, Option<&AreaGatherSetup>),
+    frame: Option<(Scatter, &str)>,
 ) -> Result<Bench> {
     let mut warnings = Vec::new();
+    if let Some((scatter, what)) = frame {
+        let b = gpu::eval::bench::frame(gpu, scene, scatter, params)?;
+        let gpu_ms = b
+            .gpu_ms
+            .map_or(String::new(), |g| format!(", passes {g:.1} ms on the GPU"));
+        let table = vec![format!(
+            "{what} on {scene_name} at {width}×{height} on {}: {:.1} ms a frame{gpu_ms} (median of {} frames on a renderer built once, after one that compiles)",
+            gpu.adapter_name, b.frame_ms, b.frames
+        )];
+        let json = json!({
+            "adapter": gpu.adapter_name, "width": width, "height": height, "scene": scene_name,
+            "material": slug, "method": what, "frame_ms": b.frame_ms, "gpu_ms": b.gpu_ms,
+            "frames": b.frames,
+        });
+        return Ok(Bench {
+            warnings,
+            table,
+            json,
+        });
+    }
     if let Some(setup) = dipole {
         if !gpu.timestamps {
             warnings.push(

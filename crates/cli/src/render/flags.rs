@@ -213,11 +213,10 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1024)]
     pub light_map: u32,
 
-    /// surface-gather: pass the frames' mean through an edge-aware denoiser (world-space
-    /// widths per channel, half the profile's median exit radius [cm]; never across silhouettes,
-    /// depth steps or non-SSS surfaces), for a gather of a few samples in one frame
-    #[arg(long, value_parser = on_off(), default_value = "off")]
-    pub denoise: bool,
+    /// surface-gather: the frames' mean through an edge-aware denoiser of world widths half the
+    /// profile's median exit radius per channel [cm], for a few samples in one frame [default: off]
+    #[arg(long, value_parser = on_off())]
+    pub denoise: Option<bool>,
 
     /// area-gather: half-width n [px] of the inner block of (2n+1)² taps at full resolution
     #[arg(long, default_value_t = 2)]
@@ -248,13 +247,14 @@ pub struct RenderArgs {
     #[arg(long)]
     pub compare_models: bool,
 
-    /// Time the SSS passes at --width × --height instead of rendering, on a renderer built once,
-    /// with this command's other settings (depth test, jitter, shading tables): 11/17/25/33 taps ×
-    /// rank 1 (pre-integration), 2, 3 (SVD) × full and half resolution × exact and fast path,
-    /// and what skipping pixels without SSS and sub-pixel kernels saves (with --json:
-    /// {"configs": […], "skips": {…}} only)
-    #[arg(long)]
-    pub bench: bool,
+    /// Time instead of rendering, at --width × --height on a renderer built once: `frame` (the
+    /// surface gather's only) this command's frame [ms]; `all` (the default) with the separable
+    /// method 11/17/25/33 taps × rank 1 (pre-integration), 2, 3 (SVD) × full and half resolution
+    /// × exact and fast path with this command's other settings, and what skipping pixels
+    /// without SSS and sub-pixel kernels saves (with --json: {"configs": […], "skips": {…}})
+    #[arg(long, value_name = "WHAT", num_args = 0..=1, default_missing_value = "all",
+          value_parser = ["all", "frame"])]
+    pub bench: Option<String>,
 
     #[command(flatten)]
     pub source: ProfileSource,
@@ -346,7 +346,7 @@ pub fn request(a: &RenderArgs, materials: Vec<render::NamedMaterial>) -> Result<
             radius_cm: a.dipole_radius,
             dipole_energy: a.dipole_energy,
             light_map: a.light_map,
-            denoise: a.denoise,
+            denoise: a.denoise.unwrap_or(false),
             inner: a.gather_inner,
             layers: a.gather_layers,
             brighten: a.gather_brighten,

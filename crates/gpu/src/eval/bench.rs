@@ -1,5 +1,6 @@
-//! Timing of the scattering passes (`sss render --bench`), as plain data: the separable passes in
-//! every configuration, what each skip saves, and the directional dipole's frame time.
+//! Timing of the scattering passes (`sss render --bench`), as plain data: one frame of any method,
+//! the separable passes in every configuration, what each skip saves, and the directional
+//! dipole's frame time.
 //!
 //! GPU times are the passes' timestamp queries (None where the adapter has none; on a CPU adapter
 //! such as lavapipe they do not measure the work, so compare frame-time ratios there); frame
@@ -355,6 +356,40 @@ pub struct DipoleRow {
     pub render_wall_ms: f64,
     /// Whether the adapter has timestamp queries.
     pub timestamps: bool,
+}
+
+/// One frame's time: what `sss render --bench frame` reports for any method.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FrameBench {
+    /// Median frame time [ms]: recording to completion, uploads included, readback not.
+    pub frame_ms: f64,
+    /// Median of the sum of the passes' GPU times [ms] (None without timestamp queries).
+    pub gpu_ms: Option<f64>,
+    /// Frames timed (after one that compiles the pipelines).
+    pub frames: usize,
+}
+
+/// The frame of `scatter` at `params` timed: [`FRAMES`] frames on a renderer built once, after
+/// one untimed frame that compiles its pipelines (the disc gathers compile on their first).
+pub fn frame(
+    gpu: &Gpu,
+    scene: &Scene,
+    scatter: Scatter,
+    params: &RenderParams,
+) -> Result<FrameBench> {
+    let renderer = Renderer::new(gpu);
+    renderer.time(gpu, scene, scatter, params)?;
+    let (mut wall, mut passes) = (Vec::new(), Vec::new());
+    for _ in 0..FRAMES {
+        let t = renderer.time(gpu, scene, scatter, params)?;
+        wall.push(t.wall_ms);
+        passes.push(t.passes.iter().map(|p| p.ms).sum::<f64>());
+    }
+    Ok(FrameBench {
+        frame_ms: median(wall),
+        gpu_ms: gpu.timestamps.then(|| median(passes)),
+        frames: FRAMES,
+    })
 }
 
 /// Directional-dipole frame times at 1920×1080 (median of 3 renders of `base.frames` frames

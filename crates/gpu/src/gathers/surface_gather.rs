@@ -26,8 +26,9 @@
 //! gather returns E·cos θ·Rd(θ) (less what lies beyond the tables), tested.
 //!
 //! Radii are drawn from the profile's own area density (a mixture over the channels of its CDF
-//! per annulus, uniform in area within an annulus) with a share [`UNIFORM_SHARE`] of uniform disc
-//! sampling: where the surface curves, the 3-D distance |x_o − x_i| differs from the disc radius,
+//! per annulus, uniform in area within an annulus, each channel around its own exit shift) with a
+//! share [`UNIFORM_SHARE`] of uniform disc sampling, the pixel's samples stratified over the
+//! mixture ([`SurfaceGatherSetup::shares`]): where the surface curves, the 3-D distance |x_o − x_i| differs from the disc radius,
 //! and the uniform share keeps the density positive wherever the response may be.
 
 use crate::error::{GpuError, Result};
@@ -207,34 +208,58 @@ impl SurfaceGatherSetup {
         self.radius_holding(0.5).map(|r| (DENOISE_SHARE * r) as f32)
     }
 
-    /// Each channel's share of the radius mixture: (1 − [`UNIFORM_SHARE`]) split over the
-    /// channels that reflect anything.
+    /// Each channel's share of the radius mixture. A pixel's samples are stratified over the
+    /// mixture (sample k of N draws from [k/N, (k+1)/N) of it), so where every component can have
+    /// a sample of its own (N above the channels that reflect anything) the shares are whole
+    /// numbers of samples: round(N·[`UNIFORM_SHARE`]), at least one, uniform, the rest split
+    /// evenly over those channels, the last (bluest) taking the odd ones; each component then
+    /// gets exactly its count in every pixel, not a count that varies from pixel to pixel. With
+    /// fewer samples (1 − [`UNIFORM_SHARE`]) split evenly. 0 for a channel that reflects
+    /// nothing.
     pub fn shares(&self) -> [f64; 3] {
-        let total = self.profile_total();
-        let live = total.iter().filter(|t| **t > 0.0).count();
-        total.map(|t| {
-            if t > 0.0 {
-                (1.0 - UNIFORM_SHARE) / live as f64
-            } else {
-                0.0
-            }
-        })
+        self.mixture().0
     }
 
-    /// The share of uniform disc sampling: [`UNIFORM_SHARE`], or all of it where no channel
-    /// reflects anything.
+    /// The share of uniform disc sampling ([`SurfaceGatherSetup::shares`]), all of it where no
+    /// channel reflects anything.
     pub fn uniform_share(&self) -> f64 {
-        if self.shares().iter().all(|s| *s == 0.0) {
-            1.0
-        } else {
-            UNIFORM_SHARE
-        }
+        self.mixture().1
     }
 
-    /// The density per unit disc area [cm⁻²] of a radius the shader draws (its CPU twin).
+    /// The channels' shares and the uniform share.
+    fn mixture(&self) -> ([f64; 3], f64) {
+        let total = self.profile_total();
+        let live: Vec<usize> = (0..3).filter(|&c| total[c] > 0.0).collect();
+        let mut shares = [0.0; 3];
+        if live.is_empty() {
+            return (shares, 1.0);
+        }
+        let n = self.sampling.samples as usize;
+        if n <= live.len() {
+            for &c in &live {
+                shares[c] = (1.0 - UNIFORM_SHARE) / live.len() as f64;
+            }
+            return (shares, UNIFORM_SHARE);
+        }
+        let uniform = ((n as f64 * UNIFORM_SHARE).round() as usize).clamp(1, n - live.len());
+        let (rest, k) = (n - uniform, live.len());
+        for (j, &c) in live.iter().enumerate() {
+            let count = rest / k + usize::from(j >= k - rest % k);
+            shares[c] = count as f64 / n as f64;
+        }
+        (shares, uniform as f64 / n as f64)
+    }
+
+    /// The density per unit disc area [cm⁻²] at `r` from the disc's centre of the points the
+    /// shader draws where every channel is drawn around that centre (the radial BSSRDF, or a view
+    /// along the normal: no exit shift), its `model_pdf_disc`'s CPU twin.
     pub fn pdf_area(&self, r: f64) -> f64 {
         let r_max = self.sampling.radius_cm as f64;
-        let mut p = self.uniform_share() / (std::f64::consts::PI * r_max * r_max);
+        let mut p = if r < r_max {
+            self.uniform_share() / (std::f64::consts::PI * r_max * r_max)
+        } else {
+            0.0
+        };
         let bin = (r / self.dr_cm) as usize;
         if let Some(v) = self.profile.get(bin) {
             let (shares, total) = (self.shares(), self.profile_total());

@@ -64,11 +64,17 @@ fn s_d(xi: vec3<f32>, ni: vec3<f32>, w12: vec3<f32>, xo: vec3<f32>, no: vec3<f32
 // A radius from the truncated exponential of a channel picked uniformly, both from one uniform
 // number v in [0, 1): its third picks the channel, what is left of it within that third the
 // radius (so stratified v give stratified radii in each channel).
-fn model_sample_radius(v: f32) -> f32 {
+// Returned as the disc gather takes it: (the centre's offset, 0; the radius).
+fn model_sample(v: f32) -> vec4<f32> {
     let c = min(u32(v * 3.0), 2u);
     let s = dp.rate[c];
     let rest = clamp(v * 3.0 - f32(c), 0.0, 0.99999994);
-    return -log(1.0 - rest * (1.0 - exp(-s * u.disc.x))) / s;
+    return vec4<f32>(vec3<f32>(0.0), -log(1.0 - rest * (1.0 - exp(-s * u.disc.x))) / s);
+}
+
+// The sample density per unit disc area at the point d from the disc's centre.
+fn model_pdf_disc(d: vec3<f32>, axis: vec3<f32>) -> f32 {
+    return model_pdf_area(length(d));
 }
 
 // The sample density per unit disc area at radius r: the mean over channels of the truncated

@@ -2,8 +2,9 @@
 // directional dipole, draft §4.2–4.3, and the Monte Carlo BSSRDF), one progressive frame: for
 // each SSS pixel x_o and each light, `samples` points p on a disc of radius r* around x_o (the
 // model's centre for it) in the plane perpendicular to the light ray, at the first points of
-// the R2 sequence rotated per pixel (radii drawn by the model from the first coordinate,
-// `model_sample_radius`, density per unit disc area `model_pdf_area`; the angle from the second); each p is carried along the light ray onto the first
+// the R2 sequence rotated per pixel (a component's centre and a radius around it drawn by the
+// model from the first coordinate, `model_sample`, density per unit disc area `model_pdf_disc`;
+// the angle from the second); each p is carried along the light ray onto the first
 // surface the light sees (the light's position/normal map), the lit entry point x_i. The flux
 // through the disc element dA⊥ is E⊥·dA⊥ (directional) or I·cos α·dA⊥/|p − x_light|² (point;
 // I times the cosine off the light's normal for a point of an area light), so
@@ -15,7 +16,7 @@
 // frame adds its estimate × 1/(samples·frames) into `out` (π·L_o: the exitance convention of the
 // separable pipeline).
 //
-// The model's file (prepended in Rust) defines model_sample_radius, model_pdf_area,
+// The model's file (prepended in Rust) defines model_sample, model_pdf_disc,
 // model_response, model_exit and model_centre (called once per pixel with x_o, its normal and the
 // direction to the camera before the samples: the disc's centre, x_o or where the model's
 // response peaks), and its own bindings from 6 on.
@@ -162,7 +163,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     // The samples of a pixel and light are the first points of R2, rotated by the pixel's
     // interleaved gradient noise plus one uniform shift per frame, light and seed: each pixel's
     // rotation is then uniform on the square, so its estimate is unbiased, and frames are
-    // independent of each other.
+    // independent of each other. The first coordinate, stratified (sample k of N in
+    // [k/N, (k+1)/N)), draws the radius, the second the angle.
     var state = pcg(u.frame.x * 9781u + pcg(u.frame.y));
     let pixel = vec2<f32>(id.xy);
     let noise = vec2<f32>(ign(pixel), ign(pixel.yx + vec2<f32>(17.0, 41.0)));
@@ -184,13 +186,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let t2 = vec3<f32>(b, sgn + axis.y * axis.y * a, -axis.y);
         let shift = fract(noise + vec2<f32>(uniform01(&state), uniform01(&state)));
         for (var k = 0u; k < u.size.w; k++) {
+            // Stratified over the model's mixture: sample k draws from [k/N, (k+1)/N).
             let draw = r2(k, shift);
-            let r = model_sample_radius(draw.x);
+            let drawn = model_sample((f32(k) + draw.x) / f32(u.size.w));
+            let r = drawn.w;
             let phi = 2.0 * PI * draw.y;
             if !(r > 0.0) {
                 continue;
             }
-            let p = centre + r * (cos(phi) * t1 + sin(phi) * t2);
+            // The component's centre in the disc's plane.
+            let d = drawn.xyz - dot(drawn.xyz, axis) * axis + r * (cos(phi) * t1 + sin(phi) * t2);
+            let p = centre + d;
             let clip = light.view_proj * vec4<f32>(p, 1.0);
             if clip.w <= 0.0 {
                 continue;
@@ -229,7 +235,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             }
             gather_entry_chord = hit.chord;
             sum += flux * model_response(xi, ni, wi, cos_i, xo, no) * model_exit(cos_o, cos_i)
-                / model_pdf_area(r);
+                / model_pdf_disc(d, axis);
         }
     }
     out[i] += vec4<f32>(sum * u.disc.y, 0.0);

@@ -100,15 +100,17 @@ fn sss_shape_slab_entry(m: u32, i: u32, k: u32) -> vec3<f32> {
     return tb.shape_slab[9u * i + k].rgb;
 }
 
-// A radius from the mixture of uniform disc sampling and each channel's profile, from one
+// A point from the mixture of uniform disc sampling and each channel's profile, from one
 // uniform number v in [0, 1): where v falls among the mixture's shares picks the component, what
 // is left of it within that share the profile's bin (its cumulative share) and what is left
 // within that bin the radius, uniform in area (so stratified v give stratified radii in every
-// component).
-fn model_sample_radius(v: f32) -> f32 {
+// component). Returns the component's centre as an offset from the disc's centre (xyz: each
+// channel is drawn around its own exit shift, `channel_offset`; the uniform disc around the
+// centre) and the radius (w) [cm].
+fn model_sample(v: f32) -> vec4<f32> {
     let r_max = u.disc.x;
     if v < tb.radial.z {
-        return r_max * sqrt(v / tb.radial.z);
+        return vec4<f32>(vec3<f32>(0.0), r_max * sqrt(v / tb.radial.z));
     }
     var c = 2u;
     var acc = tb.radial.z;
@@ -137,18 +139,22 @@ fn model_sample_radius(v: f32) -> f32 {
     let dr = tb.radial.x;
     let r0 = f32(lo) * dr;
     let r1 = r0 + dr;
-    return sqrt(r0 * r0 + within * (r1 * r1 - r0 * r0));
+    return vec4<f32>(channel_offset[c], sqrt(r0 * r0 + within * (r1 * r1 - r0 * r0)));
 }
 
-fn model_pdf_area(r: f32) -> f32 {
+// The mixture's density per unit disc area [cm⁻²] at the point d [cm] from the disc's centre in
+// its plane (normal `axis`): the uniform disc's within r*, and each channel's profile density at
+// the distance from that channel's centre (its offset projected onto the plane, as the gather
+// places it).
+fn model_pdf_disc(d: vec3<f32>, axis: vec3<f32>) -> f32 {
     let r_max = u.disc.x;
-    var p = tb.radial.z / (PI * r_max * r_max);
-    let bin = u32(r / tb.radial.x);
-    if bin < tb.shape.z {
-        let v = profile[bin];
-        for (var c = 0u; c < 3u; c++) {
-            if tb.share[c] > 0.0 {
-                p += tb.share[c] * v[c] / tb.total[c];
+    var p = select(0.0, tb.radial.z / (PI * r_max * r_max), length(d) < r_max);
+    for (var c = 0u; c < 3u; c++) {
+        if tb.share[c] > 0.0 {
+            let o = channel_offset[c] - dot(channel_offset[c], axis) * axis;
+            let bin = u32(length(d - o) / tb.radial.x);
+            if bin < tb.shape.z {
+                p += tb.share[c] * profile[bin][c] / tb.total[c];
             }
         }
     }
@@ -206,18 +212,28 @@ fn exit_shift(no: vec3<f32>, wo: vec3<f32>) -> array<vec3<f32>, 3> {
     return out;
 }
 
+// Each channel's sampling centre as an offset from the disc's centre, set once per pixel by
+// model_centre: the channel's own exit shift less their weighted mean.
+var<private> channel_offset: array<vec3<f32>, 3>;
+
 // The pixel's exit shift (kept for model_response) and the disc's centre: x_o moved by the
-// channels' shifts weighted by their shares of the sampling, so the drawn radii follow the
-// shifted response (x_o for the radial BSSRDF, which has no shift).
+// channels' shifts weighted by their shares of the sampling (x_o for the radial BSSRDF, which
+// has no shift); each channel's radii are drawn around its own shift (`channel_offset`), where
+// its response peaks: a narrow channel (Skin1's blue) drawn around another's centre would find
+// its peak where its density is low.
 fn model_centre(xo: vec3<f32>, no: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     pixel_exit = exit_shift(no, wo);
     let s = tb.share.rgb;
     let total = s.r + s.g + s.b;
-    if !(total > 0.0) {
-        return xo;
+    var mean = vec3<f32>(0.0);
+    if total > 0.0 {
+        let e = pixel_exit;
+        mean = (s.r * e[0] + s.g * e[1] + s.b * e[2]) / total;
     }
-    let e = pixel_exit;
-    return xo + (s.r * e[0] + s.g * e[1] + s.b * e[2]) / total;
+    for (var c = 0u; c < 3u; c++) {
+        channel_offset[c] = pixel_exit[c] - mean;
+    }
+    return xo + mean;
 }
 
 fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: vec3<f32>,
