@@ -289,6 +289,59 @@ fn render_bench_json_reports_every_configuration_and_the_skips() {
     );
 }
 
+/// `--bench frame` times the command's own frame for any method: the one-frame surface gather
+/// (denoised) and the separable default each report one median frame time, and neither writes
+/// an image.
+#[test]
+fn render_bench_frame_times_the_commands_own_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = [
+        "render",
+        "--bench",
+        "frame",
+        "--json",
+        "--width",
+        "96",
+        "--height",
+        "54",
+        "--photons",
+        "30000",
+        "--incidence-photons",
+        "2000",
+        "--profiles",
+        "p",
+        "--out",
+        "r",
+    ];
+    let gather = [
+        "--method",
+        "surface-gather",
+        "--samples",
+        "4",
+        "--frames",
+        "1",
+        "--denoise",
+        "on",
+    ];
+    for extra in [&[][..], &gather[..]] {
+        let o = sss(&[&base[..], extra].concat(), dir.path());
+        if no_adapter(&o) {
+            return;
+        }
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert!(v["frame_ms"].as_f64().unwrap() > 0.0, "{v}");
+        assert_eq!(v["frames"].as_u64(), Some(5), "{v}");
+        assert!(v["configs"].is_null(), "{v}");
+        let method = v["method"].as_str().unwrap();
+        assert_eq!(method.contains("denoised"), !extra.is_empty(), "{method}");
+    }
+    assert!(
+        !dir.path().join("r/render.png").exists(),
+        "a bench renders no image"
+    );
+}
+
 #[test]
 fn render_error_target_picks_the_smallest_rank_that_meets_it() {
     let dir = tempfile::tempdir().unwrap();

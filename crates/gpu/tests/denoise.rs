@@ -22,7 +22,7 @@ mod common;
 use common::{gpu, profile, setup, slab_scene, spec};
 
 /// The slab's camera height [cm]: a 128-pixel image spans 1.4 cm, 0.011 cm a pixel, so that
-/// Skin1's widths (0.01–0.05 cm) span pixels.
+/// Skin1's widths (0.008–0.05 cm) span pixels.
 const CAMERA_CM: f32 = 20.0;
 
 /// Skin1's directional gather of 4 samples in one frame (1024² light maps).
@@ -46,6 +46,26 @@ fn with(setup: &SurfaceGatherSetup, denoise: bool, seed: u32) -> SurfaceGatherSe
     s.sampling.denoise = denoise;
     s.sampling.seed = seed;
     s
+}
+
+/// The frame of `setup` with seed `seed`, without and with the denoiser.
+fn both(
+    gpu: &gpu::Gpu,
+    scene: &Scene,
+    setup: &SurfaceGatherSetup,
+    seed: u32,
+    params: &RenderParams,
+) -> (gpu::Frame, gpu::Frame) {
+    let frame = |denoise| {
+        render(
+            gpu,
+            scene,
+            Scatter::SurfaceGather(&with(setup, denoise, seed)),
+            params,
+        )
+        .unwrap()
+    };
+    (frame(false), frame(true))
 }
 
 /// Mean and standard error of the mean of channel `c` over the pixels of `frame` in `rows` ×
@@ -81,20 +101,7 @@ fn one_denoised_frame_of_a_lit_half_space_returns_the_tables_reflectance() {
     for (theta, k) in [(0.0f32, 0usize), (60.0, 6)] {
         let t = theta.to_radians();
         let scene = slab_scene(4.0, CAMERA_CM, Vec3::new(t.sin(), t.cos(), 0.0));
-        let raw = render(
-            &gpu,
-            &scene,
-            Scatter::SurfaceGather(&with(&setup, false, 3)),
-            &params(SIZE),
-        )
-        .unwrap();
-        let den = render(
-            &gpu,
-            &scene,
-            Scatter::SurfaceGather(&with(&setup, true, 3)),
-            &params(SIZE),
-        )
-        .unwrap();
+        let (raw, den) = both(&gpu, &scene, &setup, 3, &params(SIZE));
         let own = table.integral(k);
         for c in 0..3 {
             let norm = (theta as f64).to_radians().cos() * setup.angles.exit[k][0][c] as f64;
@@ -134,20 +141,7 @@ fn the_denoiser_keeps_the_light_it_filters() {
         height: 360,
         ..RenderParams::default()
     };
-    let raw = render(
-        &gpu,
-        &scene,
-        Scatter::SurfaceGather(&with(&setup, false, 5)),
-        &p,
-    )
-    .unwrap();
-    let den = render(
-        &gpu,
-        &scene,
-        Scatter::SurfaceGather(&with(&setup, true, 5)),
-        &p,
-    )
-    .unwrap();
+    let (raw, den) = both(&gpu, &scene, &setup, 5, &p);
     for c in 0..3 {
         let (a, b) = (total(&raw, c), total(&den, c));
         eprintln!(
@@ -199,20 +193,7 @@ fn the_denoiser_takes_no_light_across_a_depth_step() {
     let Some(gpu) = gpu() else { return };
     const SIZE: u32 = 128;
     let scene = step_scene();
-    let raw = render(
-        &gpu,
-        &scene,
-        Scatter::SurfaceGather(&with(&setup, false, 9)),
-        &params(SIZE),
-    )
-    .unwrap();
-    let den = render(
-        &gpu,
-        &scene,
-        Scatter::SurfaceGather(&with(&setup, true, 9)),
-        &params(SIZE),
-    )
-    .unwrap();
+    let (raw, den) = both(&gpu, &scene, &setup, 9, &params(SIZE));
     // Which half is the lit top: the brighter.
     let half = SIZE as usize / 2;
     let (left, _) = block(&raw, 0..128, 8..half - 8, 0);

@@ -213,8 +213,8 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1024)]
     pub light_map: u32,
 
-    /// surface-gather: the frames' mean through an edge-aware denoiser of world widths half the
-    /// profile's median exit radius per channel [cm], for a few samples in one frame [default: off]
+    /// surface-gather: an edge-aware denoiser over the frames' mean, of world widths a quarter of
+    /// the profile's median exit radius per channel [cm], for few samples a frame [default: off]
     #[arg(long, value_parser = on_off())]
     pub denoise: Option<bool>,
 

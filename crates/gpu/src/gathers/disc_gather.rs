@@ -381,6 +381,20 @@ pub(crate) fn frame_emitters(lights: &[Light], frame: u32, seed: u32) -> Vec<Emi
         .collect()
 }
 
+/// The denoiser's widths [cm] where `sampling` asks for it: the model's, or an error naming
+/// `denoise` where the model has none.
+fn denoise_widths(sampling: &Sampling, model: &Model) -> Result<Option<[f32; 3]>> {
+    match (sampling.denoise, model.denoise_cm) {
+        (false, _) => Ok(None),
+        (true, Some(widths)) => Ok(Some(widths)),
+        (true, None) => Err(GpuError::invalid(
+            "denoise",
+            "on",
+            format!("the {} has no denoiser widths", model.label),
+        )),
+    }
+}
+
 /// Encodes the gather's passes: the camera's and each light's position/normal maps, then
 /// `sampling.frames` accumulation passes of `model` adding π·L_o/frames into the target's
 /// scattered light (which is cleared first), then, with `sampling.denoise`, the denoiser over
@@ -393,17 +407,7 @@ pub(crate) fn encode(
     pipelines: &DiscPipelines,
 ) -> Result<()> {
     sampling.validate()?;
-    let denoise_cm = match (sampling.denoise, model.denoise_cm) {
-        (false, _) => None,
-        (true, Some(widths)) => Some(widths),
-        (true, None) => {
-            return Err(GpuError::invalid(
-                "denoise",
-                "on",
-                format!("the {} has no denoiser widths", model.label),
-            ));
-        }
-    };
+    let denoise_cm = denoise_widths(sampling, model)?;
     let (alloc, enc, timer) = (rec.alloc, &mut rec.enc, &mut rec.timer.as_mut());
     let out = target.scattered;
     let dev = &alloc.gpu.device;
