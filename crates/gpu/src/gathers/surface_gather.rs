@@ -187,7 +187,7 @@ impl SurfaceGatherSetup {
     pub fn radius_holding(&self, fraction: f64) -> [f64; 3] {
         let (dr, total) = (self.dr_cm, self.profile_total());
         std::array::from_fn(|c| {
-            if !(total[c] > 0.0) {
+            if total[c] <= 0.0 {
                 return 0.0;
             }
             let goal = fraction.clamp(0.0, 1.0) * total[c];
