@@ -78,8 +78,8 @@ def main():
         for r in range(a.rounds):
             for label in labels:
                 base = frame_ms(sss, default)
-                ms = frame_ms(sss, [*common, *method_args(label, setup.scene["models"], a.material, profiles,
-                                                          setup.table_photons)])
+                ms = frame_ms(sss, [*common, *method_args(label, scenes.SCENES[a.scene]["models"], a.material,
+                                                          profiles, setup.table_photons)])
                 ratios[label].append(ms / base)
                 print(f"round {r + 1}: {label}: {ms:.0f} ms, default {base:.0f} ms, ratio {ms / base:.3f}",
                       flush=True)
