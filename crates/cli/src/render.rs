@@ -116,9 +116,9 @@ fn compare(
     Ok(c.add_files(&a.out, files))
 }
 
-/// `--bench`: this frame's time (`frame`, and the surface gather's), the directional dipole's
-/// time per frame, or the separable passes' every configuration and skip (`report::render_checks::bench`), as a table (stdout, or stderr with
-/// --json) and with --json as JSON on stdout.
+/// `--bench` (`report::render_checks::bench`): this frame's time, the dipole's per frame, or the
+/// separable passes' every configuration and skip, as a table (stdout, or stderr with --json)
+/// and with --json as JSON on stdout.
 fn bench(gpu: &Gpu, plan: &Plan, p: &fit::Profile, a: &RenderArgs) -> Result<()> {
     let slug = &plan.materials[0].slug;
     let gathers = Gather::timed(&plan.gather);

@@ -28,8 +28,9 @@
 //! Radii are drawn from the profile's own area density (a mixture over the channels of its CDF
 //! per annulus, uniform in area within an annulus, each channel around its own exit shift) with a
 //! share [`UNIFORM_SHARE`] of uniform disc sampling, the pixel's samples stratified over the
-//! mixture ([`SurfaceGatherSetup::shares`]): where the surface curves, the 3-D distance |x_o − x_i| differs from the disc radius,
-//! and the uniform share keeps the density positive wherever the response may be.
+//! mixture ([`SurfaceGatherSetup::shares`]): where the surface curves, the 3-D distance
+//! |x_o − x_i| differs from the disc radius, and the uniform share keeps the density positive
+//! wherever the response may be.
 
 use crate::error::{GpuError, Result};
 use crate::frame::recording::Recording;
@@ -182,26 +183,47 @@ impl SurfaceGatherSetup {
         })
     }
 
-    /// The radius [cm] within which each channel returns `fraction` of its ∫Rd dA, uniform in
-    /// area within a bin; 0 for a channel that reflects nothing.
-    pub fn radius_holding(&self, fraction: f64) -> [f64; 3] {
+    /// The cumulative share of each channel's ∫Rd dA up to and including each bin, exactly 1 at
+    /// the last (1 throughout for a channel that reflects nothing): what the shader's radii are
+    /// drawn from.
+    pub fn cdf(&self) -> Vec<[f64; 3]> {
         let (dr, total) = (self.dr_cm, self.profile_total());
+        let mut acc = [0.0f64; 3];
+        let mut cdf: Vec<[f64; 3]> = (self.profile.iter().enumerate())
+            .map(|(i, v)| {
+                std::array::from_fn(|c| {
+                    acc[c] += v[c] * std::f64::consts::PI * dr * dr * (2 * i + 1) as f64;
+                    if total[c] > 0.0 {
+                        acc[c] / total[c]
+                    } else {
+                        1.0
+                    }
+                })
+            })
+            .collect();
+        if let Some(last) = cdf.last_mut() {
+            *last = [1.0; 3];
+        }
+        cdf
+    }
+
+    /// The radius [cm] within which each channel returns `fraction` of its ∫Rd dA, uniform in
+    /// area within a bin (as the shader draws radii); 0 for a channel that reflects nothing.
+    pub fn radius_holding(&self, fraction: f64) -> [f64; 3] {
+        let (dr, total, cdf) = (self.dr_cm, self.profile_total(), self.cdf());
+        let goal = fraction.clamp(0.0, 1.0);
         std::array::from_fn(|c| {
             if total[c] <= 0.0 {
                 return 0.0;
             }
-            let goal = fraction.clamp(0.0, 1.0) * total[c];
-            let mut acc = 0.0;
-            for (i, v) in self.profile.iter().enumerate() {
-                let (inner, outer) = (i as f64 * dr, (i + 1) as f64 * dr);
-                let bin = v[c] * std::f64::consts::PI * (outer * outer - inner * inner);
-                if acc + bin >= goal && bin > 0.0 {
-                    let t = (goal - acc) / bin;
-                    return (inner * inner + t * (outer * outer - inner * inner)).sqrt();
-                }
-                acc += bin;
-            }
-            dr * self.profile.len() as f64
+            let i = cdf
+                .iter()
+                .position(|v| v[c] >= goal)
+                .unwrap_or(cdf.len() - 1);
+            let below = if i > 0 { cdf[i - 1][c] } else { 0.0 };
+            let t = ((goal - below) / (cdf[i][c] - below)).clamp(0.0, 1.0);
+            let (inner, outer) = (i as f64 * dr, (i + 1) as f64 * dr);
+            (inner * inner + t * (outer * outer - inner * inner)).sqrt()
         })
     }
 
@@ -392,29 +414,7 @@ pub(crate) fn encode(
         shape_slab_grid: shape.shape_slab_grid,
         shape_slab: shape.shape_slab,
     };
-    // The cumulative share of each channel's ∫Rd dA, exactly 1 at the last bin.
-    let dr = setup.dr_cm;
-    let mut acc = [0.0f64; 3];
-    let mut cdf: Vec<[f32; 4]> = setup
-        .profile
-        .iter()
-        .enumerate()
-        .map(|(i, v)| {
-            for c in 0..3 {
-                acc[c] += v[c] * std::f64::consts::PI * dr * dr * (2 * i + 1) as f64;
-            }
-            rgb(std::array::from_fn(|c| {
-                if total[c] > 0.0 {
-                    acc[c] / total[c]
-                } else {
-                    1.0
-                }
-            }))
-        })
-        .collect();
-    if let Some(last) = cdf.last_mut() {
-        *last = [1.0; 4];
-    }
+    let cdf: Vec<[f32; 4]> = setup.cdf().into_iter().map(rgb).collect();
     let profile: Vec<[f32; 4]> = setup.profile.iter().map(|v| rgb(*v)).collect();
     let alloc = rec.alloc;
     let ubuf = alloc.uniform("mc bssrdf tables", bytemuck::bytes_of(&uniform));
