@@ -57,7 +57,7 @@ pub use light::{AREA_CELLS, Emitter, Light, MAX_EMITTERS, emitters};
 pub use mesh::{Mesh, Vertex};
 pub use params::{MAX_MATERIALS, RenderParams};
 pub use passes::blur::{BlurParams, DepthMode, blur_image};
-pub use passes::denoise::LEVELS as DENOISE_LEVELS;
+pub use passes::denoise::{FLOOR_PX as DENOISE_FLOOR_PX, LEVELS as DENOISE_LEVELS};
 pub use render::{Frame, FrameTime, Renderer, SUBPIXEL_PX, Scatter, kernel_footprint_px, render};
 pub use request::{Method, RenderRequest};
 pub use scene::{AlbedoMode, Camera, Scene};

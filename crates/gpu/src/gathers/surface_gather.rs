@@ -30,7 +30,11 @@
 //! share [`UNIFORM_SHARE`] of uniform disc sampling, the pixel's samples stratified over the
 //! mixture ([`SurfaceGatherSetup::shares`]): where the surface curves, the 3-D distance
 //! |x_o − x_i| differs from the disc radius, and the uniform share keeps the density positive
-//! wherever the response may be.
+//! wherever the response may be. A control variate takes out what a flat, evenly lit
+//! half-space would return ([`SurfaceGatherSetup::lit_tolerance_cm`]; shaders/disc_gather.wgsl):
+//! where x_o is lit, the exact flat answer cos θ_i·Rd(θ_i)·h(θ_o; θ_i)·E⊥ plus the samples'
+//! response less that flat response's shape (each channel's profile laid on x_o's tangent plane),
+//! whose mean is 0, so the samples carry only the curvature, shadows and the table's asymmetry.
 
 use crate::error::{GpuError, Result};
 use crate::frame::recording::Recording;
@@ -233,6 +237,15 @@ impl SurfaceGatherSetup {
         self.radius_holding(0.5).map(|r| (DENOISE_SHARE * r) as f32)
     }
 
+    /// How far [cm] from a pixel's surface point x_o the first surface its light ray meets may
+    /// lie for x_o to count as lit, the control variate's test (shaders/disc_gather.wgsl): the
+    /// widest channel's median exit radius. Light-map interpolation moves a lit x_o's own entry
+    /// by far less; a shadow caster that close to the surface is then taken for lit, which costs
+    /// variance, never bias (the estimate is unbiased for any control).
+    pub fn lit_tolerance_cm(&self) -> f64 {
+        self.radius_holding(0.5).into_iter().fold(0.0, f64::max)
+    }
+
     /// Each channel's share of the radius mixture. A pixel's samples are stratified over the
     /// mixture (sample k of N draws from [k/N, (k+1)/N) of it), so where every component can have
     /// a sample of its own (N above the channels that reflect anything) the shares are whole
@@ -322,6 +335,7 @@ struct TablesUniform {
     exit: [[f32; 4]; INCIDENCE_STEPS * INCIDENCE_STEPS],
     directional_total: [[f32; 4]; DIRECTIONAL_ANGLES.len()],
     exit_shift: [[f32; 4]; DIRECTIONAL_ANGLES.len()],
+    directional_integral: [[f32; 4]; DIRECTIONAL_ANGLES.len()],
     shape_params: [f32; 4],
     shape_grid: [[f32; 4]; 4],
     shape_entries: [[f32; 4]; SHAPE_ENTRIES],
@@ -343,12 +357,13 @@ pub(crate) const MC_BSSRDF_WGSL: &str = gather_wgsl!(
 );
 
 /// WGSL's size of `Tables`: 5 vec4, 9 vec4 of incidence, 9 × 9 vec4 of exit, 10 vec4 of the
-/// directional tables' total reflectances and 10 of their centroids, and 1 + 4 + 405 + 2 + 45 of
+/// directional tables' total reflectances, 10 of their centroids and 10 of their integrals, and
+/// 1 + 4 + 405 + 2 + 45 of
 /// the shape table, 16 bytes each (checked against naga's layout in a test).
 pub(crate) const TABLES_UNIFORM_SIZE: usize = (5
     + INCIDENCE_STEPS
     + INCIDENCE_STEPS * INCIDENCE_STEPS
-    + 2 * DIRECTIONAL_ANGLES.len()
+    + 3 * DIRECTIONAL_ANGLES.len()
     + 5
     + SHAPE_ENTRIES
     + 2
@@ -383,7 +398,7 @@ pub(crate) fn encode(
             setup.dr_cm as f32,
             setup.sampling.radius_cm,
             setup.uniform_share() as f32,
-            0.0,
+            setup.lit_tolerance_cm() as f32,
         ],
         share: rgb(shares),
         total: rgb(total),
@@ -408,6 +423,9 @@ pub(crate) fn encode(
         exit_shift: std::array::from_fn(
             |k| rgb(directional.map_or([0.0; 3], |t| t.centroid_cm(k))),
         ),
+        directional_integral: std::array::from_fn(|k| {
+            rgb(directional.map_or([0.0; 3], |t| t.integral(k)))
+        }),
         shape_params: shape.shape_params,
         shape_grid: shape.shape_grid,
         shape_entries: shape.shape,

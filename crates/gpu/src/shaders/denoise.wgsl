@@ -2,7 +2,7 @@
 // (Dammertz et al. 2010) over the gather's π·L_o, guided by the camera's position and normal
 // maps. The level's 5 × 5 taps lie `step` pixels apart with the B3-spline weights
 // (1, 4, 6, 4, 1)/16 per axis; each tap is weighted per channel by exp(−|x_q − x_p|²/(2σ_c²)),
-// σ_c the channel's width in the world [cm], and taken only where the map marks an SSS surface
+// σ_c the channel's width in the world [cm] (at least a pixel's footprint), and taken only where the map marks an SSS surface
 // facing the same hemisphere. The world distance is what keeps light from crossing silhouettes
 // and depth steps: pixels side by side on screen but apart in depth are apart in the world. The
 // weights are normalized per pixel and channel, so a constant stays exactly constant. A pixel
@@ -10,7 +10,8 @@
 // footprint) is copied: the level would not move its light.
 
 struct Denoise {
-    // rgb: σ per channel [cm] (0: the channel is copied); w: unused.
+    // rgb: σ per channel [cm] (0: the channel is copied); w: the least σ of a filtered channel
+    // in pixels of its footprint (passes/denoise.rs, FLOOR_PX).
     width: vec4<f32>,
     // xyz: the camera's position [cm]; w: a pixel's footprint per cm of distance from the
     // camera, 2·tan(fov_y/2)/height [-].
@@ -40,9 +41,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.y * u.size.x + id.x;
     let centre = src[i];
     let xp = textureLoad(cam_pos, p, 0);
-    let sigma = u.width.xyz;
     let step = i32(u.size.z);
     let footprint = distance(xp.xyz, u.camera.xyz) * u.camera.w;
+    let sigma = select(vec3<f32>(0.0), max(u.width.xyz, vec3<f32>(u.width.w * footprint)),
+                       u.width.xyz > vec3<f32>(0.0));
     if xp.w < 0.5 || f32(step) * footprint > max(sigma.x, max(sigma.y, sigma.z)) {
         dst[i] = centre;
         return;

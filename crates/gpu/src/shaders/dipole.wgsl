@@ -93,6 +93,20 @@ fn model_centre(xo: vec3<f32>, no: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     return xo;
 }
 
+// No control variate (disc_gather.wgsl) for the dipole: its gather is an offline reference.
+fn model_control(on_plane: vec3<f32>, jacobian: f32, axis: vec3<f32>, n: vec3<f32>,
+                 cos_t: f32) -> vec3<f32> {
+    return vec3<f32>(0.0);
+}
+
+fn model_flat(cos_i: f32, cos_o: f32, chord: f32) -> vec3<f32> {
+    return vec3<f32>(0.0);
+}
+
+fn model_lit_tolerance() -> f32 {
+    return 0.0;
+}
+
 // T(ω_i)·S_d with ω₁₂ the refracted direction of light arriving from wi.
 fn model_response(xi: vec3<f32>, ni: vec3<f32>, wi: vec3<f32>, cos_i: f32, xo: vec3<f32>,
                   no: vec3<f32>) -> vec3<f32> {

@@ -3,7 +3,7 @@
 // - radial: Rd(|x_o − x_i|) of the Monte Carlo profile (annulus averages, piecewise constant in
 //   r) times the incidence table ρ(θ_i)/ρ(0);
 // - directional: Rd(x, y; θ) of `mc` at oblique incidence, tabulated at θ = 0°, 10°, …, 80°,
-//   85° (linear in θ between them; cells piecewise constant), laid on the modified tangent
+//   85° (linear in θ between them; bilinear between the cells' centres), laid on the modified tangent
 //   plane of Frisvad et al. 2014 (§3.3; the directional dipole's, dipole.wgsl): the plane
 //   through x_i that holds x_o and is closest to x_i's tangent plane, normal n* = n_i less its
 //   part along x_o − x_i. θ* is the light's angle to n*, x runs along the light's propagation
@@ -33,7 +33,9 @@
 // response non-zero.
 
 struct Tables {
-    // x: radial bin width dr [cm], y: r* [cm], z: share of uniform disc sampling, w: 0.
+    // x: radial bin width dr [cm], y: r* [cm], z: share of uniform disc sampling, w: how far
+    // the light maps' first surface along the light may lie from x_o for x_o to count as lit
+    // (the control variate's test, model_lit) [cm].
     radial: vec4<f32>,
     // rgb: each channel's share of the profile sampling (0 for a channel reflecting nothing).
     share: vec4<f32>,
@@ -52,6 +54,9 @@ struct Tables {
     // rgb: the directional table's centroid δ at each of its angles [cm] (0 for the radial
     // BSSRDF): the view's exit shift.
     exit_shift: array<vec4<f32>, 10>,
+    // rgb: the directional table's integral ∫∫ Rd dx dy over its cells at each angle [-] (the
+    // control variate's normalization).
+    directional_integral: array<vec4<f32>, 10>,
     // The shape table as shading::PackedShading holds it (rgb σ_tr, w on; curvature nodes; E,
     // ⟨x⟩, ⟨s⟩ at [135·q + 9·i + θ index]).
     shape_params: vec4<f32>,
@@ -161,16 +166,103 @@ fn model_pdf_disc(d: vec3<f32>, axis: vec3<f32>) -> f32 {
     return p;
 }
 
-// Channel c of the directional table at angle index k, local (x, y ≥ 0) [cm].
-fn directional_at(k: u32, c: u32, x: f32, y: f32) -> f32 {
-    let n = tb.shape.y;
-    let s = tb.cell[c];
-    let ix = floor(x / s + f32(n) + 0.5);
-    let iy = floor(y / s + 0.5);
-    if ix < 0.0 || ix > f32(2u * n) || iy > f32(n) {
+// The control variate (disc_gather.wgsl): per channel, a density on the disc [cm⁻²] whose
+// integral over the disc is exactly 1, shaped as the response on a flat, evenly lit half-space:
+// the sample's entry lies at `on_plane` from x_o's own entry on the plane (unit normal `n`) that
+// the light maps' surface there spans, which has `jacobian` of area per unit disc area; the
+// channel's profile density (radial) or its directional table at the light's angle cos_t over the
+// table's integral is read there as model_response reads it (x along the light's propagation
+// over the plane, from the channel's centre, which carries the view's exit shift, laid on the
+// plane), times the Jacobian: its disc integral is the density's integral over the plane, 1.
+fn model_control(on_plane: vec3<f32>, jacobian: f32, axis: vec3<f32>, n: vec3<f32>,
+                 cos_t: f32) -> vec3<f32> {
+    var q = vec3<f32>(0.0);
+    if !(jacobian > 0.0) {
+        return q;
+    }
+    // The propagation over the plane: −axis less its part along n (any direction at normal
+    // incidence), and the table's angle.
+    var along = -axis + dot(axis, n) * n;
+    if length(along) < 1e-4 {
+        along = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(n.x) > 0.9);
+        along = along - dot(along, n) * n;
+    }
+    let along_n = normalize(along);
+    let a = directional_index(max(cos_t, 0.0));
+    let k0 = u32(a.x);
+    let k1 = min(k0 + 1u, 9u);
+    let integral = mix(tb.directional_integral[k0].rgb, tb.directional_integral[k1].rgb, a.y);
+    for (var c = 0u; c < 3u; c++) {
+        if tb.share[c] > 0.0 {
+            // x_o − x_i plus the exit shift, as model_response reads the table, on the plane.
+            let shift = pixel_exit[c] - dot(pixel_exit[c], n) * n;
+            let dc = shift - on_plane;
+            if tb.shape.x == 0u {
+                let bin = u32(length(dc) / tb.radial.x);
+                if bin < tb.shape.z {
+                    q[c] = jacobian * profile[bin][c] / tb.total[c];
+                }
+            } else if integral[c] > 0.0 {
+                let x = dot(dc, along_n);
+                let y = sqrt(max(dot(dc, dc) - x * x, 0.0));
+                let v = mix(directional_at(k0, c, x, y), directional_at(k1, c, x, y), a.y);
+                q[c] = jacobian * v / integral[c];
+            }
+        }
+    }
+    return q;
+}
+
+// What a flat half-space lit at cos θ_i returns towards the camera at cos θ_o per unit
+// irradiance normal to the light [-]: cos θ_i·Rd(θ_i)·h(θ_o; θ_i), Rd(θ_i) what the response
+// integrates to there (∫Rd dA·ρ(θ_i)/ρ(0) radial, the directional table's integral), the control
+// variate's expectation; shape-aware, times what a slab as
+// thin as the body's chord along the light at x_o keeps (model_response's factor at κ = 0).
+fn model_flat(cos_i: f32, cos_o: f32, chord: f32) -> vec3<f32> {
+    var rd = tb.total.rgb * sss_incidence(0u, cos_i);
+    if tb.shape.x != 0u {
+        let a = directional_index(cos_i);
+        let k = u32(a.x);
+        rd = mix(tb.directional_integral[k].rgb, tb.directional_integral[min(k + 1u, 9u)].rgb, a.y);
+    }
+    if tb.shape.x == 2u {
+        rd *= sss_shape_energy(0u, 0.0, cos_i) * sss_shape_thin(0u, 0.0, chord, cos_i);
+    }
+    return cos_i * rd * sss_exit(0u, cos_o, cos_i);
+}
+
+// How far from x_o the first surface the light sees along its ray through x_o may lie for x_o
+// to count as lit [cm].
+fn model_lit_tolerance() -> f32 {
+    return tb.radial.w;
+}
+
+// Channel c of the directional table at angle index k, local (x, y ≥ 0) [cm]: bilinear between
+// the cells' centres, 0 one cell beyond the outermost (shading::DirectionalTable::at, its CPU
+// twin: the same integral and centroid as the cells, and continuous).
+fn directional_node(k: u32, c: u32, ix: i32, iy: i32) -> f32 {
+    let n = i32(tb.shape.y);
+    if ix < 0 || ix > 2 * n || iy > n {
         return 0.0;
     }
-    return directional[((k * 3u + c) * (n + 1u) + u32(iy)) * (2u * n + 1u) + u32(ix)];
+    return directional[((k * 3u + c) * u32(n + 1) + u32(iy)) * u32(2 * n + 1) + u32(ix)];
+}
+
+fn directional_at(k: u32, c: u32, x: f32, y: f32) -> f32 {
+    let s = tb.cell[c];
+    let f = vec2<f32>(x / s + f32(tb.shape.y), y / s);
+    let lo = floor(f);
+    let t = f - lo;
+    // Beyond the table (or a NaN) reads nothing.
+    if !(lo.x >= -1.0 && lo.x <= f32(2u * tb.shape.y) && lo.y >= 0.0 && lo.y <= f32(tb.shape.y)) {
+        return 0.0;
+    }
+    let i = vec2<i32>(lo);
+    return mix(
+        mix(directional_node(k, c, i.x, i.y), directional_node(k, c, i.x + 1, i.y), t.x),
+        mix(directional_node(k, c, i.x, i.y + 1), directional_node(k, c, i.x + 1, i.y + 1), t.x),
+        t.y
+    );
 }
 
 // The directional table's index and weight at cos θ: θ = 0°, 10°, …, 80° at indices 0–8, 85°
