@@ -270,13 +270,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         var lin = mat2x3<f32>(vec3<f32>(0.0), vec3<f32>(0.0));
         var jacobian = 0.0;
         var plane_n = no;
-        var cos_own = 0.0;
         let own = light_entry(light, axis, point, xo);
         if own.ok != 0u && length(own.x - xo) <= model_lit_tolerance() {
             lin = entry_map(light, xo, own, t1, t2);
             let across = cross(lin[0], lin[1]);
             jacobian = length(across);
-            cos_own = dot(axis, own.n);
+            let cos_own = dot(axis, own.n);
             if jacobian > 0.0 && cos_own > 0.0 {
                 plane_n = across / jacobian * sign(dot(across, own.n));
                 exit_at = own.x;
@@ -305,7 +304,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                 // The entry on the plane, from x_o's entry: A·(p − x_o) in the disc's basis.
                 let v = vec2<f32>(dot(d, t1), dot(d, t2)) - from_centre;
                 let on_plane = lin * v;
-                sum -= flat * model_control(on_plane, jacobian, axis, plane_n, cos_own) / pdf;
+                sum -= flat * model_control(on_plane, jacobian, axis, plane_n, own.n) / pdf;
             }
             let p = centre + d;
             let hit = light_entry(light, axis, point, p);

@@ -170,22 +170,28 @@ fn model_pdf_disc(d: vec3<f32>, axis: vec3<f32>) -> f32 {
 // integral over the disc is exactly 1, shaped as the response on a flat, evenly lit half-space:
 // the sample's entry lies at `on_plane` from x_o's own entry on the plane (unit normal `n`) that
 // the light maps' surface there spans, which has `jacobian` of area per unit disc area; the
-// channel's profile density (radial) or its directional table at the light's angle cos_t over the
-// table's integral is read there as model_response reads it (x along the light's propagation
-// over the plane, from the channel's centre, which carries the view's exit shift, laid on the
-// plane), times the Jacobian: its disc integral is the density's integral over the plane, 1.
+// channel's profile density (radial) or its directional table at the light's angle to the
+// entry's shading normal n_entry over the table's integral is read there as model_response reads
+// it (x along the light's propagation over the surface, from the channel's centre, which carries
+// the view's exit shift, both laid on the plane), times the Jacobian: its disc integral is the
+// density's integral over the plane, 1.
 fn model_control(on_plane: vec3<f32>, jacobian: f32, axis: vec3<f32>, n: vec3<f32>,
-                 cos_t: f32) -> vec3<f32> {
+                 n_entry: vec3<f32>) -> vec3<f32> {
     var q = vec3<f32>(0.0);
     if !(jacobian > 0.0) {
         return q;
     }
-    // The propagation over the plane: −axis less its part along n (any direction at normal
-    // incidence), and the table's angle.
-    var along = -axis + dot(axis, n) * n;
+    // The propagation as model_response takes it at the entry's shading normal (−axis less
+    // its part along it; any direction at normal incidence), laid on the plane; the table's
+    // angle at that normal.
+    let cos_t = dot(axis, n_entry);
+    var along = -axis + cos_t * n_entry;
     if length(along) < 1e-4 {
-        along = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(n.x) > 0.9);
-        along = along - dot(along, n) * n;
+        along = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(n_entry.x) > 0.9);
+    }
+    along = along - dot(along, n) * n;
+    if length(along) < 1e-6 {
+        return q;
     }
     let along_n = normalize(along);
     let a = directional_index(max(cos_t, 0.0));
