@@ -772,3 +772,33 @@ fn render_keeps_its_tables_and_reuses_them_only_for_the_same_runs() {
         stderr(&other)
     );
 }
+
+/// On a headless machine (no `XDG_RUNTIME_DIR`) a render prints nothing on stderr that looks like
+/// a failure: Mesa's device-select Vulkan layer, which would print "error: XDG_RUNTIME_DIR is
+/// invalid or not set in the environment." twice while probing for Wayland, is skipped.
+#[test]
+fn a_headless_render_prints_no_window_system_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_sss"))
+        .args([
+            "render",
+            "--width",
+            "64",
+            "--height",
+            "36",
+            "--photons",
+            "30000",
+        ])
+        .args(["--profiles", "p", "--out", "r"])
+        .current_dir(dir.path())
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("NODEVICE_SELECT")
+        .output()
+        .unwrap();
+    if no_adapter(&o) {
+        return;
+    }
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    assert!(!stderr.contains("error"), "{stderr}");
+}

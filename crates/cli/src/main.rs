@@ -33,10 +33,9 @@ use clap::{Args, Parser, Subcommand};
     version,
     about = "Measured optical coefficients → Monte Carlo profiles → separable SSS kernels",
     long_about = None,
-    after_help = "Outputs are written whole or not at all, when a command has succeeded. --out is a folder \
-for commands that write several files, and a file (or a folder to hold the default name) for those \
-that write one. Monte Carlo profiles are cached in --profiles with their provenance \
-(NAME.profile.json) and reused only when they match what was asked (see each command's --help)."
+    after_help = "Outputs are written whole or not at all, when a command has succeeded. --out is a folder for commands that \
+write several files, and a file (or a folder to hold the default name) for those that write one. Monte Carlo profiles are \
+cached in --profiles with their provenance (NAME.profile.json) and reused only when they match what was asked (see each command's --help)."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -80,6 +79,8 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // SAFETY: first thing in main, before any other thread starts.
+    unsafe { gpu::quiet_headless_vulkan() };
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Simulate(a) => simulate::simulate(a),
@@ -124,8 +125,7 @@ struct MergeArgs {
     json: bool,
 }
 
-/// `sss merge`: a table build's shards (`sss table --shard`) or a profile run's (`sss simulate
-/// --shard`), told apart by the first file's format.
+/// `sss merge`: a table build's shards or a profile run's, told apart by the first file's format.
 fn merge(a: MergeArgs) -> Result<()> {
     let texts = files::read_named(&a.shards, "shard")?;
     match texts.first() {

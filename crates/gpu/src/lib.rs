@@ -47,7 +47,7 @@ mod web;
 
 pub use error::{GpuError, Result};
 pub use eval::compare::{Comparison, compare_kernels, compare_models};
-pub use frame::context::Gpu;
+pub use frame::context::{Gpu, quiet_headless_vulkan};
 pub use frame::timing::PassTime;
 pub use gathers::area_gather::{AreaGatherSetup, AreaKernel, GatherPattern};
 pub use gathers::dipole::DipoleSetup;

@@ -18,6 +18,24 @@ pub struct Gpu {
     pub float32_blend: bool,
 }
 
+/// Keeps Mesa's device-select Vulkan layer quiet on a headless machine: where
+/// `XDG_RUNTIME_DIR` is unset it looks for a Wayland display anyway and prints "error:
+/// XDG_RUNTIME_DIR is invalid or not set in the environment." twice, though nothing failed.
+/// There, unless the user has set it, this sets `NODEVICE_SELECT=1`, which skips the layer: it
+/// only orders the adapters, and [`Gpu::new`] picks one by power preference itself. A desktop
+/// session (which sets `XDG_RUNTIME_DIR`) is left as it is.
+///
+/// # Safety
+/// It changes the process's environment: call it before any other thread starts (first thing in
+/// a binary's `main`).
+pub unsafe fn quiet_headless_vulkan() {
+    let unset = |k| std::env::var_os(k).is_none();
+    if unset("XDG_RUNTIME_DIR") && unset("NODEVICE_SELECT") {
+        // SAFETY: the caller guarantees that no other thread reads the environment meanwhile.
+        unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
+    }
+}
+
 impl Gpu {
     /// Opens the best adapter of Vulkan, Metal or DX12 (a GL backend only adds noise headless).
     pub fn new() -> Result<Gpu> {
