@@ -1,5 +1,5 @@
-// Recombination: scattered diffuse × post-scatter albedo + specular (linear), then exposure,
-// ACES tone curve (Narkowicz's fit) and sRGB encoding into RGBA8.
+// Recombination: scattered diffuse (at least 0) × post-scatter albedo + specular (linear), then
+// exposure, ACES tone curve (Narkowicz's fit) and sRGB encoding into RGBA8.
 struct Params {
     width: u32,
     height: u32,
@@ -31,7 +31,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let i = id.y * p.width + id.x;
-    let d = select(unscattered[i].rgb, diffuse[i].rgb, geom[i].y > 0.0);
+    // Light is never negative: a disc gather's estimate may be at a single pixel (its control
+    // variate's, whose mean is exact), after its frames and its denoiser have averaged it.
+    let d = max(select(unscattered[i].rgb, diffuse[i].rgb, geom[i].y > 0.0), vec3<f32>(0.0));
     let c = d * albedo[i].rgb + specular[i].rgb;
     linear[i] = vec4<f32>(c, 1.0);
     display[i] = pack4x8unorm(vec4<f32>(srgb(aces(c * p.exposure)), 1.0));
