@@ -22,7 +22,8 @@ use std::f64::consts::PI;
 
 mod common;
 use common::{
-    EdgeView, centre_mean, gpu, profile, setup, shadow_edge_scene, skin1, slab_scene, spec,
+    EdgeView, centre_mean, centre_values, gpu, profile, setup, shadow_edge_scene, skin1,
+    slab_scene, spec,
 };
 
 const SIZE: u32 = 48;
@@ -234,12 +235,8 @@ fn a_flat_evenly_lit_half_space_is_gathered_without_noise() {
         let cos = (theta as f64).to_radians().cos();
         for (name, setup) in [("radial", &radial), ("directional", &directional)] {
             let frame = render(&gpu, &scene, Scatter::SurfaceGather(setup), &params()).unwrap();
-            let (s, half) = (SIZE as usize, SIZE as usize / 2);
             for c in 0..3 {
-                let v: Vec<f64> = (half - 8..half + 8)
-                    .flat_map(|y| (half - 8..half + 8).map(move |x| y * s + x))
-                    .map(|i| frame.scattered[i][c] as f64)
-                    .collect();
+                let v = centre_values(&frame, SIZE, c);
                 let mean = v.iter().sum::<f64>() / v.len() as f64;
                 let sd =
                     (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / v.len() as f64).sqrt();

@@ -94,12 +94,12 @@ fn model_centre(xo: vec3<f32>, no: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
 }
 
 // No control variate (disc_gather.wgsl) for the dipole: its gather is an offline reference.
-fn model_control(on_plane: vec3<f32>, jacobian: f32, axis: vec3<f32>, n: vec3<f32>,
-                 n_entry: vec3<f32>) -> vec3<f32> {
+fn model_flat(axis: vec3<f32>, n: vec3<f32>, n_entry: vec3<f32>, cos_o: f32,
+              chord: f32) -> vec3<f32> {
     return vec3<f32>(0.0);
 }
 
-fn model_flat(cos_i: f32, cos_o: f32, chord: f32) -> vec3<f32> {
+fn model_control(on_plane: vec3<f32>, jacobian: f32) -> vec3<f32> {
     return vec3<f32>(0.0);
 }
 

@@ -24,8 +24,8 @@
 // The model's file (prepended in Rust) defines model_sample, model_pdf_disc,
 // model_response, model_exit, model_centre (called once per pixel with x_o, its normal and the
 // direction to the camera before the samples: the disc's centre, x_o or where the model's
-// response peaks), model_control, model_flat and model_lit_tolerance (0 and 0 for no control
-// variate), and its own bindings from 6 on.
+// response peaks), model_flat (which also sets the control's plane for the light), model_control
+// and model_lit_tolerance (0 and 0 for no control variate), and its own bindings from 6 on.
 
 struct Light {
     view_proj: mat4x4<f32>,
@@ -269,7 +269,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         var exit_at = xo;
         var lin = mat2x3<f32>(vec3<f32>(0.0), vec3<f32>(0.0));
         var jacobian = 0.0;
-        var plane_n = no;
         let own = light_entry(light, axis, point, xo);
         if own.ok != 0u && length(own.x - xo) <= model_lit_tolerance() {
             lin = entry_map(light, xo, own, t1, t2);
@@ -277,9 +276,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             jacobian = length(across);
             let cos_own = dot(axis, own.n);
             if jacobian > 0.0 && cos_own > 0.0 {
-                plane_n = across / jacobian * sign(dot(across, own.n));
+                let plane_n = across / jacobian * sign(dot(across, own.n));
                 exit_at = own.x;
-                flat = light_flux(light, axis, point, xo) * model_flat(cos_own, cos_o, own.chord);
+                flat = light_flux(light, axis, point, xo)
+                    * model_flat(axis, plane_n, own.n, cos_o, own.chord);
             }
         }
         sum += flat * f32(u.size.w);
@@ -304,7 +304,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                 // The entry on the plane, from x_o's entry: A·(p − x_o) in the disc's basis.
                 let v = vec2<f32>(dot(d, t1), dot(d, t2)) - from_centre;
                 let on_plane = lin * v;
-                sum -= flat * model_control(on_plane, jacobian, axis, plane_n, own.n) / pdf;
+                sum -= flat * model_control(on_plane, jacobian) / pdf;
             }
             let p = centre + d;
             let hit = light_entry(light, axis, point, p);

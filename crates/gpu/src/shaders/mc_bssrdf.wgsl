@@ -166,75 +166,82 @@ fn model_pdf_disc(d: vec3<f32>, axis: vec3<f32>) -> f32 {
     return p;
 }
 
-// The control variate (disc_gather.wgsl): per channel, a density on the disc [cm⁻²] whose
-// integral over the disc is exactly 1, shaped as the response on a flat, evenly lit half-space:
-// the sample's entry lies at `on_plane` from x_o's own entry on the plane (unit normal `n`) that
-// the light maps' surface there spans, which has `jacobian` of area per unit disc area; the
-// channel's profile density (radial) or its directional table at the light's angle to the
-// entry's shading normal n_entry over the table's integral is read there as model_response reads
-// it (x along the light's propagation over the surface, from the channel's centre, which carries
-// the view's exit shift, both laid on the plane), times the Jacobian: its disc integral is the
-// density's integral over the plane, 1.
-fn model_control(on_plane: vec3<f32>, jacobian: f32, axis: vec3<f32>, n: vec3<f32>,
-                 n_entry: vec3<f32>) -> vec3<f32> {
-    var q = vec3<f32>(0.0);
-    if !(jacobian > 0.0) {
-        return q;
-    }
-    // The propagation as model_response takes it at the entry's shading normal (−axis less
-    // its part along it; any direction at normal incidence), laid on the plane; the table's
-    // angle at that normal.
-    let cos_t = dot(axis, n_entry);
-    var along = -axis + cos_t * n_entry;
+// The control variate's plane for the current pixel and light, set by model_flat: per channel
+// the table's read direction along it (x), its angle index and weight, the table's integral
+// there, and the channel's centre (the view's exit shift) laid on it.
+var<private> control_along: vec3<f32>;
+var<private> control_angle: vec2<f32>;
+var<private> control_integral: vec3<f32>;
+var<private> control_centre: array<vec3<f32>, 3>;
+
+// What a flat half-space lit from `axis` returns towards the camera at cos θ_o per unit
+// irradiance normal to the light [-]: cos θ_i·Rd(θ_i)·h(θ_o; θ_i), θ_i the light's angle to the
+// entry's shading normal n_entry, Rd(θ_i) what the response integrates to there (∫Rd dA·ρ(θ_i)/ρ(0)
+// radial, the directional table's integral), the control variate's expectation; shape-aware,
+// times what a slab as thin as the body's chord along the light at x_o keeps (model_response's
+// factor at κ = 0). Sets the control's plane (unit normal n, the light maps' at x_o's entry) for
+// model_control; 0 where the light runs along that plane.
+fn model_flat(axis: vec3<f32>, n: vec3<f32>, n_entry: vec3<f32>, cos_o: f32,
+              chord: f32) -> vec3<f32> {
+    // The propagation as model_response takes it at the entry's shading normal (−axis less its
+    // part along it; any direction at normal incidence), laid on the plane.
+    let cos_i = dot(axis, n_entry);
+    var along = -axis + cos_i * n_entry;
     if length(along) < 1e-4 {
         along = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(n_entry.x) > 0.9);
     }
     along = along - dot(along, n) * n;
     if length(along) < 1e-6 {
-        return q;
+        return vec3<f32>(0.0);
     }
-    let along_n = normalize(along);
-    let a = directional_index(max(cos_t, 0.0));
-    let k0 = u32(a.x);
-    let k1 = min(k0 + 1u, 9u);
-    let integral = mix(tb.directional_integral[k0].rgb, tb.directional_integral[k1].rgb, a.y);
+    control_along = normalize(along);
+    control_angle = directional_index(cos_i);
+    let k = u32(control_angle.x);
+    control_integral = mix(tb.directional_integral[k].rgb,
+        tb.directional_integral[min(k + 1u, 9u)].rgb, control_angle.y);
     for (var c = 0u; c < 3u; c++) {
-        if tb.share[c] > 0.0 {
-            // x_o − x_i plus the exit shift, as model_response reads the table, on the plane.
-            let shift = pixel_exit[c] - dot(pixel_exit[c], n) * n;
-            let dc = shift - on_plane;
-            if tb.shape.x == 0u {
-                let bin = u32(length(dc) / tb.radial.x);
-                if bin < tb.shape.z {
-                    q[c] = jacobian * profile[bin][c] / tb.total[c];
-                }
-            } else if integral[c] > 0.0 {
-                let x = dot(dc, along_n);
-                let y = sqrt(max(dot(dc, dc) - x * x, 0.0));
-                let v = mix(directional_at(k0, c, x, y), directional_at(k1, c, x, y), a.y);
-                q[c] = jacobian * v / integral[c];
-            }
-        }
+        control_centre[c] = pixel_exit[c] - dot(pixel_exit[c], n) * n;
     }
-    return q;
-}
-
-// What a flat half-space lit at cos θ_i returns towards the camera at cos θ_o per unit
-// irradiance normal to the light [-]: cos θ_i·Rd(θ_i)·h(θ_o; θ_i), Rd(θ_i) what the response
-// integrates to there (∫Rd dA·ρ(θ_i)/ρ(0) radial, the directional table's integral), the control
-// variate's expectation; shape-aware, times what a slab as
-// thin as the body's chord along the light at x_o keeps (model_response's factor at κ = 0).
-fn model_flat(cos_i: f32, cos_o: f32, chord: f32) -> vec3<f32> {
     var rd = tb.total.rgb * sss_incidence(0u, cos_i);
     if tb.shape.x != 0u {
-        let a = directional_index(cos_i);
-        let k = u32(a.x);
-        rd = mix(tb.directional_integral[k].rgb, tb.directional_integral[min(k + 1u, 9u)].rgb, a.y);
+        rd = control_integral;
     }
     if tb.shape.x == 2u {
         rd *= sss_shape_energy(0u, 0.0, cos_i) * sss_shape_thin(0u, 0.0, chord, cos_i);
     }
     return cos_i * rd * sss_exit(0u, cos_o, cos_i);
+}
+
+// The control variate (disc_gather.wgsl): per channel, a density on the disc [cm⁻²] whose
+// integral over the disc is exactly 1, shaped as the response on a flat, evenly lit half-space:
+// the sample's entry lies at `on_plane` from x_o's own entry on the plane model_flat set (the
+// light maps' surface there), which has `jacobian` of area per unit disc area; the channel's
+// profile density (radial) or its directional table at the light's angle over the table's
+// integral is read there as model_response reads it (x along the light's propagation, from the
+// channel's centre), times the Jacobian: its disc integral is the density's over the plane, 1.
+fn model_control(on_plane: vec3<f32>, jacobian: f32) -> vec3<f32> {
+    var q = vec3<f32>(0.0);
+    let k0 = u32(control_angle.x);
+    let k1 = min(k0 + 1u, 9u);
+    for (var c = 0u; c < 3u; c++) {
+        if tb.share[c] > 0.0 {
+            // x_o − x_i plus the exit shift, as model_response reads the table, on the plane.
+            let dc = control_centre[c] - on_plane;
+            if tb.shape.x == 0u {
+                let bin = u32(length(dc) / tb.radial.x);
+                if bin < tb.shape.z {
+                    q[c] = jacobian * profile[bin][c] / tb.total[c];
+                }
+            } else if control_integral[c] > 0.0 {
+                let x = dot(dc, control_along);
+                let y = sqrt(max(dot(dc, dc) - x * x, 0.0));
+                let v = mix(directional_at(k0, c, x, y), directional_at(k1, c, x, y),
+                    control_angle.y);
+                q[c] = jacobian * v / control_integral[c];
+            }
+        }
+    }
+    return q;
 }
 
 // How far from x_o the first surface the light sees along its ray through x_o may lie for x_o

@@ -89,17 +89,19 @@ pub fn shadow_edge_scene(half_view_cm: f32) -> Scene {
 
 /// The mean of the scattered light over the central 16×16 pixels of a `size`² frame.
 pub fn centre_mean(frame: &gpu::Frame, size: u32) -> [f64; 3] {
-    let mut acc = [0.0; 3];
+    std::array::from_fn(|c| {
+        let v = centre_values(frame, size, c);
+        v.iter().sum::<f64>() / v.len() as f64
+    })
+}
+
+/// Channel `c` of the central 16 × 16 pixels of a `size`² frame's scattered light.
+pub fn centre_values(frame: &gpu::Frame, size: u32, c: usize) -> Vec<f64> {
     let (s, half) = (size as usize, size as usize / 2);
-    for y in half - 8..half + 8 {
-        for x in half - 8..half + 8 {
-            let v = frame.scattered[y * s + x];
-            for c in 0..3 {
-                acc[c] += v[c] as f64 / 256.0;
-            }
-        }
-    }
-    acc
+    (half - 8..half + 8)
+        .flat_map(|y| (half - 8..half + 8).map(move |x| y * s + x))
+        .map(|i| frame.scattered[i][c] as f64)
+        .collect()
 }
 
 /// How a shadow-edge test's `size`² image maps onto x: each line (a column, or a row with
