@@ -131,7 +131,7 @@ macro_rules! gather_wgsl {
 pub(crate) use gather_wgsl;
 
 /// A model of the gather: its shader (from [`gather_wgsl`]) and its resources, bound from
-/// binding 6 on in order.
+/// binding 7 on in order.
 pub(crate) struct Model<'a> {
     /// Label of the pipeline and of the timed span.
     pub label: &'a str,
@@ -397,8 +397,9 @@ fn denoise_widths(sampling: &Sampling, model: &Model) -> Result<Option<[f32; 3]>
 
 /// Encodes the gather's passes: the camera's and each light's position/normal maps, then
 /// `sampling.frames` accumulation passes of `model` adding π·L_o/frames into the target's
-/// scattered light (which is cleared first), then, with `sampling.denoise`, the denoiser over
-/// their mean at the model's widths.
+/// scattered light (which is cleared first; the samples' part) and a base (the control
+/// variate's part), then the denoiser's levels over the samples' part at the model's widths
+/// with `sampling.denoise` (else one level that only adds), ending in their sum.
 pub(crate) fn encode(
     rec: &mut Recording,
     target: &Target,
@@ -458,7 +459,7 @@ pub(crate) fn encode(
                 0.0,
             ],
             size: [w, h, emitters.len() as u32, sampling.samples],
-            frame: [frame, sampling.seed, size, 0],
+            frame: [frame, sampling.seed, size, sampling.frames],
         }
     };
     let pipeline = pipelines.model(dev, model);
@@ -474,7 +475,11 @@ pub(crate) fn encode(
         array(&lights.position, wgpu::TextureViewDimension::D2Array),
         array(&lights.normal, wgpu::TextureViewDimension::D2Array),
     ];
+    // The control's deterministic part, kept apart from the samples' part in `out` until the
+    // denoiser (or the plain sum without it) joins them.
+    let base = alloc.pixels((w * h) as usize, "gather base");
     enc.clear_buffer(out, 0, None);
+    enc.clear_buffer(&base, 0, None);
     let span = timer
         .as_mut()
         .map(|t| t.span(&format!("{} ({} frames)", model.label, sampling.frames)));
@@ -497,17 +502,15 @@ pub(crate) fn encode(
             binding: 1 + i as u32,
             resource: wgpu::BindingResource::TextureView(v),
         }));
-        entries.push(wgpu::BindGroupEntry {
-            binding: 5,
-            resource: out.as_entire_binding(),
-        });
+        entries.push(bind(5, out));
+        entries.push(bind(6, &base));
         entries.extend(
             model
                 .buffers
                 .iter()
                 .enumerate()
                 .map(|(i, b)| wgpu::BindGroupEntry {
-                    binding: 6 + i as u32,
+                    binding: 7 + i as u32,
                     resource: b.as_entire_binding(),
                 }),
         );
@@ -528,19 +531,17 @@ pub(crate) fn encode(
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
     }
-    if let Some(widths_cm) = denoise_cm {
-        let denoise = pipelines.denoise.get_or_init(|| Denoise::new(alloc.gpu));
-        let input = DenoiseInput {
-            size: (w, h),
-            camera: &scene.camera,
-            position: &views[0],
-            normal: &views[1],
-            widths_cm,
-            image: out,
-        };
-        denoise.encode(rec, input)?;
-    }
-    Ok(())
+    let denoise = pipelines.denoise.get_or_init(|| Denoise::new(alloc.gpu));
+    let input = DenoiseInput {
+        size: (w, h),
+        camera: &scene.camera,
+        position: &views[0],
+        normal: &views[1],
+        widths_cm: denoise_cm.unwrap_or([0.0; 3]),
+        image: out,
+        base: &base,
+    };
+    denoise.encode(rec, input)
 }
 
 #[cfg(test)]

@@ -49,14 +49,14 @@ use shading::{
 pub const UNIFORM_SHARE: f64 = 0.1;
 
 /// The denoiser's width per channel as a share of that channel's median exit radius
-/// ([`SurfaceGatherSetup::denoise_widths_cm`]). On a flat surface the denoised gather is the
-/// gather of Rd convolved with a Gaussian of that width, which widens the exit distribution's
-/// second moment ⟨r²⟩ by 2σ²: at a quarter of the median radius an eighth of r₅₀², against the
-/// ⟨r²⟩ ≥ r₅₀² of any profile (several times it for the long-tailed ones of skin). Measured
-/// (docs/measurements.md): half the median radius blurred the sphere's shadow edge enough to
-/// show against Mitsuba at CI size (4.10 → 4.71 ± 0.25 % at 4 samples), a quarter does not
-/// (4.12 %).
-pub const DENOISE_SHARE: f64 = 0.25;
+/// ([`SurfaceGatherSetup::denoise_widths_cm`]). The denoiser filters only what the samples add
+/// to the control variate (passes/denoise.rs): on a flat, evenly lit surface that is zero-mean
+/// noise, which any width leaves unbiased; its mean departs from zero where the surface curves,
+/// the light varies or a shadow falls, over the profile's own scale, so the width stays below
+/// it: half the median radius. Measured (docs/measurements.md): filtering the whole estimate at
+/// that width blurred the sphere's shadow edge against Mitsuba at CI size (4.10 → 4.71 ± 0.25 %
+/// at 4 samples); filtering the samples' part alone does not (3.87 ± 0.26 %).
+pub const DENOISE_SHARE: f64 = 0.5;
 
 /// The surface gather of one material: its Monte Carlo tables and the sampling.
 #[derive(Clone, Debug, PartialEq)]

@@ -4,6 +4,16 @@
 //! the world distance between the two surface points with that channel's width σ_c [cm], and
 //! only over SSS surfaces facing the same hemisphere.
 //!
+//! What it filters. The gather's estimate is its control variate's deterministic part (what a
+//! flat, evenly lit half-space returns at x_o, where x_o is lit) plus what the samples add to it
+//! (shaders/disc_gather.wgsl). The first carries the image's sharp detail (normals, view angle,
+//! the lit region's border) without noise; the second carries all the noise and, in the mean,
+//! only the smooth correction for curvature, uneven light and nearby shadow. The filter runs on
+//! the second alone and adds the first back after its last level, and never takes a tap across
+//! the border between pixels where x_o is lit and where it is not (the control stops there and
+//! the samples' part jumps to make up for it). So it can be wider than a filter of the whole
+//! image without blurring what the control carries.
+//!
 //! Why this filter. The gather's image is the lit surface's light spread by the BSSRDF, so it
 //! carries no detail finer than the BSSRDF's own spread: a filter of world width σ_c replaces
 //! Rd by Rd convolved with a Gaussian of σ_c (exactly so on a flat surface), a bias that stays
@@ -57,8 +67,12 @@ pub(crate) struct DenoiseInput<'a> {
     pub normal: &'a wgpu::TextureView,
     /// σ per channel [cm]; 0 leaves a channel as it is.
     pub widths_cm: [f32; 3],
-    /// The image (RGBA f32 per pixel), filtered in place.
+    /// The image (RGBA f32 per pixel): the samples' part of the gather, filtered in place and
+    /// then joined by `base`.
     pub image: &'a wgpu::Buffer,
+    /// The gather's deterministic part (rgb; w > 0.5 where x_o is lit): added after the
+    /// filter, and no tap crosses between pixels it marks lit and unlit.
+    pub base: &'a wgpu::Buffer,
 }
 
 /// The compiled filter level.
@@ -91,8 +105,14 @@ impl Pass for Denoise {
         let camera = input.camera;
         let footprint = 2.0 * (0.5 * camera.fov_y_deg.to_radians()).tan() / h as f32;
         let [r, g, b] = input.widths_cm;
+        // Without widths one level copies the image and adds the base.
+        let levels = if input.widths_cm == [0.0; 3] {
+            1
+        } else {
+            LEVELS
+        };
         let span = rec.timer.as_mut().map(|t| t.span("denoise"));
-        for level in 0..LEVELS {
+        for level in 0..levels {
             let (from, to) = if level % 2 == 0 {
                 (input.image, &scratch)
             } else {
@@ -101,7 +121,7 @@ impl Pass for Denoise {
             let uniform = DenoiseUniform {
                 width: [r, g, b, FLOOR_PX],
                 camera: camera.position.extend(footprint).into(),
-                size: [w, h, 1 << level, 0],
+                size: [w, h, 1 << level, u32::from(level + 1 == levels)],
             };
             let ubuf = alloc.uniform("denoise level", bytemuck::bytes_of(&uniform));
             let group = alloc
@@ -116,10 +136,11 @@ impl Pass for Denoise {
                         bind_view(2, input.normal),
                         bind(3, from),
                         bind(4, to),
+                        bind(5, input.base),
                     ],
                 });
             let writes = match (rec.timer.as_ref(), span) {
-                (Some(t), Some(k)) => t.span_writes(k, level == 0, level + 1 == LEVELS),
+                (Some(t), Some(k)) => t.span_writes(k, level == 0, level + 1 == levels),
                 _ => None,
             };
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -130,7 +151,7 @@ impl Pass for Denoise {
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         }
-        if LEVELS % 2 == 1 {
+        if levels % 2 == 1 {
             enc.copy_buffer_to_buffer(&scratch, 0, input.image, 0, (n * 16) as u64);
         }
         Ok(())

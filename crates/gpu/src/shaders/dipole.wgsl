@@ -15,7 +15,7 @@ struct Dipole {
     boundary: vec4<f32>,
 };
 
-@group(0) @binding(6) var<uniform> dp: Dipole;
+@group(0) @binding(7) var<uniform> dp: Dipole;
 
 // S′_d of eq. 3.7 for channel c without its normalisation.
 fn source(c: u32, rho: f32, x_w: f32, w_n: f32, x_n: f32) -> f32 {

@@ -13,8 +13,10 @@
 // `model_exit(cos_o, cos_i)` what turns exitance into π·L_o towards the camera for light that
 // entered at cos_i. Light the map marks as a
 // non-SSS surface (an occluder, the floor) contributes nothing: shadows come for free. Each
-// frame adds its estimate × 1/(samples·frames) into `out` (π·L_o: the exitance convention of the
-// separable pipeline).
+// frame adds its estimate × 1/(samples·frames) (π·L_o: the exitance convention of the separable
+// pipeline) into `out` and `base` together: `base` the control's deterministic part (below; w 1
+// where x_o is lit by some light), `out` what the samples add to it, so that the denoiser can
+// filter the samples' part alone and keep the control's detail (passes/denoise.rs).
 //
 // With a control variate: where x_o is lit, K = flux at x_o × model_flat (what a flat,
 // evenly lit half-space returns), and each sample subtracts K × model_control / pdf, a density
@@ -25,7 +27,7 @@
 // model_response, model_exit, model_centre (called once per pixel with x_o, its normal and the
 // direction to the camera before the samples: the disc's centre, x_o or where the model's
 // response peaks), model_flat (which also sets the control's plane for the light), model_control
-// and model_lit_tolerance (0 and 0 for no control variate), and its own bindings from 6 on.
+// and model_lit_tolerance (0 and 0 for no control variate), and its own bindings from 7 on.
 
 struct Light {
     view_proj: mat4x4<f32>,
@@ -56,6 +58,7 @@ struct Gather {
 @group(0) @binding(3) var light_pos: texture_2d_array<f32>;
 @group(0) @binding(4) var light_normal: texture_2d_array<f32>;
 @group(0) @binding(5) var<storage, read_write> out: array<vec4<f32>>;
+@group(0) @binding(6) var<storage, read_write> base: array<vec4<f32>>;
 
 const PI: f32 = 3.14159265358979;
 
@@ -239,6 +242,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let pixel = vec2<f32>(id.xy);
     let noise = vec2<f32>(ign(pixel), ign(pixel.yx + vec2<f32>(17.0, 41.0)));
     var sum = vec3<f32>(0.0);
+    var control = vec3<f32>(0.0);
     let centre = model_centre(xo, no, wo);
     for (var l = 0u; l < u.size.z; l++) {
         let light = u.lights[l];
@@ -264,9 +268,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         // lit around x_o, only the response's departure from the plane's is left to the
         // samples. Distances are then measured from that entry, x_o on the light maps'
         // surface (within the tolerance of x_o; by bilinear interpolation 10⁻³ cm on the
-        // bust at 99 %), so that response and control read the profile's bins from one surface.
+        // bust at 99 %), so that response and control read the profile's bins from one surface;
+        // the shape-aware response's curvature then compares the entry's normal with that
+        // entry's normal on the same maps (exit_n) rather than with the camera's.
         var flat = vec3<f32>(0.0);
         var exit_at = xo;
+        var exit_n = no;
         var lin = mat2x3<f32>(vec3<f32>(0.0), vec3<f32>(0.0));
         var jacobian = 0.0;
         let own = light_entry(light, axis, point, xo);
@@ -278,11 +285,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             if jacobian > 0.0 && cos_own > 0.0 {
                 let plane_n = across / jacobian * sign(dot(across, own.n));
                 exit_at = own.x;
+                exit_n = own.n;
                 flat = light_flux(light, axis, point, xo)
                     * model_flat(axis, plane_n, own.n, cos_o, own.chord);
             }
         }
-        sum += flat * f32(u.size.w);
+        control += flat * f32(u.size.w);
         // x_o's offset from the disc's centre, in the disc's plane.
         let from_centre = vec2<f32>(dot(xo - centre, t1), dot(xo - centre, t2));
         for (var k = 0u; k < u.size.w; k++) {
@@ -322,9 +330,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                 continue;
             }
             gather_entry_chord = hit.chord;
-            sum += light_flux(light, axis, point, p) * model_response(xi, ni, wi, cos_i, exit_at, no)
+            sum += light_flux(light, axis, point, p) * model_response(xi, ni, wi, cos_i, exit_at, exit_n)
                 * model_exit(cos_o, cos_i) / pdf;
         }
     }
     out[i] += vec4<f32>(sum * u.disc.y, 0.0);
+    let lit = select(0.0, 1.0, any(control != vec3<f32>(0.0)));
+    base[i] += vec4<f32>(control * u.disc.y, lit / f32(u.frame.w));
 }

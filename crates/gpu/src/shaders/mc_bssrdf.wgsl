@@ -67,13 +67,13 @@ struct Tables {
     shape_slab: array<vec4<f32>, 45>,
 };
 
-@group(0) @binding(6) var<uniform> tb: Tables;
+@group(0) @binding(7) var<uniform> tb: Tables;
 // Rd per profile bin (rgb) [cm⁻²].
-@group(0) @binding(7) var<storage, read> profile: array<vec4<f32>>;
+@group(0) @binding(8) var<storage, read> profile: array<vec4<f32>>;
 // The cumulative share of ∫Rd dA up to and including each bin (rgb), 1 at the last.
-@group(0) @binding(8) var<storage, read> cdf: array<vec4<f32>>;
+@group(0) @binding(9) var<storage, read> cdf: array<vec4<f32>>;
 // Directional tables [cm⁻²]: [angle][channel][iy 0..=n][ix 0..=2n].
-@group(0) @binding(9) var<storage, read> directional: array<f32>;
+@group(0) @binding(10) var<storage, read> directional: array<f32>;
 
 // The tables shading::INCIDENCE_WGSL's and EXIT_WGSL's lookups read (one material: m = 0).
 fn sss_incidence_entry(m: u32, k: u32) -> vec3<f32> {
