@@ -4,11 +4,12 @@
 //! - no module of any crate imports itself around a loop (issue 31, house rule 13: each module can
 //!   be read and changed alone). Every `src/**/*.rs` file is parsed with `syn`, so brace groups,
 //!   `self`, `super::super`, renames, globs, re-exports, paths in code and in macro arguments all
-//!   count; a module using its own ancestors (its parent's items) is allowed. It reads the same
-//!   graph as `../shared/tools/module-cycles.py`, which reads the text;
+//!   count; a module using its own ancestors (its parent's items) is allowed;
 //! - each crate depends only on the crates below it ([`LAYERS`]), in its manifest and in its code;
 //! - every `tests/*.rs` file is registered, so none is silently left out of `cargo test`, and the
-//!   README shows the test command CI runs.
+//!   README shows the test command CI runs;
+//! - no function outside tests is over [`MAX_FUNCTION_LINES`] lines (house rule: a function is
+//!   read whole).
 
 use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::fmt;
@@ -846,6 +847,99 @@ fn the_cli_is_at_most_2500_lines() {
         lines <= 2500,
         "crates/cli/src has {lines} lines (at most 2,500)"
     );
+}
+
+/// ARCHITECTURE.md is read whole by whoever changes the code: at most 250 lines, and every path
+/// it names inside the repository (nothing above the root, `../`).
+#[test]
+fn the_architecture_page_is_short_and_points_inside() {
+    let text = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
+    let lines = text.lines().count();
+    assert!(lines > 100, "ARCHITECTURE.md was not read ({lines} lines)");
+    assert!(
+        lines <= 250,
+        "ARCHITECTURE.md has {lines} lines (at most 250)"
+    );
+    let outside: Vec<&str> = text.lines().filter(|l| l.contains("../")).collect();
+    assert!(
+        outside.is_empty(),
+        "paths outside the repository: {outside:?}"
+    );
+}
+
+/// The most lines a function outside tests may span, from `fn` to its closing brace.
+const MAX_FUNCTION_LINES: usize = 150;
+
+/// The lines [first `fn`, closing brace] of every function outside test code in one file.
+#[derive(Default)]
+struct Functions(Vec<(String, usize)>);
+
+impl Functions {
+    fn add(&mut self, name: &Ident, sig: &syn::Signature, block: &syn::Block) {
+        let first = sig.fn_token.span.start().line;
+        let last = block.brace_token.span.close().end().line;
+        self.0.push((name.to_string(), last + 1 - first));
+    }
+}
+
+impl<'ast> Visit<'ast> for Functions {
+    fn visit_item(&mut self, item: &'ast Item) {
+        if !test_only(item_attrs(item)) {
+            visit::visit_item(self, item);
+        }
+    }
+    fn visit_impl_item(&mut self, item: &'ast ImplItem) {
+        if !test_only(impl_item_attrs(item)) {
+            visit::visit_impl_item(self, item);
+        }
+    }
+    fn visit_item_fn(&mut self, f: &'ast syn::ItemFn) {
+        self.add(&f.sig.ident, &f.sig, &f.block);
+        visit::visit_item_fn(self, f);
+    }
+    fn visit_impl_item_fn(&mut self, f: &'ast syn::ImplItemFn) {
+        self.add(&f.sig.ident, &f.sig, &f.block);
+        visit::visit_impl_item_fn(self, f);
+    }
+}
+
+/// Every function of every crate's `src` outside `#[cfg(test)]` code, by its span in the parsed
+/// file (nested functions and methods counted on their own too).
+#[test]
+fn no_function_is_over_150_lines() {
+    let mut long = Vec::new();
+    let mut counted = 0;
+    for m in &members() {
+        for (path, text) in source_files(m) {
+            let file = syn::parse_file(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            let mut found = Functions::default();
+            found.visit_file(&file);
+            counted += found.0.len();
+            long.extend(
+                found
+                    .0
+                    .into_iter()
+                    .filter(|(_, n)| *n > MAX_FUNCTION_LINES)
+                    .map(|(name, n)| {
+                        format!("{}/src/{}: {name} ({n} lines)", m.dir, path.display())
+                    }),
+            );
+        }
+    }
+    assert!(counted > 1000, "only {counted} functions read");
+    assert!(
+        long.is_empty(),
+        "functions over {MAX_FUNCTION_LINES} lines: {long:?}"
+    );
+}
+
+/// The span reader counts a function from `fn` to its closing brace, and skips test modules.
+#[test]
+fn a_function_is_measured_from_fn_to_its_brace() {
+    let text = "/// doc\nfn a() {\n    let x = 1;\n}\n#[cfg(test)]\nmod t {\n    fn b() {}\n}\nimpl S {\n    fn c(&self) { }\n}\n";
+    let mut found = Functions::default();
+    found.visit_file(&syn::parse_file(text).unwrap());
+    assert_eq!(found.0, vec![("a".to_string(), 3), ("c".to_string(), 1)]);
 }
 
 #[test]
