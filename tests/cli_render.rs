@@ -801,4 +801,26 @@ fn a_headless_render_prints_no_window_system_error() {
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{stderr}");
     assert!(!stderr.contains("error"), "{stderr}");
+    // render.json names the render; another scene into the same folder is refused before any
+    // work, naming --out and --overwrite, and the first render's files stay as they were.
+    let r = dir.path().join("r");
+    let record: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(r.join("render.json")).unwrap()).unwrap();
+    assert_eq!(record["scene"], "sphere");
+    assert_eq!(record["materials"], serde_json::json!(["skin1"]));
+    let png = std::fs::read(r.join("render.png")).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_sss"))
+        .args(["render", "--scene", "fin", "--profiles", "p", "--out", "r"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--out")
+            && stderr.contains("scene sphere")
+            && stderr.contains("--overwrite"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read(r.join("render.png")).unwrap(), png);
 }

@@ -412,3 +412,44 @@ fn engine_params_writes_nothing_when_its_mtlx_cannot_be_written() {
     assert_eq!(snapshot(&d.join("m")), before);
     assert!(!d.join("p").exists());
 }
+
+/// An output folder that cannot be written (here: below a file) is refused before any work,
+/// by the early check's own words ("cannot write into", naming the folder that blocks): without
+/// it each command would simulate first and fail only when committing, with "cannot create
+/// folder".
+#[test]
+fn an_output_folder_that_cannot_be_written_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("blocker"), "a file, not a folder").unwrap();
+    let few = ["--photons", "1000"];
+    let runs: [Vec<&str>; 4] = [
+        vec!["simulate", "skin1", "--out", "blocker/o"],
+        vec![
+            "export",
+            "skin1",
+            "--format",
+            "package",
+            "--out",
+            "blocker/o",
+        ],
+        vec!["eval", "skin1", "--plots", "blocker/o"],
+        vec![
+            "render",
+            "--out",
+            "blocker/o",
+            "--incidence-photons",
+            "1000",
+        ],
+    ];
+    for args in runs {
+        let o = sss(&[&args[..], &few[..]].concat(), d);
+        failed(&o, "cannot write into blocker/o (blocker)");
+        assert_eq!(
+            snapshot(d).len(),
+            1,
+            "{args:?} wrote something: {:?}",
+            snapshot(d).keys()
+        );
+    }
+}

@@ -50,6 +50,24 @@ pub struct ProfileSource {
     pub table: Option<PathBuf>,
 }
 
+/// The kernel and tables a package or the page is built with (`sss export --format package`,
+/// `sss view`).
+#[derive(Args)]
+pub struct TableFlags {
+    /// package and page: taps per 1D pass of the kernel
+    #[arg(long, default_value_t = 17)]
+    pub taps: usize,
+
+    /// package and page: photons per channel and angle of the incidence, exit and entry-shift
+    /// tables
+    #[arg(long, value_parser = parse_count, default_value = "100000")]
+    pub incidence_photons: u64,
+
+    /// package and page: photons per channel and thickness of the translucency table
+    #[arg(long, value_parser = parse_count, default_value = "20000")]
+    pub translucency_photons: u64,
+}
+
 impl ProfileSource {
     /// The profile folder: `--profiles`, or `out`.
     pub fn folder(&self) -> PathBuf {
@@ -65,15 +83,10 @@ impl ProfileSource {
     }
 
     /// `sss render`'s default request for `named` with these flags' run settings and seed, and
-    /// the tables' photons (`sss export --format package`, `sss view`).
-    pub fn request(
-        &self,
-        named: Named,
-        incidence_photons: u64,
-        translucency_photons: u64,
-    ) -> Result<render::Request> {
+    /// the kernel's taps and the tables' photons of `t` (`sss export --format package`, `sss view`).
+    pub fn request(&self, named: Named, t: &TableFlags) -> Result<render::Request> {
         let config = crate::library::config(self.config.as_deref())?;
-        Ok(render::Request {
+        let mut request = render::Request {
             materials: vec![render::NamedMaterial {
                 slug: named.slug,
                 material: named.material,
@@ -81,11 +94,13 @@ impl ProfileSource {
             tables: render::TableSettings {
                 seed: self.seed_in(&config),
                 config,
-                incidence_photons,
-                translucency_photons,
+                incidence_photons: t.incidence_photons,
+                translucency_photons: t.translucency_photons,
             },
             ..render::Request::default()
-        })
+        };
+        request.frame.taps = t.taps;
+        Ok(request)
     }
 
     /// `build(profiles, progress)` with profiles and tables from this cache (simulated ones join

@@ -35,7 +35,7 @@ pub struct EvalArgs {
 pub fn run(a: EvalArgs) -> Result<()> {
     let named = library::materials(&a.materials)?;
     let pool = crate::common::thread_pool(a.source.threads)?;
-    let mut out = Outputs::default();
+    let mut out = Outputs::checked(a.plots.as_ref().unwrap_or(&a.source.folder()))?;
     let mut materials = Vec::new();
     for n in &named {
         let p = a.source.profile(n, &mut out)?;

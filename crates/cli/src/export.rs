@@ -10,8 +10,7 @@ use clap::Args;
 use fit::export::{OffsetUnit, ShaderFormat, export};
 use fit::taps::ShaderKernel;
 
-use crate::cache::ProfileSource;
-use crate::common::parse_count;
+use crate::cache::{ProfileSource, TableFlags};
 use crate::files::{Outputs, out_file};
 use crate::library;
 
@@ -60,17 +59,8 @@ pub struct ExportArgs {
     #[arg(long, value_name = "FILE|DIR")]
     pub out: Option<PathBuf>,
 
-    /// package: taps per 1D pass of the kernel
-    #[arg(long, default_value_t = 17)]
-    pub taps: usize,
-
-    /// package: photons per channel and angle of the incidence, exit and entry-shift tables
-    #[arg(long, value_parser = parse_count, default_value = "100000")]
-    pub incidence_photons: u64,
-
-    /// package: photons per channel and thickness of the translucency table
-    #[arg(long, value_parser = parse_count, default_value = "20000")]
-    pub translucency_photons: u64,
+    #[command(flatten)]
+    pub tables: TableFlags,
 
     /// package: where its profile and tables come from
     #[command(flatten)]
@@ -122,11 +112,8 @@ fn package(a: ExportArgs) -> Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| crate::common::default_out().join(format!("{}.package", named.slug)));
-    let mut request = a
-        .source
-        .request(named, a.incidence_photons, a.translucency_photons)?;
-    request.frame.taps = a.taps;
-    let mut files = Outputs::default();
+    let request = a.source.request(named, &a.tables)?;
+    let mut files = Outputs::checked(&out)?;
     let package = (a.source).build(&mut files, |p, bars| {
         render::Package::build(&request, p, bars)
     })?;

@@ -149,14 +149,12 @@ pub fn run(a: FitArgs) -> Result<()> {
     let text = crate::files::read_text(&a.profile)
         .with_context(|| format!("cannot read profile {}", a.profile.display()))?;
     let p = Profile::from_csv(&text, &a.profile.display().to_string())?;
-    let material = a.material.clone().unwrap_or_else(|| {
-        a.profile
-            .file_name()
-            .and_then(|n| n.to_str())
-            .and_then(|n| n.split('.').next())
-            .unwrap_or("material")
-            .to_string()
-    });
+    let file = a.profile.file_name().and_then(|n| n.to_str());
+    let stem = file.and_then(|n| n.split('.').next());
+    let material = a
+        .material
+        .clone()
+        .unwrap_or(stem.unwrap_or("material").into());
     let start = std::time::Instant::now();
     let spec = a.taps.spec();
     spec.validate()?;

@@ -39,7 +39,9 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     a.source.profiles.get_or_insert_with(|| a.out.clone());
     let request = request(&a, materials)?;
     request.check().map_err(flagged)?;
-    let mut files = Outputs::default();
+    let slugs: Vec<String> = request.materials.iter().map(|n| n.slug.clone()).collect();
+    render::folder::claim(&a.out, &a.scene, &slugs, a.overwrite).map_err(flagged)?;
+    let mut files = Outputs::checked(&a.out)?;
     let plan = (a.source)
         .build(&mut files, |p, bars| Plan::build(&request, p, bars))
         .map_err(flagged)?;
@@ -68,7 +70,7 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
     let what = render::describe(&plan);
     let mut summary = json!({
         "adapter": gpu.adapter_name, "scene": a.scene, "method": render::Choice::name(a.method),
-        "materials": request.materials.iter().map(|n| &n.slug).collect::<Vec<_>>(), "width": a.width, "height": a.height,
+        "materials": slugs, "width": a.width, "height": a.height,
         "seconds": seconds, "png": png_path, "pass_ms": frame.times.iter().map(|t| json!({"pass": t.label, "ms": t.ms})).collect::<Vec<_>>(),
     });
     if let (Some(m), Value::Object(extra)) = (
@@ -81,6 +83,8 @@ pub fn run(mut a: RenderArgs) -> Result<()> {
         let p = a.source.profile(named, &mut files)?;
         summary["compare"] = compare(&gpu, &plan, &p, &a, &mut files)?;
     }
+    let record = serde_json::to_vec_pretty(&summary)?;
+    files.add(a.out.join(render::folder::RECORD), record);
     files.commit()?;
     let (scene, w, h, png) = (&a.scene, a.width, a.height, png_path.display());
     eprintln!("{what} on {scene} at {w}×{h} in {seconds:.2} s → {png}");

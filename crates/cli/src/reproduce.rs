@@ -62,6 +62,7 @@ fn read_references(path: &std::path::Path) -> Result<Vec<MitsubaImages>> {
 
 pub fn run(a: ReproduceArgs) -> Result<()> {
     let start = Instant::now();
+    mc::outputs::check_writable(&a.out)?;
     let pool = crate::common::thread_pool(a.threads)?;
     let references = a
         .references

@@ -89,6 +89,7 @@ pub struct SimulateArgs {
 
 pub fn simulate(args: SimulateArgs) -> Result<()> {
     let pool = crate::common::thread_pool(args.threads)?;
+    mc::outputs::check_writable(&args.out)?;
     if let Some(mci) = &args.mci {
         return pool.install(|| run_mci(mci, &args));
     }

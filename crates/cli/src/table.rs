@@ -84,6 +84,7 @@ fn specs(a: &TableArgs) -> Result<Vec<TableSpec>> {
 
 pub fn run(a: TableArgs) -> Result<()> {
     let specs = specs(&a)?;
+    mc::outputs::check_writable(&a.out)?;
     let pool = crate::common::thread_pool(a.threads)?;
     let (i, n) = match &a.shard {
         Some(s) => mc::job_array::slice(s, &|k| std::env::var(k).ok())?,

@@ -6,8 +6,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 
-use crate::cache::ProfileSource;
-use crate::common::parse_count;
+use crate::cache::{ProfileSource, TableFlags};
 use crate::files::Outputs;
 use crate::library;
 
@@ -37,17 +36,8 @@ pub struct ViewArgs {
     #[arg(long, default_value_t = 540)]
     pub height: u32,
 
-    /// Taps per 1D pass of the kernel
-    #[arg(long, default_value_t = 17)]
-    pub taps: usize,
-
-    /// Photons per channel and angle of the incidence, exit and entry-shift tables
-    #[arg(long, value_parser = parse_count, default_value = "100000")]
-    pub incidence_photons: u64,
-
-    /// Photons per channel and thickness of the translucency table
-    #[arg(long, value_parser = parse_count, default_value = "20000")]
-    pub translucency_photons: u64,
+    #[command(flatten)]
+    pub tables: TableFlags,
 
     /// The page's folder [default: out/view]
     #[arg(long, value_name = "DIR")]
@@ -73,12 +63,9 @@ pub fn run(a: ViewArgs) -> Result<()> {
         render::SiteScene::set_reference(&mut scenes, name, png)
             .with_context(|| format!("--reference {name}={file}"))?;
     }
-    let mut request = a
-        .source
-        .request(named, a.incidence_photons, a.translucency_photons)?;
+    let mut request = a.source.request(named, &a.tables)?;
     request.frame.width = a.width;
     request.frame.height = a.height;
-    request.frame.taps = a.taps;
     let mut files = Outputs::default();
     let site = (a.source).build(&mut files, |p, bars| {
         render::Site::build(&request, &scenes, p, bars)

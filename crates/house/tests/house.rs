@@ -867,6 +867,33 @@ fn the_architecture_page_is_short_and_points_inside() {
     );
 }
 
+/// docs/measurements.md is a reference a reader searches: at most 600 lines, its first section
+/// the table of where every figure stands.
+#[test]
+fn the_measurements_page_is_short_and_starts_with_its_table() {
+    let text = std::fs::read_to_string(root().join("docs/measurements.md")).unwrap();
+    let lines = text.lines().count();
+    assert!(
+        lines <= 600,
+        "docs/measurements.md has {lines} lines (at most 600)"
+    );
+    let first = text
+        .lines()
+        .find(|l| l.starts_with("## "))
+        .unwrap_or_default();
+    assert_eq!(first, "## Where every figure stands", "the first section");
+    let table = text
+        .split("## Where every figure stands")
+        .nth(1)
+        .unwrap_or_default();
+    assert!(
+        table
+            .trim_start()
+            .starts_with("| area | figure | command | date |"),
+        "the first section is the table of figures"
+    );
+}
+
 /// The most lines a function outside tests may span, from `fn` to its closing brace.
 const MAX_FUNCTION_LINES: usize = 150;
 

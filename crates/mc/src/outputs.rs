@@ -28,6 +28,13 @@ pub struct Outputs {
 }
 
 impl Outputs {
+    /// An empty set of outputs for folder `dir`, once [`check_writable`] has passed: what a
+    /// command that writes into one folder makes first, before its work.
+    pub fn checked(dir: &Path) -> Result<Outputs> {
+        check_writable(dir)?;
+        Ok(Outputs::default())
+    }
+
     /// Adds a file; a later file with the same path replaces the earlier one.
     pub fn add(&mut self, path: impl Into<PathBuf>, bytes: impl Into<Vec<u8>>) {
         let (path, bytes) = (path.into(), bytes.into());
@@ -111,6 +118,44 @@ impl Outputs {
     }
 }
 
+/// Checks, before any work, that files can be written into folder `dir` (created at commit where
+/// missing): its nearest existing ancestor is a folder in which a file can be created (a probe,
+/// removed at once). A command calls it first, so that a folder it cannot write is refused
+/// before a long simulation rather than after.
+pub fn check_writable(dir: &Path) -> Result<()> {
+    let cannot = |what: &Path, e: std::io::Error| {
+        McError::file(
+            format!("cannot write into {} ({})", dir.display(), what.display()),
+            e,
+        )
+    };
+    let dir = if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir
+    };
+    let Some(existing) = dir
+        .ancestors()
+        .find(|d| d.as_os_str().is_empty() || d.exists())
+    else {
+        return Ok(());
+    };
+    let existing = if existing.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        existing
+    };
+    if !existing.is_dir() {
+        return Err(cannot(
+            existing,
+            std::io::Error::other("it is not a folder"),
+        ));
+    }
+    let probe = existing.join(format!(".sss-probe.{}.tmp", std::process::id()));
+    std::fs::write(&probe, b"").map_err(|e| cannot(existing, e))?;
+    std::fs::remove_file(&probe).map_err(|e| cannot(&probe, e))
+}
+
 /// The folder a file goes into (`.` for a bare file name).
 fn folder(path: &Path) -> &Path {
     path.parent()
@@ -141,6 +186,29 @@ fn temp_name(path: &Path) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A folder that exists and takes files passes, and so does a new folder below it (not
+    /// created by the check); a path below a file, or in a folder that refuses files, is
+    /// refused naming the folder.
+    #[test]
+    fn a_folder_is_checked_writable_before_any_work() {
+        let s = Scratch::new("writable");
+        check_writable(&s.0).unwrap();
+        check_writable(&s.0.join("new/deeper")).unwrap();
+        assert!(!s.0.join("new").exists(), "the check created a folder");
+        std::fs::write(s.0.join("file"), "x").unwrap();
+        let e = check_writable(&s.0.join("file/below"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("file") && e.contains("not a folder"), "{e}");
+        // /proc takes no new files, for root too (Linux).
+        if Path::new("/proc/self").exists() {
+            let e = check_writable(Path::new("/proc/forbidden"))
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("/proc"), "{e}");
+        }
+    }
 
     /// A fresh folder of this process's, removed when dropped.
     struct Scratch(PathBuf);

@@ -16,6 +16,7 @@
 #![allow(rustdoc::broken_intra_doc_links)]
 
 mod error;
+pub mod folder;
 pub mod options;
 pub mod package;
 pub mod parse;

@@ -112,8 +112,8 @@ pub struct GatherOptions {
     /// Directional dipole, surface gather: side of each light's position/normal map [texels].
     pub light_map: u32,
     /// Surface gather: the frames' mean through the edge-aware denoiser
-    /// (`gpu`'s passes/denoise.rs), its width per channel a quarter of the profile's median exit
-    /// radius.
+    /// (`gpu`'s passes/denoise.rs) over what the samples add to the control variate, its width
+    /// per channel half the profile's median exit radius.
     pub denoise: bool,
     /// Area gather: half-width n [px] of the inner block of (2n+1)² taps.
     pub inner: u32,

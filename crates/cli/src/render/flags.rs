@@ -213,8 +213,8 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 1024)]
     pub light_map: u32,
 
-    /// surface-gather: an edge-aware denoiser over the frames' mean, of world widths a quarter of
-    /// the profile's median exit radius per channel [cm], for few samples a frame [default: off]
+    /// surface-gather: an edge-aware denoiser over the frames' mean, of world widths half the
+    /// profile's median exit radius per channel [cm], for few samples a frame [default: off]
     #[arg(long, value_parser = on_off())]
     pub denoise: Option<bool>,
 
@@ -259,11 +259,16 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub source: ProfileSource,
 
-    /// Output folder: render.png, render.pfm; with --compare-models MODEL.png, compare_sheet.png
-    /// and compare.json; and the profiles simulated here, unless --profiles names another folder.
-    /// Written once the whole run has succeeded
+    /// Output folder: render.png, render.pfm, render.json (the summary); with --compare-models
+    /// MODEL.png, compare_sheet.png and compare.json; and the profiles simulated here, unless
+    /// --profiles names another folder. Checked first (writable, no other scene's render in it),
+    /// written once the whole run has succeeded
     #[arg(long, value_name = "DIR", default_value = "out/render")]
     pub out: PathBuf,
+
+    /// Replace a render of another scene or material in --out
+    #[arg(long)]
+    pub overwrite: bool,
 
     /// Print a machine-readable summary on stdout
     #[arg(long)]
