@@ -170,6 +170,19 @@ fn counts_refuse_hostile_values() {
             &["--incidence-photons"],
         );
     }
+    // A negative count as its own argument reaches the count's parser, which names the flag
+    // (clap alone would call "-5" an unexpected argument).
+    for sub in [
+        &["simulate", "skin1"][..],
+        &["render"],
+        &["table", "--g", "0", "--eta", "1.3"],
+    ] {
+        let o = sss(
+            &[sub, &["--photons", "-5", "--out", "never"]].concat(),
+            dir.path(),
+        );
+        assert_refused(&o, "--photons -5", &["--photons", "positive"]);
+    }
     assert!(!dir.path().join("never").exists(), "a refusal wrote output");
 }
 

@@ -82,11 +82,8 @@ fn kernel(a: &ExportArgs, format: ShaderFormat) -> Result<()> {
     let source = export(&k, format, a.unit);
     match &a.out {
         Some(out) => {
-            let stem = path
-                .file_stem()
-                .and_then(|s| s.to_str())
-                .unwrap_or("kernel");
-            let path = out_file(out, &format!("{stem}.{format}"));
+            let stem = path.file_stem().and_then(|s| s.to_str());
+            let path = out_file(out, &format!("{}.{format}", stem.unwrap_or("kernel")));
             let mut files = Outputs::default();
             files.add(&path, source);
             files.commit()?;

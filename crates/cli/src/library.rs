@@ -19,6 +19,7 @@ pub fn material(arg: &str) -> Result<Named> {
         );
     }
     let (slug, material) = mc::builtin::resolve(arg)?;
+    material.notes().iter().for_each(|n| eprintln!("note: {n}"));
     Ok(Named { slug, material })
 }
 

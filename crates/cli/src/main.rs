@@ -25,7 +25,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Result;
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 
 #[derive(Parser)]
 #[command(
@@ -81,7 +81,9 @@ enum Command {
 fn main() -> ExitCode {
     // SAFETY: first thing in main, before any other thread starts.
     unsafe { gpu::quiet_headless_vulkan() };
-    let cli = Cli::parse();
+    // A negative count reaches its parser, which names it, not clap's "unexpected argument".
+    let command = Cli::command().mut_subcommands(|c| c.allow_negative_numbers(true));
+    let cli = Cli::from_arg_matches(&command.get_matches()).unwrap_or_else(|e| e.exit());
     let result = match cli.command {
         Command::Simulate(a) => simulate::simulate(a),
         Command::Merge(a) => merge(a),

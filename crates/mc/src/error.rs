@@ -16,7 +16,7 @@ pub enum McError {
     },
 
     /// A text input (`.mci`, material TOML, config TOML, shard file) could not be parsed.
-    #[error("{source_name}:{line}: {message}")]
+    #[error("{}", parse_message(source_name, *line, message))]
     Parse {
         /// File name (or other label) of the input.
         source_name: String,
@@ -91,10 +91,13 @@ impl McError {
 
     /// A TOML error with the line it points at.
     pub(crate) fn toml(text: &str, source_name: &str, e: toml::de::Error) -> Self {
-        let line = e
-            .span()
-            .map(|s| text[..s.start].lines().count().max(1))
-            .unwrap_or(0);
+        // The line the span starts on: one more than the line breaks before it (a span at the
+        // start of a line follows that line's break). A missing field has no line of its own.
+        let line = match e.span() {
+            Some(_) if e.message().starts_with("missing field") => 0,
+            Some(s) => (text[..s.start].matches('\n').count() + 1).min(text.lines().count().max(1)),
+            None => 0,
+        };
         McError::parse(source_name, line, e.message().to_string())
     }
 
@@ -116,6 +119,14 @@ impl McError {
             line,
             message: message.into(),
         }
+    }
+}
+
+/// `file:line: message`, or `file: message` where the line is unknown (0).
+fn parse_message(source_name: &str, line: usize, message: &str) -> String {
+    match line {
+        0 => format!("{source_name}: {message}"),
+        l => format!("{source_name}:{l}: {message}"),
     }
 }
 

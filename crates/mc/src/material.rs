@@ -52,7 +52,7 @@ struct MaterialFile {
     color: Option<[f64; 3]>,
     radius: Option<[f64; 3]>,
     g: OneOrThree,
-    eta: f64,
+    eta: OneOrThree,
     thickness: Option<f64>,
 }
 
@@ -161,6 +161,20 @@ impl Material {
             OneOrThree::One(g) => [g; 3],
             OneOrThree::Three(g) => g,
         };
+        let eta = match f.eta {
+            OneOrThree::One(eta) => eta,
+            OneOrThree::Three([r, g, b]) if r == g && g == b => r,
+            OneOrThree::Three(e) => {
+                return Err(McError::invalid(
+                    "eta",
+                    format!("{e:?}"),
+                    "give one refractive index: the three channels share each photon's walk \
+                     through one boundary (a batch), and tissue's dispersion across R, G, B is \
+                     about 1 %",
+                ));
+            }
+        };
+        let missing = |field: &str, reason| McError::invalid(field, "missing", reason);
         let (sigma_a, sigma_s) = match (f.sigma_a, f.sigma_s, f.color, f.radius) {
             (Some(a), Some(s), None, None) => (a.map(|x| x / to_cm), s.map(|x| x / to_cm)),
             (None, None, Some(color), Some(radius)) => Artist {
@@ -168,10 +182,36 @@ impl Material {
                 radius: radius.map(|r| r * to_cm),
             }
             .coefficients(g)?,
+            (Some(_), None, None, None) => {
+                return Err(missing(
+                    "sigma_s",
+                    "sigma_a is given: give sigma_s beside it",
+                ));
+            }
+            (None, Some(_), None, None) => {
+                return Err(missing(
+                    "sigma_a",
+                    "sigma_s is given: give sigma_a beside it",
+                ));
+            }
+            (None, None, Some(_), None) => {
+                return Err(missing("radius", "color is given: give radius beside it"));
+            }
+            (None, None, None, Some(_)) => {
+                return Err(missing("color", "radius is given: give color beside it"));
+            }
+            (None, None, None, None) => {
+                return Err(McError::invalid(
+                    "sigma_a, sigma_s",
+                    "missing",
+                    "give the coefficients sigma_a and sigma_s [1/unit], or an artist's color \
+                     and radius",
+                ));
+            }
             _ => {
                 return Err(McError::invalid(
                     "sigma_a/sigma_s/color/radius",
-                    "an incomplete or mixed set",
+                    "a mixed set",
                     "give either sigma_a and sigma_s, or an artist's color and radius",
                 ));
             }
@@ -182,7 +222,7 @@ impl Material {
             sigma_a,
             sigma_s,
             g,
-            eta: f.eta,
+            eta,
             thickness: f.thickness.map(|t| t * to_cm),
         };
         m.validate()?;
@@ -201,11 +241,15 @@ impl Material {
                     ));
                 }
             }
-            if !(self.g[c].is_finite() && (-1.0..=1.0).contains(&self.g[c])) {
+            // g = 1: every scattering keeps the photon's direction, so σs(1 − g) = 0 and the
+            // medium never turns light back (Rd = 0, transmission as if it did not scatter):
+            // nothing a kernel can be fitted to. g = −1 (straight back) is a real limit.
+            if !(self.g[c].is_finite() && (-1.0..1.0).contains(&self.g[c])) {
                 return Err(McError::invalid(
                     format!("g[{ch}]"),
                     McError::number(self.g[c]),
-                    "must lie in [-1, 1]",
+                    "must lie in [-1, 1): at g = 1 light scattered keeps its direction and never \
+                     returns (Rd = 0); for a channel that does not scatter give sigma_s = 0",
                 ));
             }
         }
@@ -226,6 +270,23 @@ impl Material {
             ));
         }
         Ok(())
+    }
+
+    /// What a user should know about this material that is not an error, one line each: η < 1
+    /// (a medium of lower index than the air above it) is simulated as given.
+    pub fn notes(&self) -> Vec<String> {
+        let mut notes = Vec::new();
+        if self.eta < 1.0 {
+            notes.push(format!(
+                "{}: eta = {} < 1, a medium of lower refractive index than the air above it: \
+                 light from outside beyond {:.1}° of the normal is totally reflected at its \
+                 surface; simulated as given",
+                self.name,
+                self.eta,
+                self.eta.asin().to_degrees()
+            ));
+        }
+        notes
     }
 
     /// Single-scattering albedo σs/(σa+σs) of channel `c` [-]; 0 when nothing interacts.

@@ -188,6 +188,74 @@ fn material_errors_name_field_and_value() {
     assert!(e.starts_with("m.toml:"), "{e}");
 }
 
+/// The limits decided from physics (docs/commands.md, "Materials"): g = 1 scatters without
+/// deflecting, so the medium never returns light and is refused naming g and the way to a
+/// non-scattering channel; g = −1 (straight back) is a real limit and runs. One η for the three
+/// channels: three equal values are that value, three different ones are refused naming eta.
+/// η < 1 runs with a note giving the critical angle seen from the air, asin(η/1).
+#[test]
+fn material_limits_are_decided_from_physics() {
+    let with = |from: &str, to: &str| Material::from_toml(&MATERIAL.replace(from, to), "m.toml");
+    let e = with("g = 0.0", "g = 1.0").unwrap_err().to_string();
+    assert!(e.contains("g[R]") && e.contains("sigma_s = 0"), "{e}");
+    let e = with("g = 0.0", "g = [0.5, 0.5, 1]")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("g[B]"), "{e}");
+    assert_eq!(with("g = 0.0", "g = -1.0").unwrap().g, [-1.0; 3]);
+    assert_eq!(with("g = 0.0", "g = 0.9999").unwrap().g, [0.9999; 3]);
+    let m = with("eta = 1.3", "eta = [1.66, 1.66, 1.66]").unwrap();
+    assert_eq!(m.eta, 1.66);
+    let e = with("eta = 1.3", "eta = [1.3, 1.4, 1.5]")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("eta") && e.contains("one refractive index"),
+        "{e}"
+    );
+    assert!(with("eta = 1.3", "eta = 1.3").unwrap().notes().is_empty());
+    let notes = with("eta = 1.3", "eta = 0.5").unwrap().notes();
+    assert!(notes.len() == 1 && notes[0].contains("30.0°"), "{notes:?}");
+}
+
+/// A TOML mistake is reported on its own line (a misspelled field on line 4 at line 4, not 3),
+/// a missing field by name without a line, and a half-given pair of coefficients names the
+/// missing one alone.
+#[test]
+fn material_errors_point_at_the_line_or_the_missing_field() {
+    let text = MATERIAL.replace("g = 0.0", "gg = 0.0");
+    let line = 1 + text.lines().position(|l| l.starts_with("gg")).unwrap();
+    let e = Material::from_toml(&text, "m.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with(&format!("m.toml:{line}: unknown field `gg`")),
+        "{e}"
+    );
+    let e = Material::from_toml(&MATERIAL.replace("unit = \"cm\"\n", ""), "m.toml")
+        .unwrap_err()
+        .to_string();
+    assert_eq!(e, "m.toml: missing field `unit`");
+    for (drop, named) in [
+        ("sigma_s = [7.4, 8.8, 10.1]\n", "sigma_s"),
+        ("sigma_a = [0.32, 1.7, 4.8]\n", "sigma_a"),
+    ] {
+        let e = Material::from_toml(&MATERIAL.replace(drop, ""), "m.toml")
+            .unwrap_err()
+            .to_string();
+        let other = if named == "sigma_s" {
+            "sigma_a"
+        } else {
+            "sigma_s"
+        };
+        assert!(
+            e.contains(&format!("invalid {named}")) && e.contains(&format!("{other} is given")),
+            "{e}"
+        );
+        assert!(!e.contains("color"), "{e}");
+    }
+}
+
 #[test]
 fn config_errors_name_field_and_value() {
     for (from, to, field, value) in [
