@@ -21,7 +21,7 @@ pub struct ReproduceArgs {
     out: PathBuf,
 
     /// CI-sized run: 2·10⁴ photons per channel, a coarser grid (dr = min MFP/6, 10 max MFP) and
-    /// 128-pixel test images; minutes on 2 cores
+    /// 128-pixel test images; 8–15 s on 2 cores
     #[arg(long)]
     quick: bool,
 
