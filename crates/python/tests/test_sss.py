@@ -238,11 +238,20 @@ def test_kernel_ranks_by_image_error(skin1):
     assert all(r["passes"] <= 2 for r in ranking)
 
 
-def test_evaluate_gives_the_rows_of_sss_eval(skin1):
+@pytest.mark.skipif(not SSS_BIN, reason="SSS_BIN not set")
+def test_evaluate_gives_the_rows_of_sss_eval(skin1, tmp_path):
+    # The same profile (seed, photons) through `sss eval --json` and through Python: the same
+    # models per channel with the same kernel- and image-space errors, bit for bit (the fit's
+    # time aside).
     rows = sss.evaluate(skin1, material="skin1")
-    assert {r["channel"] for r in rows} == {"R", "G", "B"}
-    preint = [r for r in rows if r["model"] == "preint"]
-    assert len(preint) == 3 and all(r["kernel_rms"] >= 0 for r in preint)
+    cli = subprocess.run([SSS_BIN, "eval", "skin1", "--photons", str(QUICK), "--seed", "7",
+                          "--profiles", str(tmp_path), "--json"],
+                         check=True, capture_output=True, text=True)
+    expected = json.loads(cli.stdout)["materials"][0]["models"]
+    key = lambda r: (r["channel"], r["model"], r["kernel_rms"], r["l1_error"],
+                     sorted(r["image_rms"].items()))
+    assert {r["channel"] for r in rows} == {"R", "G", "B"} and len(expected) >= 9
+    assert [key(r) for r in rows] == [key(r) for r in expected]
 
 
 def test_analytic_profile_on_the_simulation_grid(skin1):
@@ -252,10 +261,18 @@ def test_analytic_profile_on_the_simulation_grid(skin1):
     assert np.all(p["rd"] >= 0)
 
 
-def test_engine_params_are_the_cli_fields(skin1):
+@pytest.mark.skipif(not SSS_BIN, reason="SSS_BIN not set")
+def test_engine_params_are_the_cli_fields(skin1, tmp_path):
+    # The same profile (seed, photons) through `sss engine-params --json` and through Python:
+    # every field's name, unit and value the same, bit for bit (JSON round-trips floats).
     e = sss.engine_params("skin1", engine="unreal", profile=skin1)
-    assert e["engine"] == "unreal"
-    assert e["params"]["fields"]
+    cli = subprocess.run([SSS_BIN, "engine-params", "skin1", "--engine", "unreal", "--photons",
+                          str(QUICK), "--seed", "7", "--profiles", str(tmp_path), "--json"],
+                         check=True, capture_output=True, text=True)
+    fields = json.loads(cli.stdout)["params"]["fields"]
+    assert e["engine"] == "unreal" and len(fields) >= 3
+    assert [(f["name"], f["unit"], f["value"]) for f in fields] == \
+        [(f["name"], f["unit"], f["value"]) for f in e["params"]["fields"]]
     assert e["random_walk"] is None
     blender = sss.engine_params("skin1", engine="blender", profile=skin1)
     assert [f["name"] for f in blender["random_walk"]["fields"]][0] == "Base Color"
