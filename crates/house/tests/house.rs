@@ -867,6 +867,23 @@ fn the_architecture_page_is_short_and_points_inside() {
     );
 }
 
+/// Every test file `.ci/run` names exists (a comment naming a file that was renamed misleads
+/// whoever reads why a package is installed).
+#[test]
+fn the_ci_script_names_only_test_files_that_exist() {
+    let text = std::fs::read_to_string(root().join(".ci/run")).unwrap();
+    let named: Vec<&str> = text
+        .split(|c: char| c.is_whitespace() || "();,".contains(c))
+        .filter(|w| w.contains("tests/") && w.ends_with(".rs"))
+        .collect();
+    assert!(named.len() >= 5, "named: {named:?}");
+    let missing: Vec<&&str> = named.iter().filter(|p| !root().join(p).exists()).collect();
+    assert!(
+        missing.is_empty(),
+        ".ci/run names missing files: {missing:?}"
+    );
+}
+
 /// docs/measurements.md is a reference a reader searches: at most 600 lines, its first section
 /// the table of where every figure stands.
 #[test]
