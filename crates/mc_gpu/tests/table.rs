@@ -40,7 +40,7 @@ fn white_agrees(g: f64) {
     table_agreement::agree(
         &format!("white, g = {g}"),
         &t,
-        &cpu(&spec(g, true, 32, 100_000)),
+        &cpu(&spec(g, false, 32, 100_000)),
     );
 }
 
