@@ -225,6 +225,26 @@ impl Mark {
     }
 }
 
+/// Shades the band between `lower` and `upper` (x, y in the chart's units, the same x in order)
+/// in a light tint of `color`: a ±1 standard-error band behind a Monte Carlo curve; errors name
+/// `path`.
+pub(crate) fn band<'a, 'b: 'a, X, Y>(
+    ch: &mut Chart<'a, 'b, X, Y>,
+    path: &str,
+    lower: &[(f64, f64)],
+    upper: &[(f64, f64)],
+    color: RGBColor,
+) -> Result<()>
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let outline: Vec<(f64, f64)> = upper.iter().chain(lower.iter().rev()).copied().collect();
+    ch.draw_series(std::iter::once(Polygon::new(outline, color.mix(0.25).filled())))
+        .in_plot(path)?;
+    Ok(())
+}
+
 /// A 2 px line of `color` through `points` with a 3 px dot on each, named `label` in the legend
 /// (as a line); errors name `path`.
 pub(crate) fn line_with_dots<'a, 'b: 'a, X, Y>(

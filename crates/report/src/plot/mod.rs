@@ -107,6 +107,17 @@ fn titled<'a>(root: &Area<'a>, path: &str, heading: &str) -> Result<Area<'a>> {
     root.titled(heading, ("sans-serif", 20)).in_plot(path)
 }
 
+/// The part of `root` above a one-line caption saying how to read the figure, drawn in its
+/// bottom 26 px; errors name `path`.
+fn captioned<'a>(root: &Area<'a>, path: &str, how_to_read: &str) -> Result<Area<'a>> {
+    let h = root.dim_in_pixel().1;
+    let (figure, caption) = root.split_vertically(h.saturating_sub(26));
+    let style = ("sans-serif", 15).into_font().color(&BLACK.mix(0.8));
+    let text = Text::new(how_to_read.to_string(), (10, 4), style);
+    caption.draw(&text).in_plot(path)?;
+    Ok(figure)
+}
+
 /// The part of `root` under `heading` as a row of three cells, one per channel, `height` [px]
 /// tall, and the area below it; errors name `path`.
 fn channel_row<'a>(

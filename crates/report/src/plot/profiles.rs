@@ -6,47 +6,80 @@ use plotters::prelude::*;
 
 use fit::Profile;
 
-use super::chart::{Axis, Frame, Mark, Ticks, axes, legend};
-use super::{Area, CHANNEL_COLORS, channel_label, model_color, png_of};
+use super::chart::{Axis, Frame, Mark, Ticks, axes, band, legend};
+use super::{Area, CHANNEL_COLORS, captioned, channel_label, model_color, png_of};
 use crate::error::Result;
 use mc::CHANNELS;
 
-/// Rd(r) per channel: linear near 0 (left) and logarithmic over the whole range (right), as PNG
-/// bytes.
+/// Rd(r) per channel with ±1 standard-error bands: the light returned per unit radius, 2πr·Rd(r),
+/// out to where 99 % of the widest channel's light has returned (left; its area is the total
+/// reflectance), and Rd(r) on a logarithmic axis over the whole range (right), with a caption
+/// saying how to read them. As PNG bytes.
 pub fn profile(p: &Profile, title: &str) -> Result<Vec<u8>> {
     png_of(
-        (1200, 480),
+        (1200, 500),
         &format!("{title} profile plot"),
         |root, path| draw_profile(root, path, p, title),
     )
 }
 
+/// The radius [cm] within which `share` of channel c's light (∫2πr·Rd dr) returns.
+fn radius_holding(p: &Profile, c: usize, share: f64) -> f64 {
+    let total: f64 = p.r.iter().zip(&p.rd[c]).map(|(r, v)| r * v).sum();
+    let mut acc = 0.0;
+    for (r, v) in p.r.iter().zip(&p.rd[c]) {
+        acc += r * v;
+        if acc >= share * total {
+            return *r;
+        }
+    }
+    *p.r.last().unwrap_or(&1.0)
+}
+
 fn draw_profile(root: &Area<'_>, path: &str, p: &Profile, title: &str) -> Result<()> {
+    let root = captioned(
+        root,
+        path,
+        "Shaded: ±1 standard error. Left: where the light returns (each curve's area is that \
+         channel's total reflectance); right: how fast Rd(r) falls off.",
+    )?;
     let (left, right) = root.split_horizontally(600);
     let r_end = *p.r.last().unwrap_or(&1.0);
-    let near = r_end / 8.0;
+    let near = (0..3).map(|c| radius_holding(p, c, 0.99)).fold(0.0, f64::max).min(r_end);
+    let tau = 2.0 * std::f64::consts::PI;
+    let weighted = |c: usize, k: f64| -> Vec<(f64, f64)> {
+        (p.r.iter().zip(&p.rd[c]).zip(&p.se[c]))
+            .filter(|((r, _), _)| **r <= near)
+            .map(|((&r, &v), &e)| (r, tau * r * (v + k * e)))
+            .collect()
+    };
+    let max = (0..3).flat_map(|c| weighted(c, 1.0)).map(|(_, y)| y).fold(0.0, f64::max);
+    let caption = format!("{title}: 2πr·Rd(r), the light returned per cm of radius");
+    let mut ch = Frame::PAGE.chart(&left, path, &caption, 0.0..near, 0.0..max * 1.05)?;
+    axes(&mut ch, path, ("r [cm]", Ticks::Auto), ("2πr·Rd [1/cm]", Ticks::Auto))?;
+    for c in 0..3 {
+        band(&mut ch, path, &weighted(c, -1.0), &weighted(c, 1.0), CHANNEL_COLORS[c])?;
+        Mark::line(CHANNEL_COLORS[c]).labelled(&mut ch, path, weighted(c, 0.0), channel_label(c))?;
+    }
+    legend(&mut ch, path, SeriesLabelPosition::UpperRight)?;
+
     let values = || p.rd.iter().flatten().copied();
     let max = values().fold(0.0f64, f64::max);
-    let (r, rd) = ("r [cm]", "Rd [1/cm²]");
-    let points = |c: usize| p.r.iter().copied().zip(p.rd[c].iter().copied());
-
-    let caption = format!("{title}: Rd(r) near 0");
-    let mut ch = Frame::PAGE.chart(&left, path, &caption, 0.0..near, 0.0..max * 1.05)?;
-    axes(&mut ch, path, (r, Ticks::Auto), (rd, Ticks::Auto))?;
-    for c in 0..3 {
-        let shown = points(c).filter(|&(r, _)| r <= near);
-        Mark::line(CHANNEL_COLORS[c]).labelled(&mut ch, path, shown, channel_label(c))?;
-    }
-    legend(&mut ch, path, SeriesLabelPosition::MiddleRight)?;
-
     let min_pos = values().filter(|&v| v > 0.0).fold(f64::INFINITY, f64::min);
+    let floor = min_pos.max(max * 1e-12);
     let caption = format!("{title}: Rd(r), log scale");
-    let y = (min_pos.max(max * 1e-12)..max * 2.0).log_scale();
+    let y = (floor..max * 2.0).log_scale();
     let mut ch = Frame::PAGE.chart(&right, path, &caption, 0.0..r_end, y)?;
-    axes(&mut ch, path, (r, Ticks::Auto), (rd, Ticks::Exp(0)))?;
+    axes(&mut ch, path, ("r [cm]", Ticks::Auto), ("Rd [1/cm²]", Ticks::Exp(0)))?;
     for c in 0..3 {
-        let shown = points(c).filter(|&(_, v)| v > 0.0);
-        Mark::line(CHANNEL_COLORS[c]).draw(&mut ch, path, shown)?;
+        let shown = |k: f64| -> Vec<(f64, f64)> {
+            (p.r.iter().zip(&p.rd[c]).zip(&p.se[c]))
+                .filter(|((_, v), _)| **v > 0.0)
+                .map(|((&r, &v), &e)| (r, (v + k * e).max(floor)))
+                .collect()
+        };
+        band(&mut ch, path, &shown(-1.0), &shown(1.0), CHANNEL_COLORS[c])?;
+        Mark::line(CHANNEL_COLORS[c]).draw(&mut ch, path, shown(0.0))?;
     }
     Ok(())
 }
