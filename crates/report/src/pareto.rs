@@ -74,7 +74,9 @@ pub fn plot(p: &Pareto, title: &str) -> Result<Vec<u8>> {
         "{title}: GPU cost against image error (T = {} taps per 1D pass)",
         p.taps_per_pass
     );
-    png_of((1100, 700), &name, |root, path| {
+    let how = "Lower left is better: each point a model at its cost; the line joins those that \
+               no other beats on both.";
+    png_of((1100, 700), &name, how, |root, path| {
         let key_points = ticks.iter().map(|&t| t as f64).collect();
         let x = x_range.clone().log_scale().with_key_points(key_points);
         let y = (e_lo / 2.0..e_hi * 3.0).log_scale();

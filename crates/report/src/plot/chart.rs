@@ -240,8 +240,11 @@ where
     Y: Ranged<ValueType = f64>,
 {
     let outline: Vec<(f64, f64)> = upper.iter().chain(lower.iter().rev()).copied().collect();
-    ch.draw_series(std::iter::once(Polygon::new(outline, color.mix(0.25).filled())))
-        .in_plot(path)?;
+    ch.draw_series(std::iter::once(Polygon::new(
+        outline,
+        color.mix(0.25).filled(),
+    )))
+    .in_plot(path)?;
     Ok(())
 }
 

@@ -70,6 +70,8 @@ pub fn incidence(
     png_of(
         (width, 520),
         &format!("{title} incidence plot"),
+        "Bars: Monte Carlo ±2 standard errors; dashed: diffusion models. Above 1 (left): more \
+         light returns at that angle than at normal incidence.",
         |root, path| {
             let root = titled(root, path, &heading)?;
             let areas = root.split_evenly((1, panels.len()));

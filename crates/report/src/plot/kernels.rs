@@ -7,9 +7,7 @@ use fit::KernelModel;
 use fit::evaluate::Evaluation;
 
 use super::chart::{Frame, Mark, Ticks, axes, legend, line_with_dots, samples};
-use super::{
-    Area, CHANNEL_COLORS, InPlot, captioned, channel_label, err, model_color, png_of, titled,
-};
+use super::{Area, CHANNEL_COLORS, InPlot, channel_label, err, model_color, png_of, titled};
 use crate::error::Result;
 use mc::CHANNELS;
 
@@ -19,19 +17,15 @@ use mc::CHANNELS;
 /// have been evaluated (an error names the one that was not). As PNG bytes.
 pub fn slices(ev: &Evaluation, models: &[KernelModel], title: &str) -> Result<Vec<u8>> {
     png_of(
-        (1500, 830),
+        (1500, 800),
         &format!("{title} slices plot"),
+        "Dots: the exact 2D kernel; lines: the separable models. Each panel is zoomed to where the \
+         kernel lives; its inset shows the whole tail on a log axis.",
         |root, path| {
-            let root = captioned(
-                root,
-                path,
-                "Dots: the exact 2D kernel; lines: the separable models. Each panel is zoomed to \
-                 where the kernel lives; its inset shows the whole tail on a log axis.",
-            )?;
             let heading = format!(
                 "{title}: kernel slices against the 2D ground truth (normalized to Σ = 1 per channel)"
             );
-            let cells = titled(&root, path, &heading)?.split_evenly((2, 3));
+            let cells = titled(root, path, &heading)?.split_evenly((2, 3));
             for (idx, cell) in cells.iter().enumerate() {
                 draw_slice(cell, path, ev, models, idx / 3 == 1, idx % 3)?;
             }
@@ -72,7 +66,9 @@ fn draw_slice(
             .ok_or_else(|| err(path, format!("{model} was not evaluated")))?;
         rows.push((if diagonal { &r.diagonal } else { &r.axis }, r.title()));
     }
-    let peak = rows.iter().map(|(s, _)| s[..n].iter().fold(0.0f64, |a, &b| a.max(b)));
+    let peak = rows
+        .iter()
+        .map(|(s, _)| s[..n].iter().fold(0.0f64, |a, &b| a.max(b)));
     let max = peak.fold(truth[0], f64::max).max(1e-300) * 1.1;
     let caption = format!("channel {}: {along}", CHANNELS[c]);
     let mut ch = Frame::CELL.chart(cell, path, &caption, 0.0..n as f64 * step, 0.0..max)?;
@@ -88,7 +84,9 @@ fn draw_slice(
     }
     // The inset: the whole tail, log weights.
     let (w, h) = cell.dim_in_pixel();
-    let inset = cell.clone().shrink((w * 11 / 20, h / 7), (w * 2 / 5, h * 2 / 5));
+    let inset = cell
+        .clone()
+        .shrink((w * 11 / 20, h / 7), (w * 2 / 5, h * 2 / 5));
     inset.fill(&WHITE.mix(0.9)).in_plot(path)?;
     let floor = truth[0].max(1e-300) * 1e-4;
     let y = (floor..max).log_scale();
@@ -109,7 +107,9 @@ fn draw_slice(
         .draw()
         .in_plot(path)?;
     let clamped = |s: &[f64]| -> Vec<(f64, f64)> {
-        samples(&s[..tail], step).map(|(x, v)| (x, v.max(floor))).collect()
+        samples(&s[..tail], step)
+            .map(|(x, v)| (x, v.max(floor)))
+            .collect()
     };
     let dots = clamped(truth).into_iter().step_by((tail / 30).max(1));
     Mark::Dots(BLACK, 1, 1).draw(&mut tail_chart, path, dots)?;
@@ -124,6 +124,7 @@ pub fn singular_values(ev: &Evaluation, title: &str) -> Result<Vec<u8>> {
     png_of(
         (700, 480),
         &format!("{title} singular values plot"),
+        "The faster they fall, the closer a few separable passes come: rank N keeps the first N.",
         |root, path| draw_singular_values(root, path, ev, title),
     )
 }

@@ -130,9 +130,24 @@ fn channel_row<'a>(
     Ok((top.split_evenly((1, 3)), bottom))
 }
 
-/// Draws a picture of `size` [px] with `draw` on a white page, the font loaded, and returns it as
-/// PNG bytes; `path` names it in errors.
+/// Draws a figure of `size` [px] with `draw` on a white page, the font loaded, with a one-line
+/// caption under it saying how to read it (26 px more), and returns it as PNG bytes; `path`
+/// names it in errors. Every chart is drawn through here, so none goes without its caption.
 pub(crate) fn png_of(
+    size: (u32, u32),
+    path: &str,
+    how_to_read: &str,
+    draw: impl FnOnce(&Area<'_>, &str) -> Result<()>,
+) -> Result<Vec<u8>> {
+    png_picture((size.0, size.1 + 26), path, |root, path| {
+        let figure = captioned(root, path, how_to_read)?;
+        draw(&figure, path)
+    })
+}
+
+/// Draws a picture of `size` [px] with `draw` on a white page, the font loaded, and returns it as
+/// PNG bytes; `path` names it in errors (sheets, which carry their own title lines).
+pub(crate) fn png_picture(
     size: (u32, u32),
     path: &str,
     draw: impl FnOnce(&Area<'_>, &str) -> Result<()>,

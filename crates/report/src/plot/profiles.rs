@@ -7,7 +7,7 @@ use plotters::prelude::*;
 use fit::Profile;
 
 use super::chart::{Axis, Frame, Mark, Ticks, axes, band, legend};
-use super::{Area, CHANNEL_COLORS, captioned, channel_label, model_color, png_of};
+use super::{Area, CHANNEL_COLORS, channel_label, model_color, png_of};
 use crate::error::Result;
 use mc::CHANNELS;
 
@@ -17,8 +17,10 @@ use mc::CHANNELS;
 /// saying how to read them. As PNG bytes.
 pub fn profile(p: &Profile, title: &str) -> Result<Vec<u8>> {
     png_of(
-        (1200, 500),
+        (1200, 480),
         &format!("{title} profile plot"),
+        "Shaded: ±1 standard error. Left: where the light returns (each curve's area is that \
+         channel's total reflectance); right: how fast Rd(r) falls off.",
         |root, path| draw_profile(root, path, p, title),
     )
 }
@@ -37,15 +39,12 @@ fn radius_holding(p: &Profile, c: usize, share: f64) -> f64 {
 }
 
 fn draw_profile(root: &Area<'_>, path: &str, p: &Profile, title: &str) -> Result<()> {
-    let root = captioned(
-        root,
-        path,
-        "Shaded: ±1 standard error. Left: where the light returns (each curve's area is that \
-         channel's total reflectance); right: how fast Rd(r) falls off.",
-    )?;
     let (left, right) = root.split_horizontally(600);
     let r_end = *p.r.last().unwrap_or(&1.0);
-    let near = (0..3).map(|c| radius_holding(p, c, 0.99)).fold(0.0, f64::max).min(r_end);
+    let near = (0..3)
+        .map(|c| radius_holding(p, c, 0.99))
+        .fold(0.0, f64::max)
+        .min(r_end);
     let tau = 2.0 * std::f64::consts::PI;
     let weighted = |c: usize, k: f64| -> Vec<(f64, f64)> {
         (p.r.iter().zip(&p.rd[c]).zip(&p.se[c]))
@@ -53,13 +52,32 @@ fn draw_profile(root: &Area<'_>, path: &str, p: &Profile, title: &str) -> Result
             .map(|((&r, &v), &e)| (r, tau * r * (v + k * e)))
             .collect()
     };
-    let max = (0..3).flat_map(|c| weighted(c, 1.0)).map(|(_, y)| y).fold(0.0, f64::max);
+    let max = (0..3)
+        .flat_map(|c| weighted(c, 1.0))
+        .map(|(_, y)| y)
+        .fold(0.0, f64::max);
     let caption = format!("{title}: 2πr·Rd(r), the light returned per cm of radius");
     let mut ch = Frame::PAGE.chart(&left, path, &caption, 0.0..near, 0.0..max * 1.05)?;
-    axes(&mut ch, path, ("r [cm]", Ticks::Auto), ("2πr·Rd [1/cm]", Ticks::Auto))?;
+    axes(
+        &mut ch,
+        path,
+        ("r [cm]", Ticks::Auto),
+        ("2πr·Rd [1/cm]", Ticks::Auto),
+    )?;
     for c in 0..3 {
-        band(&mut ch, path, &weighted(c, -1.0), &weighted(c, 1.0), CHANNEL_COLORS[c])?;
-        Mark::line(CHANNEL_COLORS[c]).labelled(&mut ch, path, weighted(c, 0.0), channel_label(c))?;
+        band(
+            &mut ch,
+            path,
+            &weighted(c, -1.0),
+            &weighted(c, 1.0),
+            CHANNEL_COLORS[c],
+        )?;
+        Mark::line(CHANNEL_COLORS[c]).labelled(
+            &mut ch,
+            path,
+            weighted(c, 0.0),
+            channel_label(c),
+        )?;
     }
     legend(&mut ch, path, SeriesLabelPosition::UpperRight)?;
 
@@ -70,7 +88,12 @@ fn draw_profile(root: &Area<'_>, path: &str, p: &Profile, title: &str) -> Result
     let caption = format!("{title}: Rd(r), log scale");
     let y = (floor..max * 2.0).log_scale();
     let mut ch = Frame::PAGE.chart(&right, path, &caption, 0.0..r_end, y)?;
-    axes(&mut ch, path, ("r [cm]", Ticks::Auto), ("Rd [1/cm²]", Ticks::Exp(0)))?;
+    axes(
+        &mut ch,
+        path,
+        ("r [cm]", Ticks::Auto),
+        ("Rd [1/cm²]", Ticks::Exp(0)),
+    )?;
     for c in 0..3 {
         let shown = |k: f64| -> Vec<(f64, f64)> {
             (p.r.iter().zip(&p.rd[c]).zip(&p.se[c]))
@@ -109,6 +132,8 @@ pub fn profile_comparison(
     png_of(
         (1500, 850),
         &format!("{title} profile comparison"),
+        "Top: r·Rd(r) of each analytic profile against Monte Carlo; bottom: model/MC − 1 (0 is \
+         exact). Radii in transport mean free paths, so the channels compare.",
         |root, path| {
             let (top, bottom) = root.split_vertically(480);
             let (top, bottom) = (top.split_evenly((1, 3)), bottom.split_evenly((1, 3)));
@@ -204,6 +229,8 @@ pub fn area_effect(curves: &[Vec<(f64, f64, f64)>; 3], title: &str) -> Result<Ve
     png_of(
         (900, 560),
         &format!("{title} area effect plot"),
+        "Thin: point sampling drifts with the pixel's size, per channel (a colour shift when \
+         zooming); thick: area pre-integration stays at 1.",
         |root, path| draw_area_effect(root, path, curves, title),
     )
 }

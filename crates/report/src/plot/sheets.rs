@@ -3,7 +3,7 @@
 
 use plotters::prelude::*;
 
-use super::{Area, InPlot, font, png_of};
+use super::{Area, InPlot, font, png_picture};
 use crate::error::Result;
 
 /// One labelled picture of a [`Sheet`]: RGB8, row-major.
@@ -153,7 +153,7 @@ impl Sheet {
     pub fn png(&self) -> Result<Vec<u8>> {
         let name = format!("sheet {:?}", self.title.first().map_or("", |t| t.as_str()));
         let l = self.layout();
-        png_of((l.width, l.height), &name, |root, path| {
+        png_picture((l.width, l.height), &name, |root, path| {
             for (i, t) in self.title.iter().enumerate() {
                 text(
                     root,

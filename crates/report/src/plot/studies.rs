@@ -34,6 +34,8 @@ pub fn imitation(im: &Imitation, title: &str) -> Result<Vec<u8>> {
     png_of(
         (1500, 960),
         &format!("{title} guided-vs-preint plot"),
+        "Top: how closely each model's 1D function follows pre-integration's (dots); bottom: the \
+         image distance between them, lower is closer.",
         |root, path| {
             let heading = format!(
                 "{title}: guided optimization with k = 1.55, b = 50 imitates pre-integration (thesis Fig. 5.15)"
@@ -131,6 +133,8 @@ pub fn w_sweep(sweep: &fit::WSweep, title: &str) -> Result<Vec<u8>> {
     png_of(
         (1500, 960),
         &format!("{title} manual w sweep plot"),
+        "Top: light across a shadow edge for several w against the truth (dots); bottom: the \
+         image error and the edge's width against w, Table A.1's w marked.",
         |root, path| {
             let heading = format!(
                 "{title}: the manual model's w moves it from far (w = 0) to near scattering (w = 1) (thesis Fig. 5.17)"
