@@ -52,7 +52,7 @@ fn at(q: &Point) -> (f64, f64) {
 /// Taps per pixel (x, log, ticks at every model's cost) against mean image RMS (y, log) of every
 /// model, each labelled and coloured by family (filled: on the front; squares: dense 2D kernels),
 /// with the Pareto front as a step line; `title` names the material. Points whose error is not
-/// positive and finite cannot sit on a log axis and are left out. As PNG bytes (1100 × 700).
+/// positive and finite cannot sit on a log axis and are left out. As PNG bytes (1100 × 700, and its caption line).
 pub fn plot(p: &Pareto, title: &str) -> Result<Vec<u8>> {
     let name = format!("{title} Pareto plot");
     let shown: Vec<&Point> = p.points.iter().filter(|q| plottable(q)).collect();
@@ -243,7 +243,8 @@ mod tests {
             .unwrap()
             .info()
             .clone();
-        assert_eq!((info.width, info.height), (1100, 700));
+        let caption = crate::plot::CAPTION_PX;
+        assert_eq!((info.width, info.height), (1100, 700 + caption));
         let nothing = vec![point(svd(1), 1, 0.0)];
         assert!(plot(&Pareto::new(nothing, 17), "test").is_err());
     }

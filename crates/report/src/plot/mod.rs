@@ -107,11 +107,14 @@ fn titled<'a>(root: &Area<'a>, path: &str, heading: &str) -> Result<Area<'a>> {
     root.titled(heading, ("sans-serif", 20)).in_plot(path)
 }
 
+/// The height of a figure's caption line [px].
+pub(crate) const CAPTION_PX: u32 = 26;
+
 /// The part of `root` above a one-line caption saying how to read the figure, drawn in its
-/// bottom 26 px; errors name `path`.
+/// bottom [`CAPTION_PX`]; errors name `path`.
 fn captioned<'a>(root: &Area<'a>, path: &str, how_to_read: &str) -> Result<Area<'a>> {
     let h = root.dim_in_pixel().1;
-    let (figure, caption) = root.split_vertically(h.saturating_sub(26));
+    let (figure, caption) = root.split_vertically(h.saturating_sub(CAPTION_PX));
     let style = ("sans-serif", 15).into_font().color(&BLACK.mix(0.8));
     let text = Text::new(how_to_read.to_string(), (10, 4), style);
     caption.draw(&text).in_plot(path)?;
@@ -131,7 +134,7 @@ fn channel_row<'a>(
 }
 
 /// Draws a figure of `size` [px] with `draw` on a white page, the font loaded, with a one-line
-/// caption under it saying how to read it (26 px more), and returns it as PNG bytes; `path`
+/// caption under it saying how to read it ([`CAPTION_PX`] more), and returns it as PNG bytes; `path`
 /// names it in errors. Every chart is drawn through here, so none goes without its caption.
 pub(crate) fn png_of(
     size: (u32, u32),
@@ -139,7 +142,7 @@ pub(crate) fn png_of(
     how_to_read: &str,
     draw: impl FnOnce(&Area<'_>, &str) -> Result<()>,
 ) -> Result<Vec<u8>> {
-    png_picture((size.0, size.1 + 26), path, |root, path| {
+    png_picture((size.0, size.1 + CAPTION_PX), path, |root, path| {
         let figure = captioned(root, path, how_to_read)?;
         draw(&figure, path)
     })
