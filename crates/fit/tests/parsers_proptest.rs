@@ -5,8 +5,7 @@
 //! increasing radii, taps a shader can hold), and every refusal is a typed [`FitError`] naming
 //! the field and value or the line.
 
-#[path = "../../mc/tests/hostile/mod.rs"]
-mod hostile;
+use testkit::hostile;
 
 use fit::taps::ShaderKernel;
 use fit::{FitError, Profile};

@@ -3,8 +3,7 @@
 //! positions and normals, scaled to the requested height. Refusals are `GpuError::Mesh` naming
 //! the file. No GPU is needed.
 
-#[path = "../../mc/tests/hostile/mod.rs"]
-mod hostile;
+use testkit::hostile;
 
 use std::path::Path;
 

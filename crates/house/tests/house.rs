@@ -52,6 +52,7 @@ const LAYERS: &[(&str, May)] = &[
     ),
     ("sss-benches", May::Anything),
     ("house", May::Only(&[])),
+    ("testkit", May::Only(&[])),
 ];
 
 /// The workspace root, `..` resolved.

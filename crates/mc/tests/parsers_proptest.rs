@@ -5,8 +5,7 @@
 //! checked), no silently accepted garbage (whatever parses validates), and every refusal is a
 //! typed [`McError`] that names the field and the value.
 
-#[path = "hostile/mod.rs"]
-mod hostile;
+use testkit::hostile;
 
 use mc::{Material, McError, SimConfig};
 use proptest::prelude::*;

@@ -5,8 +5,7 @@
 //! checked against the specification), every refusal names the file, and whatever is accepted
 //! merges and normalizes without panicking.
 
-#[path = "hostile/mod.rs"]
-mod hostile;
+use testkit::hostile;
 
 use std::sync::LazyLock;
 

@@ -3,9 +3,7 @@
 
 use mc::{Grid, Layer, Output, RunSpec, Sample, TallySet};
 
-#[path = "../../../tests/support/chandrasekhar.rs"]
-mod chandrasekhar;
-use chandrasekhar::{gauss_legendre_01, h_function, h_solver};
+use testkit::chandrasekhar::{gauss_legendre_01, h_function, h_solver};
 
 fn run(sample: Sample, grid: Grid, photons: u64, seed: u64) -> Output {
     let spec = RunSpec {

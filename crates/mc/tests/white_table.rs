@@ -3,7 +3,7 @@
 //! - the largest albedo's row is that albedo's own walk, bit for bit (nothing is cut);
 //! - every other albedo agrees with its own, independent walk within the noise of both: the
 //!   annuli between the table's edges give χ²/dof ≤ 1.5 (or, over fewer annuli than that can
-//!   judge, the 10⁻⁴ quantile: `table_agreement::reduced_limit`), the totals agree within 3
+//!   judge, the 10⁻⁴ quantile: `testkit::chi2::reduced_limit`), the totals agree within 3
 //!   standard errors, for g = 0 and g = 0.9 (η = 1.4: total internal reflection returns photons);
 //!   the seeds are fixed and the runs deterministic, so the test does not flicker;
 //! - α = 0 reflects nothing (no photon scatters back), exactly;

@@ -3,9 +3,7 @@
 
 use shading::{AngleTables, INCIDENCE_STEPS};
 
-#[path = "../../../tests/support/chandrasekhar.rs"]
-mod chandrasekhar;
-use chandrasekhar::{h_function as h, h_solver};
+use testkit::chandrasekhar::{h_function as h, h_solver};
 
 /// Three channels of albedo 0.99, 0.9 and 0.5, η = 1, g = 0, a half-space. The total diffuse
 /// reflectance at incidence cos θ = μ₀ is 1 − √(1−w)·H(μ₀), so the incidence table must be

@@ -1,8 +1,7 @@
 //! Chandrasekhar's (1960) H-function for an index-matched, isotropically scattering half-space:
 //! the exact results the tracer (`crates/mc/tests/validation.rs`) and the renderer's angle tables
-//! (`crates/gpu/tests/angle_tables.rs`) are checked against. Its own identities are tested in the
-//! former. Included by `#[path]`; not every user calls every function.
-#![allow(dead_code)]
+//! (`crates/shading/tests/angle_tables.rs`) are checked against. Its own identities are tested in
+//! the former.
 
 /// Chandrasekhar's H-function for isotropic scattering with albedo a, by iterating
 /// 1/H(μ) = √(1−a) + (a/2) ∫₀¹ μ' H(μ')/(μ+μ') dμ' on Gauss–Legendre nodes.

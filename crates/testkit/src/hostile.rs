@@ -1,11 +1,9 @@
-//! Hostile text for parser property tests, shared by the `mc`, `fit` and `gpu` test suites
-//! (`#[path]`-included): random mutations of a valid file and fully random strings.
+//! Hostile text for parser property tests, shared by the `mc`, `fit` and `gpu` test suites:
+//! random mutations of a valid file and fully random strings.
 //!
 //! A mutation flips a byte, truncates, deletes, duplicates or inserts a line, or replaces one
 //! number of the file by a value chosen to break naive parsers: NaN, ±inf, −1, 0, 1e308, counts
 //! such as 10¹⁵ that abort on allocation, values beyond `u64`, empty strings and unicode.
-
-#![allow(dead_code)] // each suite uses part of it
 
 use proptest::prelude::*;
 use proptest::sample::Index;
