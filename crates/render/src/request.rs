@@ -3,7 +3,7 @@
 //! settings and the gathers' sampling. [`Request::default`] is the method the references measure
 //! closest to path tracing: pre-integration with the incidence table, the exit law at the entry
 //! angle, the entry shift and light through thin parts (the bust at 13.1 % of Mitsuba against
-//! 47.8 % for the kernel alone, docs/measurements.md). [`Request::check`] refuses what does not go
+//! 47.9 % for the kernel alone, docs/measurements.md). [`Request::check`] refuses what does not go
 //! together, naming the field.
 
 use fit::taps::ShaderKernel;
