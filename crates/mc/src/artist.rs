@@ -168,12 +168,19 @@ mod tests {
             assert!((m.sigma_a[c] / sa[c] - 1.0).abs() < 1e-12);
             assert!((m.sigma_s[c] / ss[c] - 1.0).abs() < 1e-12);
         }
-        for bad in [
-            "name = \"a\"\nunit = \"cm\"\ncolor = [0.6, 0.4, 0.2]\ng = 0\neta = 1.4\n",
-            "name = \"a\"\nunit = \"cm\"\ncolor = [0.6, 0.4, 0.2]\nradius = [1, 1, 1]\nsigma_a = [1, 1, 1]\nsigma_s = [1, 1, 1]\ng = 0\neta = 1.4\n",
+        // A colour without its radius names the radius alone; a mixed set names both kinds.
+        for (bad, named) in [
+            (
+                "name = \"a\"\nunit = \"cm\"\ncolor = [0.6, 0.4, 0.2]\ng = 0\neta = 1.4\n",
+                "invalid radius",
+            ),
+            (
+                "name = \"a\"\nunit = \"cm\"\ncolor = [0.6, 0.4, 0.2]\nradius = [1, 1, 1]\nsigma_a = [1, 1, 1]\nsigma_s = [1, 1, 1]\ng = 0\neta = 1.4\n",
+                "color/radius",
+            ),
         ] {
             let e = Material::from_toml(bad, "a.toml").unwrap_err().to_string();
-            assert!(e.contains("color/radius"), "{e}");
+            assert!(e.contains(named), "{e}");
         }
     }
 
