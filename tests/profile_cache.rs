@@ -268,6 +268,7 @@ fn nothing_is_written_outside_out_and_profiles() {
     assert_eq!(
         names(&d.join("r")),
         [
+            "render.json",
             "render.pfm",
             "render.png",
             "skin1.profile.csv",
