@@ -398,8 +398,8 @@ fn denoise_widths(sampling: &Sampling, model: &Model) -> Result<Option<[f32; 3]>
 /// Encodes the gather's passes: the camera's and each light's position/normal maps, then
 /// `sampling.frames` accumulation passes of `model` adding π·L_o/frames into the target's
 /// scattered light (which is cleared first; the samples' part) and a base (the control
-/// variate's part), then the denoiser's levels over the samples' part at the model's widths
-/// with `sampling.denoise` (else one level that only adds), ending in their sum.
+/// variate's part, kept apart only with `sampling.denoise`), then the denoiser's levels over the
+/// samples' part at the model's widths, ending in their sum.
 pub(crate) fn encode(
     rec: &mut Recording,
     target: &Target,
@@ -455,7 +455,7 @@ pub(crate) fn encode(
             disc: [
                 sampling.radius_cm,
                 1.0 / (sampling.samples as f32 * sampling.frames as f32),
-                0.0,
+                f32::from(u8::from(denoise_cm.is_some())),
                 0.0,
             ],
             size: [w, h, emitters.len() as u32, sampling.samples],
@@ -531,17 +531,20 @@ pub(crate) fn encode(
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
     }
-    let denoise = pipelines.denoise.get_or_init(|| Denoise::new(alloc.gpu));
-    let input = DenoiseInput {
-        size: (w, h),
-        camera: &scene.camera,
-        position: &views[0],
-        normal: &views[1],
-        widths_cm: denoise_cm.unwrap_or([0.0; 3]),
-        image: out,
-        base: &base,
-    };
-    denoise.encode(rec, input)
+    if let Some(widths_cm) = denoise_cm {
+        let denoise = pipelines.denoise.get_or_init(|| Denoise::new(alloc.gpu));
+        let input = DenoiseInput {
+            size: (w, h),
+            camera: &scene.camera,
+            position: &views[0],
+            normal: &views[1],
+            widths_cm,
+            image: out,
+            base: &base,
+        };
+        denoise.encode(rec, input)?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -105,14 +105,8 @@ impl Pass for Denoise {
         let camera = input.camera;
         let footprint = 2.0 * (0.5 * camera.fov_y_deg.to_radians()).tan() / h as f32;
         let [r, g, b] = input.widths_cm;
-        // Without widths one level copies the image and adds the base.
-        let levels = if input.widths_cm == [0.0; 3] {
-            1
-        } else {
-            LEVELS
-        };
         let span = rec.timer.as_mut().map(|t| t.span("denoise"));
-        for level in 0..levels {
+        for level in 0..LEVELS {
             let (from, to) = if level % 2 == 0 {
                 (input.image, &scratch)
             } else {
@@ -121,7 +115,7 @@ impl Pass for Denoise {
             let uniform = DenoiseUniform {
                 width: [r, g, b, FLOOR_PX],
                 camera: camera.position.extend(footprint).into(),
-                size: [w, h, 1 << level, u32::from(level + 1 == levels)],
+                size: [w, h, 1 << level, u32::from(level + 1 == LEVELS)],
             };
             let ubuf = alloc.uniform("denoise level", bytemuck::bytes_of(&uniform));
             let group = alloc
@@ -140,7 +134,7 @@ impl Pass for Denoise {
                     ],
                 });
             let writes = match (rec.timer.as_ref(), span) {
-                (Some(t), Some(k)) => t.span_writes(k, level == 0, level + 1 == levels),
+                (Some(t), Some(k)) => t.span_writes(k, level == 0, level + 1 == LEVELS),
                 _ => None,
             };
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -151,7 +145,7 @@ impl Pass for Denoise {
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         }
-        if levels % 2 == 1 {
+        if LEVELS % 2 == 1 {
             enc.copy_buffer_to_buffer(&scratch, 0, input.image, 0, (n * 16) as u64);
         }
         Ok(())

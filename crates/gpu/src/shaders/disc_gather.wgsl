@@ -14,9 +14,10 @@
 // entered at cos_i. Light the map marks as a
 // non-SSS surface (an occluder, the floor) contributes nothing: shadows come for free. Each
 // frame adds its estimate × 1/(samples·frames) (π·L_o: the exitance convention of the separable
-// pipeline) into `out` and `base` together: `base` the control's deterministic part (below; w 1
-// where x_o is lit by some light), `out` what the samples add to it, so that the denoiser can
-// filter the samples' part alone and keep the control's detail (passes/denoise.rs).
+// pipeline) into `out`; with the denoiser, into `out` and `base` together: `base` the control's
+// deterministic part (below; w 1 where x_o is lit by some light), `out` what the samples add to
+// it, so that the denoiser can filter the samples' part alone and keep the control's detail
+// (passes/denoise.rs).
 //
 // With a control variate: where x_o is lit, K = flux at x_o × model_flat (what a flat,
 // evenly lit half-space returns), and each sample subtracts K × model_control / pdf, a density
@@ -44,7 +45,8 @@ struct Light {
 struct Gather {
     lights: array<Light, 4>,
     camera_pos: vec4<f32>,
-    // x: r* [cm], y: weight of one sample in the final image, 1/(samples·frames).
+    // x: r* [cm], y: weight of one sample in the final image, 1/(samples·frames); z: 1 where the
+    // control's part goes to `base` for the denoiser, 0 where it is added to `out` at once.
     disc: vec4<f32>,
     // width, height, light count, samples per pixel and light.
     size: vec4<u32>,
@@ -334,7 +336,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                 * model_exit(cos_o, cos_i) / pdf;
         }
     }
-    out[i] += vec4<f32>(sum * u.disc.y, 0.0);
-    let lit = select(0.0, 1.0, any(control != vec3<f32>(0.0)));
-    base[i] += vec4<f32>(control * u.disc.y, lit / f32(u.frame.w));
+    // Kept apart for the denoiser (disc.z = 1), else summed here.
+    if u.disc.z > 0.5 {
+        out[i] += vec4<f32>(sum * u.disc.y, 0.0);
+        let lit = select(0.0, 1.0, any(control != vec3<f32>(0.0)));
+        base[i] += vec4<f32>(control * u.disc.y, lit / f32(u.frame.w));
+    } else {
+        out[i] += vec4<f32>((sum + control) * u.disc.y, 0.0);
+    }
 }
