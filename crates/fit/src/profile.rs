@@ -133,6 +133,20 @@ impl Profile {
         }
     }
 
+    /// The radius [cm] within which `share` of channel c's light returns, ∫₀^r 2πr'·Rd dr' over
+    /// the whole integral (on the bins' radii; the last radius where it is never reached).
+    pub fn radius_holding(&self, c: usize, share: f64) -> f64 {
+        let total: f64 = self.r.iter().zip(&self.rd[c]).map(|(r, v)| r * v).sum();
+        let mut acc = 0.0;
+        for (r, v) in self.r.iter().zip(&self.rd[c]) {
+            acc += r * v;
+            if acc >= share * total {
+                return *r;
+            }
+        }
+        *self.r.last().unwrap_or(&0.0)
+    }
+
     /// Refuses profiles no kernel can be built from: fewer than 2 bins, non-finite or negative
     /// values, or every channel zero everywhere. A single channel that is zero everywhere (one
     /// that does not scatter: wine's green and blue) is a profile: its kernel is the identity,
@@ -276,6 +290,27 @@ impl Profile {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A profile uniform out to R holds a share s of its light within R·√s (the disc's area),
+    /// to within one bin.
+    #[test]
+    fn a_uniform_disc_holds_a_share_within_r_root_share() {
+        let (n, dr) = (1000, 1e-3);
+        let r: Vec<f64> = (0..n).map(|i| (i as f64 + 0.5) * dr).collect();
+        let p = Profile {
+            dr,
+            r,
+            rd: [vec![1.0; n], vec![2.0; n], vec![0.5; n]],
+            se: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+        };
+        for (c, share) in [(0, 0.25f64), (1, 0.5), (2, 0.99)] {
+            let expected = n as f64 * dr * share.sqrt();
+            assert!(
+                (p.radius_holding(c, share) - expected).abs() <= dr,
+                "{c} {share}"
+            );
+        }
+    }
 
     /// The lookup near r/dr finds the same interval as a binary search, on bins' centres, on
     /// MCML's optimal coordinates and on radii that follow no grid.

@@ -854,18 +854,22 @@ fn the_cli_is_at_most_2500_lines() {
 /// it names inside the repository (nothing above the root, `../`).
 #[test]
 fn the_architecture_page_is_short_and_points_inside() {
-    let text = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
-    let lines = text.lines().count();
-    assert!(lines > 100, "ARCHITECTURE.md was not read ({lines} lines)");
-    assert!(
-        lines <= 250,
-        "ARCHITECTURE.md has {lines} lines (at most 250)"
-    );
+    let text = short_doc("ARCHITECTURE.md", 250);
     let outside: Vec<&str> = text.lines().filter(|l| l.contains("../")).collect();
     assert!(
         outside.is_empty(),
         "paths outside the repository: {outside:?}"
     );
+}
+
+/// The text of the page at `path` (from the root), which must have more than 100 lines (it was
+/// read) and at most `max`.
+fn short_doc(path: &str, max: usize) -> String {
+    let text = std::fs::read_to_string(root().join(path)).unwrap();
+    let lines = text.lines().count();
+    assert!(lines > 100, "{path} was not read ({lines} lines)");
+    assert!(lines <= max, "{path} has {lines} lines (at most {max})");
+    text
 }
 
 /// Every test file `.ci/run` names exists (a comment naming a file that was renamed misleads
@@ -889,12 +893,7 @@ fn the_ci_script_names_only_test_files_that_exist() {
 /// the table of where every figure stands.
 #[test]
 fn the_measurements_page_is_short_and_starts_with_its_table() {
-    let text = std::fs::read_to_string(root().join("docs/measurements.md")).unwrap();
-    let lines = text.lines().count();
-    assert!(
-        lines <= 600,
-        "docs/measurements.md has {lines} lines (at most 600)"
-    );
+    let text = short_doc("docs/measurements.md", 600);
     let first = text
         .lines()
         .find(|l| l.starts_with("## "))

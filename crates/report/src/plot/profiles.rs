@@ -25,24 +25,11 @@ pub fn profile(p: &Profile, title: &str) -> Result<Vec<u8>> {
     )
 }
 
-/// The radius [cm] within which `share` of channel c's light (∫2πr·Rd dr) returns.
-fn radius_holding(p: &Profile, c: usize, share: f64) -> f64 {
-    let total: f64 = p.r.iter().zip(&p.rd[c]).map(|(r, v)| r * v).sum();
-    let mut acc = 0.0;
-    for (r, v) in p.r.iter().zip(&p.rd[c]) {
-        acc += r * v;
-        if acc >= share * total {
-            return *r;
-        }
-    }
-    *p.r.last().unwrap_or(&1.0)
-}
-
 fn draw_profile(root: &Area<'_>, path: &str, p: &Profile, title: &str) -> Result<()> {
     let (left, right) = root.split_horizontally(600);
     let r_end = *p.r.last().unwrap_or(&1.0);
     let near = (0..3)
-        .map(|c| radius_holding(p, c, 0.99))
+        .map(|c| p.radius_holding(c, 0.99))
         .fold(0.0, f64::max)
         .min(r_end);
     let tau = 2.0 * std::f64::consts::PI;
