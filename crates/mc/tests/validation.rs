@@ -485,8 +485,11 @@ fn surface_run(layer: Layer, theta_deg: f64, n: usize, photons: u64, seed: u64) 
     mc::run_at(&spec, mc::incidence::Incidence { theta_deg }, &|_| {}).unwrap()
 }
 
-/// The surface tally Rd(x, y) holds the same photons as the radial tally: over a square that
-/// holds nearly everything its integral is total Rd, and at normal incidence it is symmetric.
+/// The surface tally Rd(x, y) holds the same photons as the radial tally, so its integral is
+/// bracketed exactly (to rounding), not statistically: every photon leaving within the square's
+/// inscribed circle is in it, and every one in it left within its circumscribed circle, so
+/// Σ Rd(r)·area over the annuli inside r = 1 cm ≤ ∫Rd(x, y) ≤ the same over the annuli reaching
+/// the half-diagonal ≤ total Rd. At normal incidence it is also symmetric.
 #[test]
 fn surface_tally_agrees_with_the_radial_tally() {
     let layer = Layer {
@@ -501,8 +504,25 @@ fn surface_tally_agrees_with_the_radial_tally() {
     assert_eq!(o.rd_xy.len(), side * side);
     let cell = 0.01 * 0.01;
     let total: f64 = o.rd_xy.iter().map(|e| e.value * cell).sum();
-    // The square reaches 1 cm = 22 mean free paths: what escapes beyond is < 10⁻⁶.
-    within("∫Rd(x,y)", total, o.rd.se, o.rd.value, 3.0);
+    // The square spans ±1.005 cm (100.5 cells of 0.01 cm): its inscribed circle holds the
+    // annuli i < 100 (r < 1 cm), its circumscribed one (1.005·√2 = 1.4213 cm) those up to 142.
+    let annuli = |n: usize| -> f64 {
+        (o.rd_r[..n].iter().enumerate())
+            .map(|(i, e)| e.value * std::f64::consts::PI * (2 * i + 1) as f64 * 0.01 * 0.01)
+            .sum()
+    };
+    let (inside, outside) = (annuli(100), annuli(143));
+    let rounding = 1e-12 * o.rd.value;
+    eprintln!("annuli within 1 cm {inside}, ∫Rd(x, y) {total}, annuli within 1.43 cm {outside}");
+    assert!(
+        inside - rounding <= total && total <= outside + rounding,
+        "∫Rd(x, y) = {total} outside [{inside}, {outside}]"
+    );
+    assert!(
+        outside <= o.rd.value + rounding,
+        "{outside} > {}",
+        o.rd.value
+    );
     // Mirror symmetry at normal incidence: the x-moment is zero within its noise.
     let (mut m, mut v) = (0.0, 0.0);
     for (i, e) in o.rd_xy.iter().enumerate() {
