@@ -17,9 +17,9 @@ pub fn chi2(a: &[Estimate], b: &[Estimate]) -> (f64, usize) {
     (chi, dof)
 }
 
-/// Two runs agree: χ² of Rd(r) over at least `min_bins` well-sampled bins within 5 standard
-/// deviations of its mean (χ² with n degrees of freedom: mean n, sd √(2n); a p ≈ 10⁻⁶ tail), and
-/// total Rd and A within 4 standard errors.
+/// Two runs agree: χ²/dof of Rd(r) over at least `min_bins` well-sampled bins within the
+/// project's one χ² judgement (`testkit::chi2::reduced_limit`: the 10⁻⁴ quantile of a true
+/// agreement, and never below 1.5), and total Rd and A within 4 standard errors.
 pub fn assert_agree(name: &str, x: &Output, y: &Output, min_bins: usize) {
     assert_profiles_agree(name, &x.rd_r, &y.rd_r, min_bins);
     for (what, p, q) in [("Rd", x.rd, y.rd), ("A", x.a, y.a)] {
@@ -28,13 +28,15 @@ pub fn assert_agree(name: &str, x: &Output, y: &Output, min_bins: usize) {
     }
 }
 
-/// Two profiles agree: χ² over at least `min_bins` well-sampled bins within 5 standard deviations
-/// of its mean (as in [`assert_agree`]).
+/// Two profiles agree: χ²/dof over at least `min_bins` well-sampled bins within
+/// `testkit::chi2::reduced_limit(dof, 1.5)` (as in [`assert_agree`]).
 pub fn assert_profiles_agree(name: &str, a: &[Estimate], b: &[Estimate], min_bins: usize) {
     let (chi, dof) = chi2(a, b);
     assert!(dof >= min_bins, "{name}: only {dof} bins to compare");
+    let limit = testkit::chi2::reduced_limit(dof, 1.5);
     assert!(
-        chi < dof as f64 + 5.0 * (2.0 * dof as f64).sqrt(),
-        "{name}: χ² = {chi:.1} over {dof} bins"
+        chi / dof as f64 <= limit,
+        "{name}: χ²/dof = {:.2} over {dof} bins (limit {limit:.2})",
+        chi / dof as f64
     );
 }
