@@ -627,6 +627,18 @@ mod tests {
                     "{}",
                     m.name
                 );
+                // An albedo above what Cycles traces (Spectralon's 1): Base Color 1, said.
+                if crate::cycles::alpha(1.0, g) < m.albedo(c) {
+                    assert_eq!(color[c], 1.0, "{}", m.name);
+                    assert!(
+                        p.notes
+                            .iter()
+                            .any(|n| n.contains("above what Cycles traces")),
+                        "{}",
+                        m.name
+                    );
+                    continue;
+                }
                 // Scene units in metres: the radius in cm is × 100.
                 let sigma_t = crate::cycles::sigma_t(radius[c] * scale * 100.0, g);
                 let sigma_s = crate::cycles::alpha(color[c], g) * sigma_t;

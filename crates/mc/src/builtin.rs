@@ -1,6 +1,13 @@
-//! The built-in material library: the repository's `materials/*.toml` (the thesis's eleven
-//! materials of Table 6.2 and five of Narasimhan et al.'s liquids), compiled in so that every
-//! tool finds them from any folder.
+//! The built-in material library: the repository's `materials/*.toml`, compiled in so that every
+//! tool finds them from any folder. Every medium of Jensen et al. 2001 (the thesis's eleven of
+//! Table 6.2, in cm⁻¹, and Spectralon) and the 35 media of Narasimhan et al. 2006 that pbrt and
+//! Mitsuba transcribe (undiluted, mm⁻¹, g per channel), plus the five liquids of the
+//! directional-dipole draft's Table 4.1 as it quotes them; each file names its source, table
+//! and units (docs/media.md).
+//!
+//! [`THESIS`] and [`REPRODUCED`] name the sets that simulations iterate over: code that runs the
+//! tracer on "the library" takes [`REPRODUCED`], so that adding media to the library grows
+//! neither `sss reproduce` nor CI time.
 
 use crate::error::{McError, Result};
 use crate::material::Material;
@@ -12,8 +19,86 @@ macro_rules! builtin {
     };
 }
 
-/// (file stem, TOML text) of every built-in material.
+/// (file stem, TOML text) of every built-in material, in alphabetical (byte) order of the stems.
 pub const MATERIALS: &[(&str, &str)] = builtin!(
+    "apple",
+    "apple_juice",
+    "beer",
+    "budweiser_beer",
+    "cappuccino_powder",
+    "chardonnay",
+    "chicken1",
+    "chicken2",
+    "clorox",
+    "coffee",
+    "coke",
+    "coors_light_beer",
+    "cranberry_juice",
+    "cream",
+    "espresso",
+    "gatorade",
+    "grape_juice",
+    "grapefruit",
+    "head_and_shoulders_shampoo",
+    "ketchup",
+    "lemon_tea_powder",
+    "lowfat_chocolate_milk",
+    "lowfat_milk",
+    "lowfat_soy_milk",
+    "marble",
+    "merlot",
+    "mint_mocha_coffee",
+    "orange_powder",
+    "pacific_ocean_surface_water",
+    "pepsi",
+    "pink_lemonade_powder",
+    "potato",
+    "reduced_milk",
+    "regular_chocolate_milk",
+    "regular_milk",
+    "regular_soy_milk",
+    "ruby_grapefruit_juice",
+    "salt_powder",
+    "shampoo",
+    "skimmilk",
+    "skin1",
+    "skin2",
+    "soymilk",
+    "spectralon",
+    "sprite",
+    "strawberry_shampoo",
+    "sugar_powder",
+    "suisse_mocha_powder",
+    "white_grapefruit_juice",
+    "white_zinfandel",
+    "wholemilk",
+    "wine"
+);
+
+/// The thesis's materials (Freude 2014, Table 6.2: Jensen et al. 2001's measurements), in
+/// alphabetical order.
+pub const THESIS: [&str; 11] = [
+    "apple",
+    "chicken1",
+    "chicken2",
+    "cream",
+    "ketchup",
+    "marble",
+    "potato",
+    "skimmilk",
+    "skin1",
+    "skin2",
+    "wholemilk",
+];
+
+/// The five liquids of the directional-dipole draft's Table 4.1 (Narasimhan et al. 2006 as the
+/// draft quotes it), in alphabetical order.
+pub const DRAFT_LIQUIDS: [&str; 5] = ["beer", "coffee", "grapefruit", "soymilk", "wine"];
+
+/// The materials `sss reproduce` simulates and lists in its Table 6.2, the tracer benchmark's
+/// library and the GPU tracer's whole-library check: [`THESIS`] and [`DRAFT_LIQUIDS`] (the
+/// library before the media of docs/media.md were added), in alphabetical order.
+pub const REPRODUCED: [&str; 16] = [
     "apple",
     "beer",
     "chicken1",
@@ -29,8 +114,8 @@ pub const MATERIALS: &[(&str, &str)] = builtin!(
     "skin2",
     "soymilk",
     "wholemilk",
-    "wine"
-);
+    "wine",
+];
 
 impl Material {
     /// The built-in material `name` (a file stem of [`MATERIALS`], case-insensitive).
@@ -73,16 +158,21 @@ pub fn resolve(arg: &str) -> Result<(String, Material)> {
 }
 
 /// The library as a table, one line per material and channel: σa, σs [cm⁻¹], g, η, albedo and
-/// transport mean free path [cm] (thesis Table 6.1's columns).
+/// transport mean free path [cm] (thesis Table 6.1's columns); then, after an empty line, each
+/// material's name and source (paper, table and the units it gives) on one line.
 pub fn table_lines(materials: &[(&str, &Material)]) -> Vec<String> {
+    let w = (materials.iter().map(|(s, _)| s.chars().count()))
+        .max()
+        .unwrap_or(0)
+        .max(11);
     let mut out = vec![format!(
-        "{:<11} {:>2} {:>10} {:>10} {:>6} {:>5} {:>9} {:>10}",
+        "{:<w$} {:>2} {:>10} {:>10} {:>6} {:>5} {:>9} {:>10}",
         "material", "ch", "σa [1/cm]", "σs [1/cm]", "g", "η", "albedo", "MFP [cm]"
     )];
     for (slug, m) in materials {
         for (c, ch) in crate::CHANNELS.iter().enumerate() {
             out.push(format!(
-                "{:<11} {:>2} {:>10.4} {:>10.4} {:>6.3} {:>5.2} {:>9.6} {:>10.5}",
+                "{:<w$} {:>2} {:>10.4} {:>10.4} {:>6.3} {:>5.2} {:>9.6} {:>10.5}",
                 if c == 0 { slug } else { "" },
                 ch,
                 m.sigma_a[c],
@@ -93,6 +183,11 @@ pub fn table_lines(materials: &[(&str, &Material)]) -> Vec<String> {
                 m.mfp(c)
             ));
         }
+    }
+    out.push(String::new());
+    out.push(format!("{:<w$} source", "material"));
+    for (slug, m) in materials {
+        out.push(format!("{slug:<w$} {}: {}", m.name, m.source));
     }
     out
 }
@@ -132,5 +227,52 @@ mod tests {
         assert_eq!(Material::builtin("SKIN1").unwrap().name, "Skin1");
         let e = Material::builtin("unobtainium").unwrap_err().to_string();
         assert!(e.contains("unobtainium") && e.contains("skin1"), "{e}");
+    }
+
+    /// At least 50 media, every one validated on load, naming its paper, table and units.
+    #[test]
+    fn every_built_in_material_names_its_paper_table_and_units() {
+        assert!(
+            MATERIALS.len() >= 50,
+            "{} built-in materials",
+            MATERIALS.len()
+        );
+        for name in names() {
+            let m = Material::builtin(name).unwrap();
+            let s = &m.source;
+            assert!(
+                s.contains("Jensen et al. 2001") || s.contains("Narasimhan et al. 2006"),
+                "{name}: {s:?} names no paper"
+            );
+            assert!(s.contains("Table") || s.contains("Figure"), "{name}: {s:?}");
+            assert!(s.contains("mm⁻¹"), "{name}: {s:?} gives no units");
+            assert!(!m.name.trim().is_empty(), "{name}");
+        }
+    }
+
+    /// The list holds every `materials/*.toml` once, in byte order of the stems, and the sets
+    /// the simulations take are drawn from it.
+    #[test]
+    fn the_list_is_the_folder_and_the_simulated_sets_are_in_it() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../materials");
+        let mut files: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .filter_map(|f| f.strip_suffix(".toml").map(str::to_string))
+            .collect();
+        files.sort();
+        assert_eq!(names(), files);
+        for stem in names() {
+            assert!(
+                stem.bytes()
+                    .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_'),
+                "{stem}: a name every tool takes (and no path)"
+            );
+            assert!(!is_path(stem));
+        }
+        let mut both: Vec<&str> = THESIS.iter().chain(&DRAFT_LIQUIDS).copied().collect();
+        both.sort();
+        assert_eq!(both, REPRODUCED);
+        assert!(REPRODUCED.iter().all(|s| names().contains(s)));
     }
 }

@@ -52,8 +52,9 @@ pub fn reproduce(asked: Asked, out: &Path, progress: &dyn Progress) -> Result<(O
         .unwrap_or(if asked.quick { 20_000 } else { config.photons });
     let mut files = Outputs::default();
 
-    // 1. Profiles of the whole library, one batch.
-    let all = mc::builtin::names()
+    // 1. Profiles of the thesis's library (Table 6.2 and the draft's liquids), one batch: the
+    // media added to the library since are not part of the reproduction.
+    let all = mc::builtin::REPRODUCED
         .into_iter()
         .map(|n| Ok((n.to_lowercase(), Material::builtin(n)?)))
         .collect::<mc::Result<Vec<_>>>()?;
@@ -160,7 +161,7 @@ fn read_profile(
     }
 }
 
-/// Every built-in material's profile CSV with its provenance: read from the folder asked (each
+/// Every reproduced material's profile CSV with its provenance: read from the folder asked (each
 /// must match what was asked) or simulated in one batch of `photons` per channel.
 fn library_profiles(
     asked: &Asked,
