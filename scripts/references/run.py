@@ -10,7 +10,10 @@ the bust and the fins behind it under a 3 cm light; hours). `images.py --scene d
 (scripts/engines/requirements.txt), every sphere, fin and bust comparison is followed by
 scripts/engines/blender.py scene on the same reference: Cycles' random walk and Christensen–Burley
 with `sss engine-params`' fields (about 15 s a scene at --quick), and without --quick EEVEE too
-(about 2 minutes a scene on Mesa's software OpenGL); their rows join images.json. Exits non-zero
+(about 2 minutes a scene on Mesa's software OpenGL); their rows join images.json. The full run
+ends each Skin1 scene (sphere, fins, bust) with pareto.py: every real-time method's frame time at
+1920×1080 against its error, pareto.png beside sheet.png (about 15 minutes a scene on lavapipe;
+timings need an otherwise idle machine, so CI's quick run leaves them out). Exits non-zero
 when an agreement test or a calibration fails. Outputs: OUT/profiles.json, OUT/images*/images.json
 and their PNGs (blender-sheet.png beside sheet.png), OUT/summary.json."""
 
@@ -93,6 +96,10 @@ def main():
             if subprocess.run([sys.executable, engines, *(["--sss", a.sss] if a.sss else []), "scene", *args,
                                "--out", a.out, "--renderers", renderers]).returncode != 0:
                 failed.append(f"blender.py scene {' '.join(args)}")
+        if key and not a.quick and key in QUICK:
+            print(f"== pareto.py {' '.join(args)}", flush=True)
+            if subprocess.run([sys.executable, os.path.join(HERE, "pareto.py"), *args, *extra]).returncode != 0:
+                failed.append(f"pareto.py {' '.join(args)}")
         if key:
             sc, mat = key
             path = os.path.join(a.out, folder(sc, mat), "images.json")

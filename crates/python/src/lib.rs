@@ -32,6 +32,9 @@ pub(crate) fn error(e: impl std::fmt::Display) -> PyErr {
 /// parameters. Lengths in cm, coefficients in cm⁻¹, Rd(r) in cm⁻².
 #[pymodule]
 fn sss(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // SAFETY: at import, with the GIL held and before this module has started any thread or
+    // opened the Vulkan loader; the CLI does the same first thing in `main`.
+    unsafe { gpu::quiet_headless_vulkan() };
     m.add("SssError", m.py().get_type::<SssError>())?;
     m.add_class::<kernels::Kernel>()?;
     m.add_function(wrap_pyfunction!(simulate::materials, m)?)?;

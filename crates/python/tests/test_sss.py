@@ -392,6 +392,16 @@ def test_the_render_example_runs(tmp_path):
     assert np.load(tmp_path / "render_default.npy").shape == (54, 96, 3)
 
 
+def test_render_prints_no_window_system_noise_on_a_headless_machine():
+    # Without XDG_RUNTIME_DIR, Mesa's device-select layer would print "error: XDG_RUNTIME_DIR is
+    # invalid or not set" twice though nothing failed; importing sss keeps it quiet.
+    env = {k: v for k, v in os.environ.items() if k not in ("XDG_RUNTIME_DIR", "NODEVICE_SELECT")}
+    out = subprocess.run([sys.executable, "-c", "import sss; sss.render('skin1', width=16, height=16, "
+                          "photons=20000, incidence_photons=2000)"], capture_output=True, text=True, env=env)
+    assert out.returncode == 0, out.stderr
+    assert "XDG_RUNTIME_DIR" not in out.stderr and "error" not in out.stderr.lower(), out.stderr
+
+
 def test_package_holds_the_tables_the_renderer_reads():
     # The package sss export writes, as bytes and arrays: ρ(0°)/ρ(0) is 1 by definition, the exit
     # law moves light between view angles and adds none (cosine-weighted mean 1 within 2 % for

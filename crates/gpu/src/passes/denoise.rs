@@ -67,11 +67,11 @@ pub(crate) struct DenoiseInput<'a> {
     pub normal: &'a wgpu::TextureView,
     /// σ per channel [cm]; 0 leaves a channel as it is.
     pub widths_cm: [f32; 3],
-    /// The image (RGBA f32 per pixel): the samples' part of the gather, filtered in place and
-    /// then joined by `base`.
+    /// The image (RGBA f32 per pixel): the samples' part of the gather (w > 0.5 where x_o is
+    /// lit: no tap crosses between pixels it marks lit and unlit), filtered in place and then
+    /// joined by `base` (w cleared).
     pub image: &'a wgpu::Buffer,
-    /// The gather's deterministic part (rgb; w > 0.5 where x_o is lit): added after the
-    /// filter, and no tap crosses between pixels it marks lit and unlit.
+    /// The gather's deterministic part (rgb): added after the filter.
     pub base: &'a wgpu::Buffer,
 }
 

@@ -4,12 +4,12 @@
 // (`base`) back. The level's 5 × 5 taps lie `step` pixels apart with the B3-spline weights
 // (1, 4, 6, 4, 1)/16 per axis; each tap is weighted per channel by exp(−|x_q − x_p|²/(2σ_c²)),
 // σ_c the channel's width in the world [cm] (at least a pixel's footprint), and taken only
-// where the map marks an SSS surface facing the same hemisphere and the base marks x_o lit as
-// at the centre. The world distance is what keeps light from crossing silhouettes and depth
-// steps: pixels side by side on screen but apart in depth are apart in the world. The weights
-// are normalized per pixel and channel, so a constant stays exactly constant. A pixel whose
-// level's nearest taps lie beyond every channel's width (its step times the pixel's footprint)
-// is copied: the level would not move its light.
+// where the map marks an SSS surface facing the same hemisphere and the image's w (which the
+// gather writes) marks x_o lit as at the centre. The world distance is what keeps light from
+// crossing silhouettes and depth steps: pixels side by side on screen but apart in depth are
+// apart in the world. The weights are normalized per pixel and channel, so a constant stays
+// exactly constant. A pixel whose level's nearest taps lie beyond every channel's width (its
+// step times the pixel's footprint) is copied: the level would not move its light.
 
 struct Denoise {
     // rgb: σ per channel [cm] (0: the channel is copied); w: the least σ of a filtered channel
@@ -43,8 +43,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let i = id.y * u.size.x + id.x;
     let centre = src[i];
-    let added = select(vec4<f32>(0.0), vec4<f32>(base[i].rgb, 0.0), u.size.w == 1u);
-    let lit = base[i].w > 0.5;
+    // The last level adds the base and clears the lit mark.
+    let added = select(vec4<f32>(0.0), vec4<f32>(base[i].rgb, -centre.w), u.size.w == 1u);
+    let lit = centre.w > 0.5;
     let xp = textureLoad(cam_pos, p, 0);
     let step = i32(u.size.z);
     let footprint = distance(xp.xyz, u.camera.xyz) * u.camera.w;
@@ -67,14 +68,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                 continue;
             }
             let xq = textureLoad(cam_pos, q, 0);
-            let j = u32(q.y) * u.size.x + u32(q.x);
-            if xq.w < 0.5 || dot(np, textureLoad(cam_normal, q, 0).xyz) <= 0.0
-                || (base[j].w > 0.5) != lit {
+            let s = src[u32(q.y) * u.size.x + u32(q.x)];
+            if xq.w < 0.5 || dot(np, textureLoad(cam_normal, q, 0).xyz) <= 0.0 || (s.w > 0.5) != lit {
                 continue;
             }
             let d = xq.xyz - xp.xyz;
             let w = select(vec3<f32>(0.0), b3(dx) * b3(dy) * exp(-dot(d, d) * inv), live);
-            sum += w * src[j].rgb;
+            sum += w * s.rgb;
             weight += w;
         }
     }

@@ -15,8 +15,8 @@
 // non-SSS surface (an occluder, the floor) contributes nothing: shadows come for free. Each
 // frame adds its estimate × 1/(samples·frames) (π·L_o: the exitance convention of the separable
 // pipeline) into `out`; with the denoiser, into `out` and `base` together: `base` the control's
-// deterministic part (below; w 1 where x_o is lit by some light), `out` what the samples add to
-// it, so that the denoiser can filter the samples' part alone and keep the control's detail
+// deterministic part (below), `out` what the samples add to it (w 1 where x_o is lit by some
+// light), so that the denoiser can filter the samples' part alone and keep the control's detail
 // (passes/denoise.rs).
 //
 // With a control variate: where x_o is lit, K = flux at x_o × model_flat (what a flat,
@@ -338,9 +338,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     // Kept apart for the denoiser (disc.z = 1), else summed here.
     if u.disc.z > 0.5 {
-        out[i] += vec4<f32>(sum * u.disc.y, 0.0);
         let lit = select(0.0, 1.0, any(control != vec3<f32>(0.0)));
-        base[i] += vec4<f32>(control * u.disc.y, lit / f32(u.frame.w));
+        out[i] += vec4<f32>(sum * u.disc.y, lit / f32(u.frame.w));
+        base[i] += vec4<f32>(control * u.disc.y, 0.0);
     } else {
         out[i] += vec4<f32>((sum + control) * u.disc.y, 0.0);
     }
